@@ -1,0 +1,321 @@
+"""The model (IR): the one representation every front end produces and every back end reads.
+
+It is deliberately plain: per variable the term kinds and parameters as arrays, the rules as
+integer matrices, the inference choices as enums, the signal chain as a flat program of sympy
+expressions. Nothing here evaluates anything; `fuzzyc.engine` defines what a model *means*.
+
+Semantics in one place (the engine implements exactly this; every back end is tested against it):
+
+Membership of a term at x (params padded to 4 with 0):
+  TRAPEZOID (a, b, c, d):  rise = 1 if x >= b, (x-a)/(b-a) if a < x < b, else 0
+                            fall = 1 if x <= c, (d-x)/(d-c) if c < x < d, else 0
+                            mu = min(rise, fall).  A triangle is (a, b, b, c).  A shoulder uses
+                            a = b = -inf (left, 1 below c) or c = d = +inf (right, 1 above b).
+  GAUSSIAN  (mean, sigma):  exp(-(x-mean)^2 / (2 sigma^2))
+  BELL      (center, width, slope): 1 / (1 + |(x-center)/width|^(2 slope))   (MATLAB gbellmf)
+  SIGMOID   (center, slope): 1 / (1 + exp(-slope (x-center)))
+  SINGLETON (value):        1 if x == value else 0; as an output term, a point mass at value.
+  NaN input: every term of that variable has mu = 0 (so rules that need it do not fire).
+Hedges on a clause: VERY mu^2, SOMEWHAT sqrt(mu), EXTREMELY mu^3, applied before NOT (1-mu).
+Rule activation: the clauses that are not wildcards (-1) combined with the rule's connective
+  (AND: the t-norm, OR: the s-norm; a rule of wildcards only fires 1), times the rule weight.
+Aggregated output membership of output o at u in [lo, hi]:
+  M(u) = AGG over rules r with consequent[r, o] = j >= 0 of IMP(act_r, mu_j(u)).
+Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives its default):
+  CENTROID   int u M(u) du / int M(u) du over [lo, hi], exact (closed form on piecewise-linear
+             terms, never sampled).  If the output's terms are all singletons, the masses
+             alpha_j = AGG of act_r over rules concluding j give sum(alpha_j v_j)/sum(alpha_j).
+  BISECTOR   the u splitting int M in two equal halves (exact on piecewise-linear terms).
+  MEAN_OF_MAXIMUM  the mean of the set where M is largest.
+  CENTER_OF_AREA   paper eq. 2: sum_j alpha_j peak_j / sum_j alpha_j, alpha_j = AGG of act_r over
+             rules concluding term j; peak = (b+c)/2 of a trapezoid, the mean, centre, or value.
+  WEIGHTED_AVERAGE  sum_r act_r z_r / sum_r act_r  (Takagi-Sugeno; z_r = peak of the consequent)
+  WEIGHTED_SUM      sum_r act_r z_r  (the neuro-fuzzy controller's output; may leave [lo, hi]).
+Rule-base outputs are not clamped; the signal chain's outputs saturate (see Output).
+"""
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass, field
+from enum import IntEnum
+from typing import Any
+
+import numpy as np
+import sympy
+
+
+class TermKind(IntEnum):
+    TRAPEZOID = 0
+    GAUSSIAN = 1
+    BELL = 2
+    SIGMOID = 3
+    SINGLETON = 4
+
+
+class Hedge(IntEnum):
+    NONE = 0
+    VERY = 1
+    SOMEWHAT = 2
+    EXTREMELY = 3
+
+
+class Connective(IntEnum):
+    AND = 0
+    OR = 1
+
+
+class TNorm(IntEnum):
+    MIN = 0
+    PRODUCT = 1
+
+
+class SNorm(IntEnum):
+    MAX = 0
+    PROBSUM = 1
+
+
+class Implication(IntEnum):
+    MIN = 0
+    PRODUCT = 1
+
+
+class Aggregation(IntEnum):
+    MAX = 0
+    SUM = 1
+
+
+class Defuzzifier(IntEnum):
+    CENTROID = 0
+    BISECTOR = 1
+    MEAN_OF_MAXIMUM = 2
+    CENTER_OF_AREA = 3
+    WEIGHTED_AVERAGE = 4
+    WEIGHTED_SUM = 5
+
+
+PIECEWISE_LINEAR = (TermKind.TRAPEZOID, TermKind.SINGLETON)
+
+
+@dataclass(frozen=True)
+class SourceLoc:
+    """Where something was written: for error messages and reports."""
+    file: str
+    line: int
+    col: int
+
+    def __str__(self) -> str:
+        return f"{self.file}:{self.line}:{self.col}"
+
+
+@dataclass
+class Variable:
+    """A linguistic variable: a range and its terms, stored as arrays.
+
+    kinds: (T,) int TermKind; params: (T, 4) float; names: T term names.
+    `learnable` marks output terms (singletons) whose values a learning rule may change.
+    """
+    name: str
+    lo: float
+    hi: float
+    names: list[str]
+    kinds: np.ndarray
+    params: np.ndarray
+    unit: str | None = None
+    default: float = 0.0
+    learnable: np.ndarray | None = None  # (T,) bool, outputs only
+    loc: SourceLoc | None = None
+    term_locs: list[SourceLoc | None] = field(default_factory=list)
+
+    @property
+    def n_terms(self) -> int:
+        return len(self.names)
+
+    def index(self, term: str) -> int:
+        return self.names.index(term)
+
+    def peaks(self) -> np.ndarray:
+        """The representative value of each term (used by CENTER_OF_AREA and TSK outputs)."""
+        k, p = self.kinds, self.params
+        out = np.empty(len(k))
+        for i, (kind, (a, b, c, d)) in enumerate(zip(k, p)):
+            if kind == TermKind.TRAPEZOID:
+                lo_ = b if np.isfinite(b) else self.lo
+                hi_ = c if np.isfinite(c) else self.hi
+                out[i] = 0.5 * (lo_ + hi_)
+            else:  # GAUSSIAN mean, BELL centre, SIGMOID centre, SINGLETON value
+                out[i] = a
+        return out
+
+
+@dataclass
+class Inference:
+    and_: TNorm = TNorm.MIN
+    or_: SNorm = SNorm.MAX
+    implication: Implication = Implication.MIN
+    aggregation: Aggregation = Aggregation.MAX
+    defuzzifier: Defuzzifier = Defuzzifier.CENTROID
+
+    def describe(self) -> str:
+        return (f"and={self.and_.name.lower()} or={self.or_.name.lower()} "
+                f"implication={self.implication.name.lower()} "
+                f"aggregation={self.aggregation.name.lower()} "
+                f"defuzzify={self.defuzzifier.name.lower()}")
+
+
+@dataclass
+class RuleBase:
+    """Rules as matrices over the rule base's (already scaled) inputs and outputs.
+
+    antecedents (R, I) int: term index per input, -1 for "any" (the clause is absent).
+    negated (R, I) bool, hedges (R, I) int Hedge, connective (R,) int Connective.
+    consequents (R, O) int: term index per output, -1 when the rule says nothing about it.
+    weights (R,) float.  origins: a human-readable place per rule ("table du1 when e1 is P,
+    row e2=PB, col ce2=PS") so reports can name table cells.
+    """
+    inputs: list[Variable]
+    outputs: list[Variable]
+    antecedents: np.ndarray
+    consequents: np.ndarray
+    weights: np.ndarray
+    negated: np.ndarray
+    hedges: np.ndarray
+    connective: np.ndarray
+    inference: Inference = field(default_factory=Inference)
+    rule_locs: list[SourceLoc | None] = field(default_factory=list)
+    origins: list[str] = field(default_factory=list)
+
+    @property
+    def n_rules(self) -> int:
+        return int(self.antecedents.shape[0])
+
+    def input_index(self, name: str) -> int:
+        return [v.name for v in self.inputs].index(name)
+
+    def output_index(self, name: str) -> int:
+        return [v.name for v in self.outputs].index(name)
+
+    def describe_rule(self, r: int) -> str:
+        """The rule as text, in the language's own syntax."""
+        conn = " and " if self.connective[r] == Connective.AND else " or "
+        parts = []
+        for i, v in enumerate(self.inputs):
+            t = int(self.antecedents[r, i])
+            if t < 0:
+                continue
+            hedge = Hedge(int(self.hedges[r, i]))
+            term = (hedge.name.lower() + " " if hedge else "") + v.names[t]
+            parts.append(f"{v.name} is {'not ' if self.negated[r, i] else ''}{term}")
+        cons = [f"{v.name} is {v.names[int(self.consequents[r, o])]}"
+                for o, v in enumerate(self.outputs) if self.consequents[r, o] >= 0]
+        text = "if " + (conn.join(parts) if parts else "true") + " then " + ", ".join(cons)
+        if self.weights[r] != 1.0:
+            text += f" with {self.weights[r]:g}"
+        return text
+
+
+class Op(IntEnum):
+    """The kinds of step in the signal-chain program."""
+    ASSIGN = 0    # name = expr
+    DELTA = 1     # name = arg - memory; memory := arg           (first sample: 0)
+    PREV = 2      # name = memory; memory := arg                 (first sample: arg)
+    LOWPASS = 3   # name = a*memory + b*arg; memory := name      (first sample: arg)
+
+
+@dataclass
+class Step:
+    """One step of the signal chain, executed in order every sample.
+
+    `expr` is a sympy expression over symbols named after inputs, params and earlier steps.
+    For DELTA/PREV/LOWPASS, `expr` is the argument and `coeffs` = (a, b) for LOWPASS.
+    Stateful steps keep their last finite value: a NaN sample does not poison the memory.
+    """
+    name: str
+    op: Op
+    expr: sympy.Expr
+    coeffs: tuple[float, float] = (0.0, 0.0)
+    unit: str | None = None
+    lo: float | None = None
+    hi: float | None = None
+    hidden: bool = False           # generated by the builder (e.g. the state of delta())
+    loc: SourceLoc | None = None
+
+
+class OutputKind(IntEnum):
+    DIRECT = 0                 # u(k) = sat(expr)
+    INCREMENT = 1              # u(k) = sat(u(k-1) + expr)
+    RECIPROCAL_INCREMENT = 2   # v(k) = sat_v(v(k-1) + expr), u = 1/v; sat_v = [1/hi, 1/lo]
+
+
+@dataclass
+class Output:
+    """A controller output: the end of the signal chain, saturated to [lo, hi]."""
+    name: str
+    kind: OutputKind
+    expr: sympy.Expr
+    lo: float
+    hi: float
+    init: float = 0.0          # u(-1), in the output's own units
+    unit: str | None = None
+    loc: SourceLoc | None = None
+
+
+@dataclass
+class Param:
+    name: str
+    value: float
+    unit: str | None = None
+    loc: SourceLoc | None = None
+
+
+@dataclass
+class Signal:
+    """A raw controller input."""
+    name: str
+    lo: float
+    hi: float
+    unit: str | None = None
+    loc: SourceLoc | None = None
+
+
+@dataclass
+class Property:
+    """A verification property as written; `fuzzyc.verify` gives it meaning.
+
+    kind: covers | consistent | complete | continuous | monotone | bounded | closed_loop
+    args: kind-specific, plain values (names, numbers, directions, guard clauses) and, for
+    closed_loop, a list of temporal `Property` objects in args["checks"] (kinds always,
+    eventually, settles, overshoot) with sympy conditions.
+    """
+    kind: str
+    args: dict[str, Any]
+    loc: SourceLoc | None = None
+    text: str = ""
+
+
+@dataclass
+class Model:
+    """A whole controller: signal chain in, rule base, signal chain out, properties."""
+    name: str
+    rulebase: RuleBase
+    title: str = ""
+    period: float | None = None          # seconds
+    params: dict[str, Param] = field(default_factory=dict)
+    signals: list[Signal] = field(default_factory=list)
+    steps: list[Step] = field(default_factory=list)
+    outputs: list[Output] = field(default_factory=list)
+    properties: list[Property] = field(default_factory=list)
+    source_path: str | None = None
+    source_text: str | None = None
+    notes: list[str] = field(default_factory=list)   # findings recorded in the file
+
+    @property
+    def source_hash(self) -> str:
+        text = self.source_text or ""
+        return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+    def symbol_values(self) -> dict[str, float]:
+        return {p.name: p.value for p in self.params.values()}
+
+    def rulebase_input_sources(self) -> list[str]:
+        """Names of the signals/steps that feed the rule base's inputs, in input order."""
+        return [v.name for v in self.rulebase.inputs]
