@@ -1,0 +1,32 @@
+"""Lets the suite run from a source checkout as well as from an installed package.
+
+Installed, `runtime/` and `plants/` are `fuzzyc.runtime` and `fuzzyc.plants` (setuptools
+package-dir). From the bare tree they are not, so alias them here when the import fails.
+"""
+import importlib
+import importlib.util
+import pathlib
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+
+def _alias(name: str, folder: str) -> None:
+    try:
+        importlib.import_module(name)
+        return
+    except ImportError:
+        pass
+    init = ROOT / folder / "__init__.py"
+    spec = importlib.util.spec_from_file_location(
+        name, init, submodule_search_locations=[str(ROOT / folder)])
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+
+
+_alias("fuzzyc.runtime", "runtime")
+_alias("fuzzyc.plants", "plants")
+_alias("fuzzyc.rulebases", "rulebases")
