@@ -24,6 +24,8 @@ def _alias(name: str, folder: str) -> None:
         name, init, submodule_search_locations=[str(ROOT / folder)])
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module
+    parent, _, child = name.rpartition(".")
+    setattr(sys.modules[parent], child, module)
     spec.loader.exec_module(module)
 
 
