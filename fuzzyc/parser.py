@@ -1,0 +1,127 @@
+"""The .fz front end: text -> lark parse tree -> syntax objects -> Model.
+
+Syntax errors are reported per statement: when the whole file does not parse, each statement
+is parsed on its own, so one run reports every broken statement, not just the first.
+"""
+from __future__ import annotations
+
+import functools
+import re
+from importlib import resources
+from pathlib import Path
+
+from lark import Lark, Token
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+from .builder import Builder
+from .errors import Diagnostic, FuzzycError, Reporter
+from .model import Model
+from .syntax import ToSyntax
+
+STATEMENT_KEYWORDS = ("period", "param", "input", "let", "var", "terms", "inference", "rule",
+                      "table", "output", "note", "verify")
+
+# How the parser's terminal names read in a message.
+READABLE = {
+    "NAME": "a name", "SIGNED_NUMBER": "a number", "NUMBER": "a number", "INT": "a rule number",
+    "SIGNED_INT": "a whole number", "STRING": "a quoted title", "LBRACE": "`{`", "RBRACE": "`}`",
+    "LPAR": "`(`", "RPAR": "`)`", "LSQB": "`[`", "RSQB": "`]`", "COMMA": "`,`", "COLON": "`:`",
+    "SEMICOLON": "`;`", "EQUAL": "`=`", "ARROW": "`->`", "SHAPE": "a term shape (tri, trap, "
+    "lshoulder, rshoulder, gauss, bell, sigmoid, singleton)", "HEDGE": "a hedge", "NOT": "`not`",
+    "INFERENCE_KEY": "an inference setting (and, or, implication, aggregation, defuzzify)",
+    "AXIS": "`rows` or `cols`", "DIRECTION": "`increasing` or `decreasing`",
+    "COMPARE": "a comparison (<, <=, >, >=)", "DOTTED_NAME": "a parameter name",
+    "PERCENT": "`%`", "UNIT_OP": "`/` or `*`", "$END": "the end of the file",
+}
+
+
+@functools.lru_cache(maxsize=1)
+def _lark() -> Lark:
+    grammar = resources.files("fuzzyc").joinpath("grammar/fuzzyc.lark").read_text()
+    return Lark(grammar, parser="lalr", start=["start", "statement"], propagate_positions=True)
+
+
+def load(path: str | Path) -> Model:
+    """Parse and check a .fz file; raises FuzzycError with every diagnostic found."""
+    path = Path(path)
+    try:
+        text = path.read_text(encoding="utf-8")
+    except (OSError, UnicodeDecodeError) as exc:
+        raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
+    return parse(text, str(path))
+
+
+def parse(text: str, path: str = "<string>") -> Model:
+    reporter = Reporter(path, text)
+    try:
+        tree = _lark().parse(text, start="start")
+    except UnexpectedInput:
+        _report_syntax_errors(text, reporter)
+        reporter.raise_if_any()
+        raise AssertionError("a syntax error was found but not reported")  # pragma: no cover
+    syntax = ToSyntax(path).transform(tree)
+    return Builder(reporter).build(syntax, text, path)
+
+
+def _report_syntax_errors(text: str, reporter: Reporter) -> None:
+    """Parse statement by statement so that independent mistakes are all reported."""
+    lines = text.splitlines()
+    chunks = _statement_chunks(lines)
+    if not chunks:
+        _report(_first_error(text, "start"), reporter)
+        return
+    for first, last in chunks:
+        padded = "\n" * first + "\n".join(lines[first:last])
+        error = _first_error(padded, "statement")
+        if error is not None:
+            _report(error, reporter)
+    if not reporter.diagnostics:
+        _report(_first_error(text, "start"), reporter)
+
+
+def _statement_chunks(lines: list[str]) -> list[tuple[int, int]]:
+    """Line spans [first, last) of the statements inside `controller ... { }`."""
+    starts, depth, end = [], 0, len(lines)
+    keyword = re.compile(r"\s*(" + "|".join(STATEMENT_KEYWORDS) + r")\b")
+    for i, line in enumerate(lines):
+        code = line.split("#", 1)[0]
+        if depth == 1 and keyword.match(code):
+            starts.append(i)
+        depth += code.count("{") - code.count("}")
+        if depth <= 0 and starts and i > starts[-1]:
+            end = i
+            break
+    return [(s, e) for s, e in zip(starts, starts[1:] + [end])]
+
+
+def _first_error(text: str, start: str) -> UnexpectedInput | None:
+    try:
+        _lark().parse(text, start=start)
+    except UnexpectedInput as exc:
+        return exc
+    return None
+
+
+def _report(exc: UnexpectedInput | None, reporter: Reporter) -> None:
+    if exc is None:
+        return
+    if isinstance(exc, UnexpectedCharacters):
+        char = reporter.text.splitlines()[exc.line - 1][exc.column - 1] if exc.line > 0 else "?"
+        reporter.error(reporter.loc(exc.line, exc.column), f"unexpected character `{char}`")
+        return
+    if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken) and exc.token.type == "$END"):
+        last = max(len(reporter.text.splitlines()), 1)
+        reporter.error(reporter.loc(last, 1), "the file ends too early: a statement or the "
+                                              "closing `}` of the controller is missing")
+        return
+    token: Token = exc.token
+    expected = sorted({READABLE.get(t, f"`{t.lower()}`") for t in exc.expected
+                       if not t.startswith("__")})
+    reporter.error(reporter.loc(token.line, token.column),
+                   f"unexpected `{token}`; expected {_one_of(expected)}")
+
+
+def _one_of(options: list[str]) -> str:
+    if len(options) > 6:
+        options = options[:6] + ["..."]
+    return options[0] if len(options) == 1 else "one of " + ", ".join(options)
