@@ -88,6 +88,7 @@ class Builder:
         self.inference = Inference()
         self.period: float | None = None
         self.declared: dict[str, SourceLoc] = {}
+        self.broken: set[str] = set()    # names whose declaration failed: no follow-on errors
         self._hidden_count = 0
 
     # ------------------------------------------------------------------ entry point
@@ -168,7 +169,7 @@ class Builder:
         expr, unit = self._sympy(s.data["expr"], allow_stateful=True, owner=name.text)
         rng = self._range(s.data["range"], f"`{name.text}`") if s.data["range"] else None
         if expr is None:
-            self.units[name.text] = declared
+            self.broken.add(name.text)
             return
         if declared is not None and unit is not None and declared != unit:
             self.error(s.data["expr"].loc,
@@ -222,6 +223,8 @@ class Builder:
 
     def _linguistic(self, name: Name, rng) -> _LinguisticVar | None:
         """The variable a `terms` statement talks about; inputs and lets get one on demand."""
+        if name.text in self.broken:
+            return None
         if name.text in self.vars:
             var = self.vars[name.text]
             if rng is not None:
@@ -342,6 +345,8 @@ class Builder:
     # ------------------------------------------------------------------ rules
     def _input_var(self, name: Name) -> _LinguisticVar | None:
         var = self.vars.get(name.text)
+        if var is None and name.text in self.broken:
+            return None
         if var is None:
             known = [v for v, lv in self.vars.items() if lv.is_input]
             self.error(name.loc, f"unknown input `{name.text}` in a condition: "
@@ -603,6 +608,8 @@ class Builder:
             return (sympy.Integer(int(value)) if is_int else sympy.Float(value)), None
         if op == "symbol":
             name = node.args[0]
+            if name in self.broken:
+                return None, None
             if not self._known_symbol(name):
                 known = sorted([*self.params, *self.signals, *self.step_by_name])
                 self.error(node.loc, f"unknown name `{name}`: {suggest(name, known)}")

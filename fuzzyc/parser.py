@@ -38,7 +38,7 @@ READABLE = {
 @functools.lru_cache(maxsize=1)
 def _lark() -> Lark:
     grammar = resources.files("fuzzyc").joinpath("grammar/fuzzyc.lark").read_text()
-    return Lark(grammar, parser="lalr", start=["start", "statement"], propagate_positions=True)
+    return Lark(grammar, parser="lalr", start=["start", "statements"], propagate_positions=True)
 
 
 def load(path: str | Path) -> Model:
@@ -72,7 +72,7 @@ def _report_syntax_errors(text: str, reporter: Reporter) -> None:
         return
     for first, last in chunks:
         padded = "\n" * first + "\n".join(lines[first:last])
-        error = _first_error(padded, "statement")
+        error = _first_error(padded, "statements")
         if error is not None:
             _report(error, reporter)
     if not reporter.diagnostics:

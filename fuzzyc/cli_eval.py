@@ -1,0 +1,172 @@
+"""`fuzzyc eval`: one evaluation with the rules that fired, or a whole CSV in one batch.
+
+Without --core the values are the controller's raw inputs and one step of the whole signal
+chain runs from its initial state (so delta() is 0 and integrators start from their `from`
+value); with --core they are the rule base's own (scaled) inputs.
+"""
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import sys
+
+import numpy as np
+
+from .errors import Diagnostic, FuzzycError
+from .model import Model
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser("eval", help="evaluate a controller at one point or over a CSV")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("values", nargs="*", metavar="NAME=VALUE")
+    p.add_argument("--core", action="store_true",
+                   help="feed the rule base's scaled inputs directly (e.g. e1=0.5)")
+    p.add_argument("--json", action="store_true", help="print {outputs, fired} as JSON")
+    p.add_argument("--csv", metavar="IN.csv", help="evaluate every row of a CSV in one batch")
+    p.set_defaults(run=run)
+
+
+def input_names(model: Model, core: bool) -> list[str]:
+    return [v.name for v in model.rulebase.inputs] if core else [s.name for s in model.signals]
+
+
+def _fail(message: str) -> FuzzycError:
+    return FuzzycError([Diagnostic(None, message)])
+
+
+def parse_assignments(model: Model, pairs: list[str], core: bool) -> dict[str, float]:
+    names = input_names(model, core)
+    values: dict[str, float] = {}
+    for pair in pairs:
+        name, sep, text = pair.partition("=")
+        if not sep:
+            raise _fail(f"`{pair}` is not NAME=VALUE")
+        if name not in names:
+            raise _fail(f"`{name}` is not an input of {model.name}; its inputs are "
+                        f"{', '.join(names)}" + ("" if core else " (use --core for the rule "
+                                                               "base's scaled inputs)"))
+        try:
+            values[name] = float(text)
+        except ValueError:
+            raise _fail(f"`{text}` is not a number (in `{pair}`)") from None
+    missing = [n for n in names if n not in values]
+    if missing:
+        raise _fail(f"missing input{'s' if len(missing) > 1 else ''}: {', '.join(missing)}")
+    return values
+
+
+def warn_out_of_range(model: Model, values: dict[str, np.ndarray], core: bool) -> None:
+    ranges = ({v.name: (v.lo, v.hi) for v in model.rulebase.inputs} if core
+              else {s.name: (s.lo, s.hi) for s in model.signals})
+    for name, column in values.items():
+        lo, hi = ranges[name]
+        bad = np.count_nonzero((column < lo) | (column > hi))
+        if bad:
+            print(f"warning: {bad} value{'s' if bad > 1 else ''} of `{name}` outside its range "
+                  f"[{lo:g}, {hi:g}] (not clamped)", file=sys.stderr)
+
+
+def evaluate_batch(model: Model, columns: dict[str, np.ndarray], core: bool) -> dict[str, np.ndarray]:
+    """Every output for a batch of independent points (rule-base outputs, then the chain's)."""
+    from .controller import Controller
+    from .engine import evaluate
+    rb = model.rulebase
+    if core:
+        x = np.column_stack([columns[v.name] for v in rb.inputs])
+        y = evaluate(rb, x)
+        return {v.name: y[:, o] for o, v in enumerate(rb.outputs)}
+    n = len(next(iter(columns.values())))
+    controller = Controller(model, batch=n)
+    outputs = controller.step(columns)
+    result = {v.name: controller.signals[v.name] for v in rb.outputs}
+    result.update(outputs)
+    return result
+
+
+def run(args) -> int:
+    from .formats import load_any
+    model = load_any(args.file)
+    if args.csv:
+        return _run_csv(model, args)
+    values = parse_assignments(model, args.values, args.core)
+    columns = {k: np.array([v]) for k, v in values.items()}
+    warn_out_of_range(model, columns, args.core)
+    outputs = {k: float(v[0]) for k, v in evaluate_batch(model, columns, args.core).items()}
+    fired, rb_inputs = _explain(model, columns, args.core)
+    if args.json:
+        print(json.dumps({"outputs": outputs, "fired": fired}, indent=2))
+        return 0
+    _print_table(model, rb_inputs, outputs, fired)
+    return 0
+
+
+def _explain(model: Model, columns, core: bool):
+    """The rules that fired at the rule base's inputs, strongest first."""
+    from .controller import Controller
+    from .engine import explain
+    rb = model.rulebase
+    if core:
+        x = np.array([columns[v.name][0] for v in rb.inputs])
+    else:
+        controller = Controller(model, batch=1)
+        controller.step(columns)
+        x = np.array([controller.signals[v.name][0] for v in rb.inputs])
+    explanation = explain(rb, x)
+    fired = [{"rule": int(r) + 1, "activation": float(a), "text": text, "origin": origin}
+             for r, a, text, origin in explanation.fired]
+    fired.sort(key=lambda f: -f["activation"])
+    return fired, {v.name: float(x[i]) for i, v in enumerate(rb.inputs)}
+
+
+def _print_table(model: Model, rb_inputs, outputs, fired) -> None:
+    print(f"{model.name}: rule-base inputs " +
+          ", ".join(f"{k} = {v:.6g}" for k, v in rb_inputs.items()))
+    if not fired:
+        print("  no rule fired: every output takes its declared default")
+    else:
+        print(f"  {'rule':>5}  {'act':>6}  rule (origin)")
+        for f in fired:
+            print(f"  {f['rule']:>5}  {f['activation']:6.3f}  {f['text']}   [{f['origin']}]")
+    print("outputs: " + ", ".join(f"{k} = {v:.6g}" for k, v in outputs.items()))
+
+
+def _run_csv(model: Model, args) -> int:
+    names = input_names(model, args.core)
+    try:
+        with open(args.csv, newline="", encoding="utf-8") as handle:
+            rows = list(csv.reader(handle))
+    except OSError as exc:
+        raise _fail(f"cannot read {args.csv}: {exc}") from None
+    if not rows:
+        raise _fail(f"{args.csv}: the file is empty; its first line must name the inputs")
+    header = [h.strip() for h in rows[0]]
+    missing = [n for n in names if n not in header]
+    if missing:
+        raise _fail(f"{args.csv}:1:1: the header lacks {', '.join(missing)} "
+                    f"(inputs of {model.name}: {', '.join(names)})")
+    columns = {n: np.empty(len(rows) - 1) for n in names}
+    for line_no, row in enumerate(rows[1:], start=2):
+        for name in names:
+            col = header.index(name)
+            try:
+                columns[name][line_no - 2] = float(row[col])
+            except (ValueError, IndexError):
+                cell = row[col] if col < len(row) else ""
+                raise _fail(f"{args.csv}:{line_no}:{col + 1}: `{cell}` is not a number "
+                            f"(column {name})") from None
+    warn_out_of_range(model, columns, args.core)
+    outputs = evaluate_batch(model, columns, args.core)
+    out = io.StringIO()
+    writer = csv.writer(out, lineterminator="\n")
+    writer.writerow(names + list(outputs))
+    for i in range(len(rows) - 1):
+        writer.writerow([_fmt(columns[n][i]) for n in names] + [_fmt(v[i]) for v in outputs.values()])
+    sys.stdout.write(out.getvalue())
+    return 0
+
+
+def _fmt(value: float) -> str:
+    return repr(float(value)) if math.isfinite(value) else str(value)

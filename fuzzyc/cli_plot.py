@@ -1,0 +1,44 @@
+"""`fuzzyc plot FILE -o DIR`: membership functions and control surfaces as PNG."""
+from __future__ import annotations
+
+from .errors import Diagnostic, FuzzycError
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser("plot", help="plot membership functions and control surfaces")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("-o", "--out", required=True, metavar="DIR")
+    p.add_argument("--inputs", metavar="X,Y", help="the two rule-base inputs of the surface "
+                                                   "(default: the last two)")
+    p.add_argument("--at", action="append", default=[], metavar="NAME=VALUE",
+                   help="value of another input on the surface (default: its upper end when "
+                        "the range is within [-1, 1], else its middle)")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from .formats import load_any
+    from .plotting import plot_model
+    model = load_any(args.file)
+    names = [v.name for v in model.rulebase.inputs]
+    axes = None
+    if args.inputs:
+        axes = tuple(a.strip() for a in args.inputs.split(","))
+        unknown = [a for a in axes if a not in names]
+        if len(axes) != 2 or unknown:
+            raise FuzzycError([Diagnostic(None, f"--inputs takes two of {', '.join(names)}")])
+    fixed = {}
+    for pair in args.at:
+        name, _, value = pair.partition("=")
+        if name not in names:
+            raise FuzzycError([Diagnostic(None, f"--at: `{name}` is not one of {', '.join(names)}")])
+        try:
+            fixed[name] = float(value)
+        except ValueError:
+            raise FuzzycError([Diagnostic(None, f"--at: `{value}` is not a number")]) from None
+    if fixed:
+        defaults = {v.name: v.hi if v.hi <= 1 else 0.5 * (v.lo + v.hi) for v in model.rulebase.inputs}
+        fixed = {**defaults, **fixed}
+    for path in plot_model(model, args.out, axes, fixed or None):
+        print(path)
+    return 0
