@@ -19,7 +19,12 @@ def build_parser() -> argparse.ArgumentParser:
                     "compile to C, simulate against plant models, learn, verify, convert.")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMAND_MODULES:
-        module = importlib.import_module(f"fuzzyc.{name}")
+        try:  # TRANSITIONAL while the subcommands land; made strict before release
+            module = importlib.import_module(f"fuzzyc.{name}")
+        except ModuleNotFoundError as exc:
+            if exc.name != f"fuzzyc.{name}":
+                raise
+            continue
         module.add_parser(subparsers)
     return parser
 
