@@ -1,0 +1,182 @@
+"""Neuro-fuzzy learning of a weighted-sum rule base (Tarng, Hua, Huang, ch. 6, eqs. 6.22-6.25).
+
+The controller's output `du = sum_j mu_j w_j` (eq. 6.19) has one learnable singleton w_j per
+rule; the rule base starts empty (all w_j = 0) and the weights are learned over cutting cycles.
+Each sample only the weight of the rule with the largest firing mu_j is changed (the chapter's
+simplification), and the performance index of a cycle is (eq. 6.22)
+
+    PI = 1/2 * sum_i (e(i)^2 + rho * cf(i)^2),   rho = 6, eta = 0.25.
+
+Our reading of eq. 6.24. The printed equation, dw_j = eta * (-|grad PI|) * [e; cf] with
+-|grad PI| = (-|e| - |cf|), is garbled: it multiplies a scalar by a vector to update a scalar,
+and taken literally (-(|e|+|cf|) * e) it would lower the feed whenever the force is too low,
+the opposite of the chapter's integral action. We read it as what its words say: one step of
+gradient descent on PI for the winning weight,
+
+    dw_j = -eta' * dPI_i/dw_j.
+
+With e = GE (Fr - Fc), cf = GCF (Fc(i) - Fc(i-1)) and Fc rising with the feed U
+(dFc/dU = J > 0, its size unknown to the controller), dFc/dw_j = J * GU * mu_j gives
+dPI_i/dw_j = J GU mu_j (-GE e + rho GCF cf). The unknown positive factor J*GU*GE*mu_j goes into
+the learning rate, which leaves
+
+    dw_j = eta * (e - rho * (GCF/GE) * cf).        (our eq. 6.24)
+
+It raises the winning weight when the force is below the reference and not rising, lowers it
+when the force is above or climbing fast (the rho term damps the entry overshoot), and it
+vanishes at the set point. `tests/test_learn_milling.py` shows PI falling over 15 cycles.
+"""
+from __future__ import annotations
+
+import re
+from dataclasses import dataclass, field
+from types import ModuleType
+from typing import Any
+
+import numpy as np
+
+from .membership import memberships
+from .model import Defuzzifier, Model, RuleBase, TNorm
+
+
+def rule_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
+    """Product-firing activations (N, R) of a rule base with AND-only, un-hedged clauses."""
+    act = np.ones((x.shape[0], rb.n_rules))
+    for i, var in enumerate(rb.inputs):   # one pass per input variable (two here), not per rule
+        mu = memberships(var, x[:, i])                                   # (N, T)
+        terms = rb.antecedents[:, i]
+        act *= np.where(terms >= 0, mu[:, np.maximum(terms, 0)], 1.0)
+    return act * rb.weights
+
+
+@dataclass
+class Learner:
+    """The learning rule bound to one model: which output it trains and with which gains."""
+    model: Model
+    output: str = "du"
+    error: str = "e"
+    change: str = "cf"
+    eta: float = 0.25
+    rho: float = 6.0
+    change_weight: float = field(init=False)
+
+    def __post_init__(self) -> None:
+        rb = self.model.rulebase
+        if rb.inference.defuzzifier != Defuzzifier.WEIGHTED_SUM or rb.inference.and_ != TNorm.PRODUCT:
+            raise ValueError(f"{self.model.name}: neuro-fuzzy learning needs "
+                             "`inference and = product, defuzzify = weighted_sum`")
+        self.var = rb.outputs[rb.output_index(self.output)]
+        if self.var.learnable is None or not self.var.learnable.any():
+            raise ValueError(f"{self.model.name}: output `{self.output}` has no learnable terms")
+        self.rule_term = rb.consequents[:, rb.output_index(self.output)]
+        self.inputs = [rb.input_index(self.error), rb.input_index(self.change)]
+        params = self.model.symbol_values()
+        # rho * GCF/GE of our eq. 6.24; 1 when the file has no GE/GCF (e, cf already comparable)
+        self.change_weight = self.rho * params.get("GCF", 1.0) / params.get("GE", 1.0)
+        self.weights = self.var.params[:, 0].copy()
+
+    def update(self, signals: dict[str, np.ndarray], learn: bool = True) -> np.ndarray:
+        """One sample: this sample's PI terms (N,); with `learn`, the winning weight changes."""
+        e = np.asarray(signals[self.error], float)
+        cf = np.asarray(signals[self.change], float)
+        if not learn:
+            return 0.5 * (e ** 2 + self.rho * cf ** 2)
+        x = np.zeros((e.shape[0], len(self.model.rulebase.inputs)))
+        x[:, self.inputs[0]], x[:, self.inputs[1]] = e, cf
+        winner = np.argmax(rule_activations(self.model.rulebase, x), axis=1)
+        step = self.eta * (e - self.change_weight * cf)
+        # a batch shares one rule base: average the batch's votes per term
+        votes = np.zeros_like(self.weights)
+        np.add.at(votes, self.rule_term[winner], step / e.shape[0])
+        learnable = self.var.learnable
+        self.weights = np.where(learnable, np.clip(self.weights + votes, self.var.lo, self.var.hi),
+                                self.weights)
+        return 0.5 * (e ** 2 + self.rho * cf ** 2)
+
+
+@dataclass
+class CycleResult:
+    pi: float
+    time: float                 # s until the plant reported done (or the time limit)
+    finished: bool
+    trace: dict[str, np.ndarray]
+
+
+def run_cycle(controller: Any, plant: ModuleType, params: Any, learner: Learner, learn: bool,
+              max_time: float, period: float, rng: np.random.Generator | None = None
+              ) -> CycleResult:
+    """One cutting cycle of batch 1: PI of the cycle, learning on line when `learn`.
+
+    Signals are wired by name: the plant's outputs feed the controller's inputs and the
+    controller's outputs are the plant's inputs. The first measurement is the plant at rest.
+    """
+    controller.reset(1)
+    state = plant.initial_state(params, 1, rng)
+    measured = {name: np.zeros(1) for name in controller.input_names}
+    pi, steps, finished = 0.0, int(np.ceil(max_time / period)), False
+    trace: dict[str, list] = {}
+    for i in range(steps):
+        commands = controller.step(measured)
+        pi += float(learner.update(controller.signals, learn)[0])
+        if learn:
+            controller.set_consequent_values(learner.output, learner.weights)
+        state, outputs = plant.step(params, state, commands, i * period, period, rng)
+        for name, value in {**commands, **outputs}.items():
+            trace.setdefault(name, []).append(float(value[0]))
+        measured = {name: outputs[name] for name in controller.input_names}
+        if outputs.get("done", np.zeros(1))[0] > 0:
+            finished = True
+            break
+    return CycleResult(pi, (i + 1) * period, finished, {k: np.array(v) for k, v in trace.items()})
+
+
+@dataclass
+class LearningResult:
+    weights: np.ndarray          # the learned values of the output's terms (T,)
+    pi: np.ndarray               # performance index per cycle
+    cycles: list[CycleResult]
+
+
+def learn(model: Model, plant: ModuleType, params: Any, cycles: int, max_time: float,
+          output: str = "du", eta: float = 0.25, rho: float = 6.0,
+          rng: np.random.Generator | None = None) -> LearningResult:
+    """Repeat the cutting cycle `cycles` times, learning on line; weights carry over."""
+    from .controller import Controller
+
+    if model.period is None:
+        raise ValueError(f"{model.name}: learning needs the controller's `period`")
+    controller = Controller(model, batch=1)
+    learner = Learner(model, output=output, eta=eta, rho=rho)
+    controller.set_consequent_values(output, learner.weights)
+    results = [run_cycle(controller, plant, params, learner, True, max_time, model.period, rng)
+               for _ in range(cycles)]
+    return LearningResult(learner.weights.copy(), np.array([r.pi for r in results]), results)
+
+
+_TABLE = r"table\s+{name}\b[^{{]*\blearnable\s*\{{(?P<body>[^}}]*)\}}"
+_NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
+
+
+def trained_text(model: Model, weights: np.ndarray, output: str = "du") -> str:
+    """The model's source with the learnable table's numbers replaced by `weights`.
+
+    Everything else (comments, layout, other statements) is kept. The k-th number in the
+    table body is the k-th learnable term (the builder creates them in cell order); the result
+    is parsed again and must give back exactly these weights.
+    """
+    from .parser import parse
+
+    text = model.source_text or ""
+    match = re.search(_TABLE.format(name=re.escape(output)), text)
+    if match is None:
+        raise ValueError(f"{model.source_path}: no `table {output} ... learnable {{...}}` found")
+    var = model.rulebase.outputs[model.rulebase.output_index(output)]
+    written = [f"{w:.6g}" for w in np.asarray(weights, float)[var.learnable]]
+    values = iter(written)
+    body = _NUMBER.sub(lambda _: next(values), match.group("body"))
+    new_text = text[:match.start("body")] + body + text[match.end("body"):]
+    check = parse(new_text, model.source_path or "<trained>")
+    got = check.rulebase.outputs[check.rulebase.output_index(output)]
+    if not np.array_equal(got.params[got.learnable, 0], np.array(written, float)):
+        raise ValueError("the rewritten table does not read back as the learned weights")
+    return new_text
