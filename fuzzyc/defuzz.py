@@ -1,0 +1,230 @@
+"""Defuzzification of one rule-base output, for a batch.
+
+Input: the activations of candidate rules act (N, C) and the consequent term of each candidate
+for this output, J ((C,) static or (N, C) per sample; -1 = the rule says nothing about it).
+
+Peak-based defuzzifiers (center of area, weighted average/sum, centroid of singletons) need
+only the term strengths alpha_j.  Area-based ones (centroid, bisector, mean of maximum) work on
+the aggregated membership M(u), which is piecewise linear when the output terms are trapezoids:
+it is evaluated at a set of points that contains every break point of M (the terms' break
+points, pairwise edge crossings, and the points where an edge meets a clip level or another
+scaled edge), so integrating it piece by piece is exact.  Gaussian, bell and sigmoid output
+terms are the one sampled case: M is evaluated on a fixed grid of GRID_POINTS over [lo, hi] and
+integrated as the piecewise-linear interpolant.  Singleton terms have no area: they enter the
+centroid only when all terms of the output are singletons (point masses, as COA).
+"""
+from __future__ import annotations
+
+from itertools import product
+
+import numpy as np
+
+from .membership import term_values, trapezoid
+from .model import Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable
+
+GRID_POINTS = 2001
+FLAT_TOLERANCE = 1e-12  # relative: how close to max(M) a value must be to count as a maximum
+
+PEAK_BASED = (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE,
+              Defuzzifier.WEIGHTED_SUM)
+
+
+def term_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
+                   aggregation: Aggregation) -> np.ndarray:
+    """alpha (N, T): the aggregation of act over the candidates concluding each term."""
+    if J.ndim == 1:        # the same consequents for every sample: a matrix product / gather
+        onehot = J[:, None] == np.arange(n_terms)
+        if aggregation == Aggregation.SUM:
+            return act @ onehot.astype(float)
+        return np.stack([act[:, onehot[:, j]].max(axis=1, initial=0.0)
+                         for j in range(n_terms)], axis=1)
+    # Per-sample consequents: scatter into (N, T + 1), column T collecting "no consequent".
+    n = act.shape[0]
+    flat = (np.arange(n) * (n_terms + 1))[:, None] + np.where(J >= 0, J, n_terms)
+    out = np.zeros(n * (n_terms + 1))
+    (np.add if aggregation == Aggregation.SUM else np.maximum).at(out, flat.ravel(), act.ravel())
+    return out.reshape(n, n_terms + 1)[:, :n_terms]
+
+
+def _safe_ratio(num: np.ndarray, den: np.ndarray, default: float) -> np.ndarray:
+    ok = den > 0
+    return np.where(ok, num / np.where(ok, den, 1.0), default)
+
+
+class OutputDefuzzifier:
+    """Everything about one output that does not depend on the sample, prepared once."""
+
+    def __init__(self, var: Variable, inference: Inference):
+        self.var = var
+        self.inference = inference
+        self.params_key = np.asarray(var.params, dtype=float).tobytes()
+        self.peaks = var.peaks()
+        kinds = var.kinds
+        method = inference.defuzzifier
+        self.use_peaks = method in PEAK_BASED or bool(np.all(kinds == TermKind.SINGLETON))
+        self.sampled = not self.use_peaks and bool(
+            np.any((kinds != TermKind.TRAPEZOID) & (kinds != TermKind.SINGLETON)))
+        if not self.use_peaks:
+            self._prepare_area(var)
+
+    # -- preparation of the area-based case -------------------------------------------------
+
+    def _prepare_area(self, var: Variable) -> None:
+        lo, hi = float(var.lo), float(var.hi)
+        if self.sampled:
+            self.grid = np.linspace(lo, hi, GRID_POINTS)
+            self.grid_mu = term_values(var.kinds, var.params, self.grid)   # (P, T)
+            return
+        p = np.asarray(var.params, dtype=float).copy()
+        p[var.kinds == TermKind.SINGLETON] = np.inf    # no area: zero membership everywhere
+        self.params = p
+        lines = [self._term_lines(t) for t in range(len(p))]
+        overlapping = [(j, k) for j in range(len(p)) for k in range(len(p))
+                       if p[j, 0] < p[k, 3] and p[k, 0] < p[j, 3]]
+        static = [lo, hi] + [v for v in p.ravel() if lo < v < hi]
+        static += [_cross(l1, l2) for j, k in overlapping if j < k
+                   for l1, l2 in product(lines[j], lines[k])]
+        static = np.array([v for v in static if np.isfinite(v)])
+        self.static_points = np.unique(np.clip(static, lo, hi))
+        self.pairs = overlapping
+        self.lines = lines
+
+    def _term_lines(self, t: int) -> list[tuple[float, float]]:
+        """The pieces of term t as lines y = s*u + q: rise, top, fall (finite edges only)."""
+        a, b, c, d = self.params[t]
+        out = []
+        if np.isfinite(a) and np.isfinite(b):
+            out.append((1.0 / (b - a), -a / (b - a)))
+        if np.isfinite(a) or np.isfinite(d):
+            out.append((0.0, 1.0))
+        if np.isfinite(c) and np.isfinite(d):
+            out.append((-1.0 / (d - c), d / (d - c)))
+        return out
+
+    # -- evaluation ---------------------------------------------------------------------------
+
+    def work_per_sample(self, n_candidates: int) -> int:
+        """A rough count of floats per sample, so the engine can size its chunks."""
+        if self.use_peaks:
+            return 8 * n_candidates
+        n_items = self.var.n_terms if self._static_items() else n_candidates
+        n_points = GRID_POINTS if self.sampled else len(self.static_points) + 8 * n_items ** 2
+        return 4 * n_points * n_items
+
+    def _static_items(self) -> bool:
+        return self.inference.aggregation == Aggregation.MAX or \
+            self.inference.implication == Implication.PRODUCT
+
+    def __call__(self, act: np.ndarray, J: np.ndarray) -> np.ndarray:
+        var, inf = self.var, self.inference
+        method = inf.defuzzifier
+        if self.use_peaks:
+            agg = Aggregation.SUM if method in (Defuzzifier.WEIGHTED_AVERAGE,
+                                                Defuzzifier.WEIGHTED_SUM) else inf.aggregation
+            alpha = term_strengths(act, J, var.n_terms, agg)
+            num, den = alpha @ self.peaks, alpha.sum(axis=1)
+            if method == Defuzzifier.WEIGHTED_SUM:
+                return np.where(den > 0, num, var.default)
+            return _safe_ratio(num, den, var.default)
+        if self._static_items():
+            # max_r IMP(act_r, mu_j) = IMP(max_r act_r, mu_j); sum_r act_r mu_j = (sum act_r) mu_j
+            levels = term_strengths(act, J, var.n_terms, inf.aggregation)
+            ids = np.arange(var.n_terms)
+        else:   # SUM of MIN-clipped terms: every candidate rule is its own item
+            levels = np.where(J >= 0, act, 0.0)
+            ids = np.broadcast_to(J, act.shape)
+        x, f = self._sample(levels, ids)
+        return _area_defuzzify(method, x, f, var.default)
+
+    def _sample(self, levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Points (N, P) sorted, and M at them."""
+        n = levels.shape[0]
+        if self.sampled:
+            x = np.broadcast_to(self.grid, (n, len(self.grid)))
+            mu = self.grid_mu[:, ids.clip(0)]                    # (P, K) or (P, N, K)
+            mu = mu[None] if ids.ndim == 1 else mu.transpose(1, 0, 2)
+        else:
+            x = np.sort(np.concatenate([np.broadcast_to(self.static_points,
+                                                        (n, len(self.static_points))),
+                                        self._dynamic_points(levels, ids)], axis=1), axis=1)
+            p = self.params[ids.clip(0)]                         # (K, 4) or (N, K, 4)
+            p = p[None, None] if ids.ndim == 1 else p[:, None]
+            mu = trapezoid(x[:, :, None], p[..., 0], p[..., 1], p[..., 2], p[..., 3])
+        if ids.ndim == 2:
+            mu = np.where((ids >= 0)[:, None, :], mu, 0.0)
+        lv = levels[:, None, :]
+        implied = np.minimum(lv, mu) if self.inference.implication == Implication.MIN else lv * mu
+        agg = implied.max(axis=2) if self.inference.aggregation == Aggregation.MAX \
+            else implied.sum(axis=2)
+        return x, agg
+
+    def _dynamic_points(self, levels: np.ndarray, ids: np.ndarray) -> np.ndarray:
+        """The break points of M that move with the levels, clipped into [lo, hi]."""
+        lo, hi = float(self.var.lo), float(self.var.hi)
+        with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
+            if ids.ndim == 2:      # each rule clipped on its own: its edges meet its level
+                p = self.params[ids.clip(0)]
+                pts = np.concatenate([p[..., 0] + levels * (p[..., 1] - p[..., 0]),
+                                      p[..., 3] - levels * (p[..., 3] - p[..., 2])], axis=1)
+            elif self.inference.implication == Implication.MIN:
+                pts = np.stack([(levels[:, j] - q) / s for j, k in self.pairs
+                                for s, q in self.lines[k] if s != 0.0], axis=1)
+            else:                  # scaled pieces of two different terms cross
+                pts = np.stack([(levels[:, k] * q2 - levels[:, j] * q1)
+                                / (levels[:, j] * s1 - levels[:, k] * s2)
+                                for j, k in self.pairs if j < k
+                                for (s1, q1), (s2, q2) in product(self.lines[j], self.lines[k])
+                                if not (s1 == 0.0 and s2 == 0.0)] or
+                               [np.full(len(levels), lo)], axis=1)
+        pts = np.where(np.isfinite(pts), pts, lo)
+        return np.clip(pts, lo, hi)
+
+
+def _cross(l1: tuple[float, float], l2: tuple[float, float]) -> float:
+    (s1, q1), (s2, q2) = l1, l2
+    return (q2 - q1) / (s1 - s2) if s1 != s2 else np.nan
+
+
+def _area_defuzzify(method: Defuzzifier, x: np.ndarray, f: np.ndarray,
+                    default: float) -> np.ndarray:
+    """Exact centroid / bisector / mean of maximum of the piecewise-linear (x, f)."""
+    x0, x1, f0, f1 = x[:, :-1], x[:, 1:], f[:, :-1], f[:, 1:]
+    dx = x1 - x0
+    piece_area = 0.5 * (f0 + f1) * dx
+    area = piece_area.sum(axis=1)
+    if method == Defuzzifier.CENTROID:
+        moment = (dx * (f0 * (2 * x0 + x1) + f1 * (x0 + 2 * x1)) / 6.0).sum(axis=1)
+        return _safe_ratio(moment, area, default)
+    if method == Defuzzifier.BISECTOR:
+        return np.where(area > 0, _bisector(x0, dx, f0, f1, piece_area, area), default)
+    return _mean_of_maximum(x, f, default)
+
+
+def _bisector(x0, dx, f0, f1, piece_area, area) -> np.ndarray:
+    """The leftmost u with int_lo^u M = area / 2, solving the quadratic inside its piece."""
+    half = 0.5 * area
+    before = np.cumsum(piece_area, axis=1) - piece_area
+    k = np.argmax(before + piece_area >= half[:, None], axis=1)[:, None]
+    take = lambda a: np.take_along_axis(a, k, axis=1)[:, 0]   # noqa: E731
+    rem = half - take(before)
+    a0, d, g0, g1 = take(x0), take(dx), take(f0), take(f1)
+    slope = np.where(d > 0, (g1 - g0) / np.where(d > 0, d, 1.0), 0.0)
+    # t solves g0 t + slope t^2 / 2 = rem; this form is stable for slope = 0 too.
+    den = g0 + np.sqrt(np.maximum(g0 * g0 + 2.0 * slope * rem, 0.0))
+    t = np.where(den > 0, 2.0 * rem / np.where(den > 0, den, 1.0), 0.0)
+    return a0 + np.clip(t, 0.0, d)
+
+
+def _mean_of_maximum(x: np.ndarray, f: np.ndarray, default: float) -> np.ndarray:
+    top = f.max(axis=1)
+    is_top = f >= (top - FLAT_TOLERANCE * np.maximum(top, 1.0))[:, None]
+    x0, x1 = x[:, :-1], x[:, 1:]
+    plateau = is_top[:, :-1] & is_top[:, 1:]
+    length = np.where(plateau, x1 - x0, 0.0)
+    total = length.sum(axis=1)
+    plateau_mean = (length * 0.5 * (x0 + x1)).sum(axis=1) / np.where(total > 0, total, 1.0)
+    # Isolated maxima: count each distinct point once (the point list may repeat a point).
+    distinct = np.concatenate([np.ones((len(x), 1), bool), x1 > x0], axis=1) & is_top
+    point_mean = (np.where(distinct, x, 0.0).sum(axis=1)
+                  / np.maximum(distinct.sum(axis=1), 1))
+    return np.where(top > 0, np.where(total > 0, plateau_mean, point_mean), default)

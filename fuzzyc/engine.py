@@ -1,0 +1,211 @@
+"""The numpy engine: what a rule base means (the reference semantics of `fuzzyc.model`).
+
+Two ways to find the rule activations, with identical results:
+- dense: every rule for every sample (any rule base: OR, NOT, hedges, wildcards, any terms);
+- sparse: when every input is a partition where at most two terms are positive at a time (see
+  `LocalPartition`) and the rules are plain AND conjunctions of one term per input, a sample can
+  fire at most 2**I rules.  Per sample the engine takes the two active terms of each input, forms
+  the 2**I term-index tuples, and looks their rules up in a table built once from the rules.
+Defuzzification (`fuzzyc.defuzz`) takes either form.  Batches are processed in chunks so memory
+stays flat in the batch size.
+"""
+from __future__ import annotations
+
+import weakref
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .defuzz import OutputDefuzzifier
+from .membership import HEDGE_EXPONENT, LocalPartition, memberships
+from .model import Connective, Hedge, RuleBase, SNorm, TNorm
+
+MAX_LOOKUP_CELLS = 1 << 21
+MAX_SPARSE_INPUTS = 6
+CHUNK_FLOATS = 1 << 22      # the working set one chunk may use, in float64 values
+
+
+def _combine(values: list[np.ndarray], tnorm: TNorm | SNorm, conjunction: bool) -> np.ndarray:
+    out = values[0]
+    for v in values[1:]:
+        if conjunction:
+            out = np.minimum(out, v) if tnorm == TNorm.MIN else out * v
+        else:
+            out = np.maximum(out, v) if tnorm == SNorm.MAX else out + v - out * v
+    return out
+
+
+def activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
+    """x (N, I) -> act (N, R): every rule's activation, after weights (the dense reference)."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    n, r = x.shape[0], rb.n_rules
+    conj = rb.connective == Connective.AND
+    clauses = []
+    for i, var in enumerate(rb.inputs):
+        mu = np.concatenate([memberships(var, x[:, i]), np.zeros((n, 1))], axis=1)
+        cols = rb.antecedents[:, i]
+        g = mu[:, np.where(cols >= 0, cols, var.n_terms)]
+        exponent = HEDGE_EXPONENT[rb.hedges[:, i]]
+        if np.any(exponent != 1.0):
+            g = g ** exponent
+        g = np.where(rb.negated[:, i], 1.0 - g, g)
+        # An absent clause is the neutral element of the rule's connective.
+        clauses.append(np.where(cols >= 0, g, np.where(conj, 1.0, 0.0)))
+    if not clauses:
+        return np.broadcast_to(rb.weights.astype(float), (n, r)).copy()
+    act = np.where(conj, _combine(clauses, rb.inference.and_, True),
+                   _combine(clauses, rb.inference.or_, False))
+    act = np.where(np.all(rb.antecedents < 0, axis=1), 1.0, act)
+    return act * rb.weights
+
+
+def _fingerprint(rb: RuleBase) -> tuple:
+    arrays = [rb.antecedents, rb.consequents, rb.weights, rb.negated, rb.hedges, rb.connective]
+    for v in rb.inputs + rb.outputs:
+        arrays += [v.kinds, np.asarray(v.params, dtype=float),
+                   np.array([v.lo, v.hi, v.default], dtype=float)]
+    return (rb.inference.describe(),) + tuple(np.ascontiguousarray(a).tobytes() for a in arrays)
+
+
+class CompiledRuleBase:
+    """The per-rule-base tables of the engine, built once (see `compiled`)."""
+
+    def __init__(self, rb: RuleBase, allow_sparse: bool = True):
+        self.rb = rb
+        self.key = _fingerprint(rb)
+        self.defuzzifiers = [OutputDefuzzifier(v, rb.inference) for v in rb.outputs]
+        self.partitions = self._sparse_partitions(rb) if allow_sparse else None
+        self.sparse = self.partitions is not None
+        n_candidates = rb.n_rules
+        if self.sparse:
+            self._build_lookup(rb)
+            n_candidates = self.lookup.shape[1] << len(rb.inputs)
+        work = max([d.work_per_sample(n_candidates) for d in self.defuzzifiers]
+                   + [4 * n_candidates * max(1, len(rb.inputs))])
+        self.chunk_limit = max(1, CHUNK_FLOATS // work)
+
+    @staticmethod
+    def _sparse_partitions(rb: RuleBase) -> list[LocalPartition] | None:
+        plain = (rb.n_rules > 0 and 0 < len(rb.inputs) <= MAX_SPARSE_INPUTS
+                 and np.all(rb.connective == Connective.AND) and not np.any(rb.negated)
+                 and np.all(rb.hedges == Hedge.NONE) and np.all(rb.antecedents >= 0)
+                 and np.prod([v.n_terms + 1 for v in rb.inputs]) <= MAX_LOOKUP_CELLS)
+        if not plain:
+            return None
+        parts = [LocalPartition.build(v) for v in rb.inputs]
+        return None if any(p is None for p in parts) else parts
+
+    def _build_lookup(self, rb: RuleBase) -> None:
+        """lookup[cell] = the rules whose antecedent is that term tuple, padded with rule R."""
+        radix = np.array([v.n_terms + 1 for v in rb.inputs])
+        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
+        cells = rb.antecedents @ place
+        order = np.argsort(cells, kind="stable")
+        counts = np.bincount(cells, minlength=int(np.prod(radix)))
+        depth = max(1, int(counts.max()))
+        lookup = np.full((len(counts), depth), rb.n_rules)
+        rank = np.arange(rb.n_rules) - np.searchsorted(cells[order], cells[order])
+        lookup[cells[order], rank] = order
+        self.radix, self.lookup = radix, lookup
+        self.weights = np.append(rb.weights.astype(float), 0.0)
+        self.unit_weights = bool(np.all(rb.weights == 1.0))
+        self.consequents = np.vstack([rb.consequents, np.full(len(rb.outputs), -1)])
+
+    def candidates(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+        """(act (N, C), rule ids (N, C)) of the rules that can fire; ids None = all rules."""
+        if not self.sparse:
+            return activations(self.rb, x), None
+        n = x.shape[0]
+        cell = np.zeros((n, 1), dtype=np.intp)
+        mu = np.ones((n, 1))
+        tnorm = self.rb.inference.and_
+        for i, part in enumerate(self.partitions):
+            terms, m = part.active(x[:, i])
+            cell = (cell[:, :, None] * self.radix[i] + terms[:, None, :]).reshape(n, -1)
+            mu = _combine([mu[:, :, None], m[:, None, :]], tnorm, True).reshape(n, -1)
+        rid = self.lookup[cell].reshape(n, -1)
+        if self.lookup.shape[1] > 1:
+            mu = np.repeat(mu, self.lookup.shape[1], axis=1)
+        return (mu if self.unit_weights else mu * self.weights[rid]), rid
+
+    def evaluate_chunk(self, x: np.ndarray) -> np.ndarray:
+        act, rid = self.candidates(x)
+        y = np.empty((x.shape[0], len(self.defuzzifiers)))
+        for o, defuzzify in enumerate(self.defuzzifiers):
+            J = self.rb.consequents[:, o] if rid is None else self.consequents[rid, o]
+            y[:, o] = defuzzify(act, J)
+        return y
+
+
+_CACHE: dict[int, CompiledRuleBase] = {}
+
+
+def compiled(rb: RuleBase) -> CompiledRuleBase:
+    """The engine's tables for rb, rebuilt whenever rb has changed (e.g. learned values)."""
+    entry = _CACHE.get(id(rb))
+    if entry is not None and entry.rb is rb and entry.key == _fingerprint(rb):
+        return entry
+    entry = CompiledRuleBase(rb)
+    if id(rb) not in _CACHE:
+        weakref.finalize(rb, _CACHE.pop, id(rb), None)
+    _CACHE[id(rb)] = entry
+    return entry
+
+
+def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536) -> np.ndarray:
+    """x (N, I) -> y (N, O), in chunks so memory is flat in N."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    if x.shape[1] != len(rb.inputs):
+        raise ValueError(f"expected {len(rb.inputs)} input columns "
+                         f"({', '.join(v.name for v in rb.inputs)}), got {x.shape[1]}")
+    engine = compiled(rb)
+    step = max(1, min(chunk, engine.chunk_limit))
+    if x.shape[0] <= step:
+        return engine.evaluate_chunk(x)
+    return np.concatenate([engine.evaluate_chunk(x[s:s + step])
+                           for s in range(0, x.shape[0], step)])
+
+
+def _input_row(rb: RuleBase, values: dict[str, float]) -> np.ndarray:
+    missing = [v.name for v in rb.inputs if v.name not in values]
+    if missing:
+        raise KeyError(f"no value for input(s): {', '.join(missing)}")
+    return np.array([[float(values[v.name]) for v in rb.inputs]])
+
+
+def evaluate_one(rb: RuleBase, values: dict[str, float]) -> dict[str, float]:
+    y = evaluate(rb, _input_row(rb, values))[0]
+    return {v.name: float(y[o]) for o, v in enumerate(rb.outputs)}
+
+
+@dataclass
+class Explanation:
+    """Why a rule base gave its outputs at one input point."""
+    inputs: dict[str, float]
+    memberships: dict[str, dict[str, float]]
+    fired: list[tuple[int, float, str, str]] = field(default_factory=list)  # strongest first
+    outputs: dict[str, float] = field(default_factory=dict)
+
+    def __str__(self) -> str:
+        lines = ["inputs: " + ", ".join(f"{k}={v:g}" for k, v in self.inputs.items())]
+        for name, mu in self.memberships.items():
+            lines.append(f"  {name}: " + ", ".join(f"{t}={m:.3g}" for t, m in mu.items() if m > 0))
+        lines.append(f"fired ({len(self.fired)}):")
+        lines += [f"  #{r + 1} {a:.4g}  {text}" + (f"   [{origin}]" if origin else "")
+                  for r, a, text, origin in self.fired]
+        lines.append("outputs: " + ", ".join(f"{k}={v:.6g}" for k, v in self.outputs.items()))
+        return "\n".join(lines)
+
+
+def explain(rb: RuleBase, x: np.ndarray) -> Explanation:
+    """Which rules fired at x (I,) and how strongly, with the memberships and outputs."""
+    row = np.asarray(x, dtype=float).reshape(1, -1)
+    act = activations(rb, row)[0]
+    mu = {v.name: dict(zip(v.names, memberships(v, row[:, i])[0].tolist()))
+          for i, v in enumerate(rb.inputs)}
+    order = [int(r) for r in np.argsort(-act, kind="stable") if act[r] > 0]
+    origins = rb.origins if len(rb.origins) == rb.n_rules else [""] * rb.n_rules
+    fired = [(r, float(act[r]), rb.describe_rule(r), origins[r]) for r in order]
+    y = evaluate(rb, row)[0]
+    return Explanation({v.name: float(row[0, i]) for i, v in enumerate(rb.inputs)}, mu, fired,
+                       {v.name: float(y[o]) for o, v in enumerate(rb.outputs)})

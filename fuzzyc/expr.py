@@ -1,0 +1,73 @@
+"""Evaluate the signal chain's sympy expressions with numpy, by walking the expression tree.
+
+No lambdify, eval or exec: each node kind maps to one numpy function, so only the operations
+listed here can run.  A tree is compiled once into nested closures (cached per expression).
+"""
+from __future__ import annotations
+
+from functools import lru_cache, reduce
+from typing import Callable
+
+import numpy as np
+import sympy
+
+Env = dict[str, "np.ndarray | float"]
+Compiled = Callable[[Env], "np.ndarray | float"]
+
+_NARY = {
+    sympy.Add: np.add,
+    sympy.Mul: np.multiply,
+    sympy.Min: np.minimum,
+    sympy.Max: np.maximum,
+}
+_UNARY = {
+    sympy.Abs: np.abs,
+    sympy.exp: np.exp,
+    sympy.log: np.log,
+    sympy.sign: np.sign,
+}
+
+
+def _power(base: np.ndarray | float, exponent: np.ndarray | float) -> np.ndarray:
+    if np.isscalar(exponent) and exponent == 0.5:
+        return np.sqrt(base)
+    if np.isscalar(exponent) and exponent == -1.0:
+        return 1.0 / np.asarray(base, dtype=float)
+    return np.power(np.asarray(base, dtype=float), exponent)
+
+
+@lru_cache(maxsize=4096)
+def compile_expr(expr: sympy.Expr) -> Compiled:
+    """A function env -> value for expr; raises ValueError for a node it does not know."""
+    if isinstance(expr, sympy.Symbol):
+        name = expr.name
+
+        def symbol(env: Env):
+            try:
+                return env[name]
+            except KeyError:
+                raise KeyError(f"no value for `{name}`") from None
+        return symbol
+    if expr.is_number:
+        value = float(expr)
+        return lambda env: value
+    args = [compile_expr(a) for a in expr.args]
+    for kind, fn in _NARY.items():
+        if isinstance(expr, kind):
+            return lambda env: reduce(fn, [a(env) for a in args])
+    for kind, fn in _UNARY.items():
+        if isinstance(expr, kind):
+            (arg,) = args
+            return lambda env: fn(arg(env))
+    if isinstance(expr, sympy.Pow):
+        base, exponent = args
+        return lambda env: _power(base(env), exponent(env))
+    raise ValueError(f"cannot evaluate `{expr}`: {type(expr).__name__} is not supported")
+
+
+def evaluate_expr(expr: sympy.Expr, env: Env) -> np.ndarray:
+    """The value of expr with symbols taken from env (arrays broadcast), as a float array."""
+    if not isinstance(expr, sympy.Basic):      # a plain number
+        return np.asarray(float(expr))
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        return np.asarray(compile_expr(expr)(env), dtype=float)

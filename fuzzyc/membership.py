@@ -1,0 +1,152 @@
+"""Membership functions of a variable's terms, vectorized over a batch of crisp values.
+
+`memberships` is the reference (it follows the model's docstring literally). `LocalPartition`
+is the fast path the engine uses when a variable's terms are continuous piecewise-linear and at
+most two of them are positive at any point (the usual triangle partitions): per sample it finds
+the segment between break points with one `searchsorted` and evaluates only the two terms that
+can be active there, with the very same arithmetic as `memberships` (bit-identical results).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .model import TermKind, Variable
+
+HEDGE_EXPONENT = np.array([1.0, 2.0, 0.5, 3.0])  # indexed by Hedge: NONE VERY SOMEWHAT EXTREMELY
+
+
+def trapezoid(x, a, b, c, d) -> np.ndarray:
+    """The trapezoid membership, broadcasting x against the parameters.
+
+    An infinite a (or d) makes a shoulder: its rise (fall) is 1 everywhere.
+    """
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rise = np.where(x >= b, 1.0, np.where(x > a, (x - a) / (b - a), 0.0))
+        fall = np.where(x <= c, 1.0, np.where(x < d, (d - x) / (d - c), 0.0))
+    rise = np.where(np.isneginf(a), 1.0, rise)
+    fall = np.where(np.isposinf(d), 1.0, fall)
+    return np.minimum(rise, fall)
+
+
+def _trapezoid(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return trapezoid(x, p[:, 0], p[:, 1], p[:, 2], p[:, 3])
+
+
+def _gaussian(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    mean, sigma = p[:, 0], p[:, 1]
+    return np.exp(-((x - mean) ** 2) / (2.0 * sigma ** 2))
+
+
+def _bell(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    center, width, slope = p[:, 0], p[:, 1], p[:, 2]
+    with np.errstate(over="ignore"):
+        return 1.0 / (1.0 + np.abs((x - center) / width) ** (2.0 * slope))
+
+
+def _sigmoid(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    center, slope = p[:, 0], p[:, 1]
+    with np.errstate(over="ignore"):
+        return 1.0 / (1.0 + np.exp(-slope * (x - center)))
+
+
+def _singleton(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return (x == p[:, 0]).astype(float)
+
+
+_SHAPES = {
+    TermKind.TRAPEZOID: _trapezoid,
+    TermKind.GAUSSIAN: _gaussian,
+    TermKind.BELL: _bell,
+    TermKind.SIGMOID: _sigmoid,
+    TermKind.SINGLETON: _singleton,
+}
+
+
+def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """Membership of terms given as (kinds (T,), params (T, 4)) at x (N,) -> (N, T).
+
+    NaN x gives 0 for every term; infinities give the shapes' limits (never NaN).
+    """
+    x = np.asarray(x, dtype=float).reshape(-1, 1)
+    params = np.asarray(params, dtype=float)
+    mu = np.zeros((x.shape[0], len(kinds)))
+    for kind in np.unique(kinds):
+        cols = np.flatnonzero(kinds == kind)
+        with np.errstate(invalid="ignore"):
+            mu[:, cols] = _SHAPES[TermKind(int(kind))](x, params[cols])
+    mu[np.isnan(mu)] = 0.0  # NaN x, or an infinite x where a shape has no limit (0 * inf)
+    return mu
+
+
+def memberships(var: Variable, x: np.ndarray) -> np.ndarray:
+    """x (N,) -> mu (N, T) for the terms of `var`."""
+    return term_values(var.kinds, var.params, x)
+
+
+@dataclass
+class LocalPartition:
+    """Per segment between break points, the (at most two) terms that can be positive there.
+
+    Segment k = searchsorted(breaks, x, 'right'); slot s of segment k holds a term id (or the
+    dummy id T) and the piece mu = (x - anchor) / width + offset of that term on the segment:
+    a rise (anchor a, width b - a), a fall (anchor d, width c - d) or the top (width inf,
+    offset 1).  The dummy slot is (anchor 0, width inf, offset 0) = 0.
+    """
+    breaks: np.ndarray    # (B,) sorted finite break points
+    table: np.ndarray     # (B + 1, 8): anchor, width, offset, term id of the two slots
+    n_terms: int
+
+    @classmethod
+    def build(cls, var: Variable) -> "LocalPartition | None":
+        """The partition of `var`, or None if the fast path does not apply to its terms."""
+        kinds, p = var.kinds, np.asarray(var.params, dtype=float)
+        if len(kinds) == 0 or np.any(kinds != TermKind.TRAPEZOID):
+            return None
+        a, b, c, d = p.T
+        # Vertical edges would make the membership discontinuous at a break point.
+        if np.any(np.isfinite(a) & (a >= b)) or np.any(np.isfinite(d) & (c >= d)):
+            return None
+        breaks = np.unique(p[np.isfinite(p)])
+        if breaks.size == 0:
+            return None
+        inner = 0.5 * (breaks[:-1] + breaks[1:])
+        probes = np.concatenate([[breaks[0] - 1.0], inner, [breaks[-1] + 1.0]])
+        mu = memberships(var, probes)
+        if np.any((mu > 0).sum(axis=1) > 2):
+            return None
+        n_seg, n_terms = len(probes), len(kinds)
+        terms = np.full((n_seg, 2), n_terms)
+        anchor = np.zeros((n_seg, 2))
+        width = np.full((n_seg, 2), np.inf)
+        offset = np.zeros((n_seg, 2))
+        for k, u in enumerate(probes):
+            for s, t in enumerate(np.flatnonzero(mu[k] > 0)):
+                terms[k, s] = t
+                if not np.isneginf(a[t]) and u < b[t]:
+                    anchor[k, s], width[k, s] = a[t], b[t] - a[t]
+                elif not np.isposinf(d[t]) and u > c[t]:
+                    anchor[k, s], width[k, s] = d[t], c[t] - d[t]
+                else:
+                    offset[k, s] = 1.0
+        return cls(breaks, np.hstack([anchor, width, offset, terms]), n_terms)
+
+    def active(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """x (N,) -> (term ids (N, 2), memberships (N, 2)); NaN x -> dummy ids, 0."""
+        # Outside the outermost break points every term is constant, so clipping changes no
+        # membership and keeps infinities out of the arithmetic.
+        xc = np.clip(x, self.breaks[0], self.breaks[-1])
+        seg = np.searchsorted(self.breaks, xc, side="right")
+        nan = np.isnan(x)
+        has_nan = nan.any()
+        if has_nan:
+            xc = np.where(nan, self.breaks[0], xc)
+            seg = np.where(nan, 0, seg)
+        row = self.table.take(seg, axis=0)
+        mu = (xc[:, None] - row[:, 0:2]) / row[:, 2:4] + row[:, 4:6]
+        terms = row[:, 6:8].astype(np.intp)
+        if has_nan:
+            mu[nan] = 0.0
+            terms[nan] = self.n_terms
+        return terms, mu
