@@ -1,0 +1,90 @@
+"""Proofs over the continuous input space (method 2) for bounds and monotonicity.
+
+- Peak-based defuzzifiers (center of area, weighted average) return a convex combination of
+  the concluded terms' peaks, or the default where nothing fires: the hull of those values
+  bounds the output everywhere. Area-based ones stay in the output's range.
+- Multilinear rule bases (product t-norm, AND, trapezoid terms, no hedges, weighted sum: the
+  neuro-fuzzy controller): on each cell between consecutive break points every membership is
+  linear in its own input, so the output is a multilinear polynomial there. A multilinear
+  polynomial takes its extremes over a box at the box's vertices, and so does its increment
+  along one input; evaluating the engine at the break-point grid therefore decides bounds and
+  monotonicity exactly.
+Min/max inference with center of area is piecewise rational with pieces cut by the lines where
+two memberships cross: no proof method here, the search (method 3) decides it.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .. import engine
+from ..model import Connective, Defuzzifier, RuleBase, TNorm, TermKind
+from .result import Evidence, Status
+from .space import break_points, hedge_free, restrict, tensor_points
+
+TOL = 1e-9
+AREA_BASED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
+
+
+def multilinear(rb: RuleBase) -> bool:
+    single_or_and = (rb.connective == Connective.AND) | ((rb.antecedents >= 0).sum(axis=1) <= 1)
+    return (rb.inference.and_ == TNorm.PRODUCT and bool(single_or_and.all())
+            and rb.inference.defuzzifier == Defuzzifier.WEIGHTED_SUM and hedge_free(rb)
+            and all((v.kinds == TermKind.TRAPEZOID).all() for v in rb.inputs))
+
+
+def _vertex_values(rb: RuleBase, where) -> tuple[list[np.ndarray], np.ndarray]:
+    axes = restrict(rb, where, [break_points(v) for v in rb.inputs])
+    values = engine.evaluate(rb, tensor_points(axes))
+    return axes, values.reshape([len(a) for a in axes] + [len(rb.outputs)])
+
+
+def prove_bounded(rb: RuleBase, output: str, lo: float, hi: float) -> Evidence:
+    o = rb.output_index(output)
+    var = rb.outputs[o]
+    d = rb.inference.defuzzifier
+    if multilinear(rb):
+        _, values = _vertex_values(rb, [])
+        low, high = float(values[..., o].min()), float(values[..., o].max())
+        how = "multilinear per cell: extremes at the break-point grid"
+    elif d in AREA_BASED:
+        low, high = min(var.lo, var.default), max(var.hi, var.default)
+        how = "area-based defuzzifier: within the output's range or its default"
+    elif d == Defuzzifier.WEIGHTED_SUM:
+        return Evidence("proof", Status.UNDECIDED, "weighted sum without a multilinear form")
+    else:
+        used = np.unique(rb.consequents[:, o][rb.consequents[:, o] >= 0])
+        peaks = np.append(var.peaks()[used], var.default)
+        low, high = float(peaks.min()), float(peaks.max())
+        how = "convex combination of the concluded peaks (or the default)"
+    if lo - TOL <= low and high <= hi + TOL:
+        return Evidence("proof", Status.PROVED, f"{how}: {output} in [{low:.6g}, {high:.6g}]")
+    if multilinear(rb):
+        return Evidence("proof", Status.VIOLATED, f"{how}: {output} reaches "
+                        f"[{low:.6g}, {high:.6g}], outside [{lo:g}, {hi:g}]",
+                        point=_extreme_point(rb, o, lo, hi))
+    return Evidence("proof", Status.UNDECIDED, f"{how}: the hull [{low:.6g}, {high:.6g}] is "
+                    f"wider than [{lo:g}, {hi:g}]; the search decides if it is reached")
+
+
+def _extreme_point(rb: RuleBase, o: int, lo: float, hi: float) -> dict[str, float]:
+    axes, values = _vertex_values(rb, [])
+    excess = np.maximum(values[..., o] - hi, lo - values[..., o])
+    idx = np.unravel_index(int(np.argmax(excess)), excess.shape)
+    return {v.name: float(a[k]) for v, a, k in zip(rb.inputs, axes, idx)}
+
+
+def prove_monotone(rb: RuleBase, output: str, input_: str, direction: str, where) -> Evidence:
+    if not multilinear(rb):
+        return Evidence("proof", Status.UNDECIDED, f"no proof method for "
+                        f"{rb.inference.describe()} (not multilinear); the search decides")
+    o, k = rb.output_index(output), rb.input_index(input_)
+    axes, values = _vertex_values(rb, where)
+    step = np.diff(values[..., o], axis=k) * (1 if direction == "increasing" else -1)
+    if step.size == 0 or step.min() >= -TOL:
+        return Evidence("proof", Status.PROVED, f"multilinear per cell: every increment along "
+                        f"{input_} between break points has the right sign")
+    idx = np.unravel_index(int(np.argmin(step)), step.shape)
+    point = {v.name: float(a[j]) for v, a, j in zip(rb.inputs, axes, idx)}
+    return Evidence("proof", Status.VIOLATED, f"{output} moves against `{direction}` by "
+                    f"{float(step[idx]):.6g} from {input_}={axes[k][idx[k]]:g} to "
+                    f"{axes[k][idx[k] + 1]:g}", point=point)

@@ -1,0 +1,127 @@
+"""Runs every property of a model with the methods that apply, strongest first."""
+from __future__ import annotations
+
+import os
+import shlex
+import time
+from dataclasses import dataclass
+from typing import Callable
+
+from ..model import Model, Property
+from . import coverage, outputs, proof, search, tables
+from .result import Evidence, Result, Status
+
+FINDING_PREFIX = "finding:"
+
+
+@dataclass
+class Options:
+    backend: str = "numpy"          # closed loops drive the numpy engine or the generated C
+    max_examples: int = 100         # hypothesis examples (and closed-loop cases)
+    seed: int = 0
+    grid_budget: int = 20000        # dense-grid points per property
+    report_dir: str | None = None   # counterexample plots go here
+    only: str | None = None         # run only properties whose text contains this
+    progress: Callable[[str], None] | None = None
+
+
+def finding_for(model: Model, prop: Property) -> str | None:
+    """The note recording a known violation of this property: `note "finding: <text> ..."`."""
+    for note in model.notes:
+        if note.startswith(FINDING_PREFIX) and prop.text and \
+                note[len(FINDING_PREFIX):].lstrip().startswith(prop.text):
+            return note
+    return None
+
+
+def property_name(model: Model, prop: Property, parent: Property | None = None) -> str:
+    base = os.path.basename(model.source_path or model.name)
+    head = f"{parent.text.split('{')[0].strip()} :: " if parent else ""
+    return f"{base}::{head}{prop.text or prop.kind}"
+
+
+def reproduce_command(model: Model, prop: Property, options: Options) -> str:
+    args = ["fuzzyc", "verify", model.source_path or model.name, "--only", prop.text,
+            "--seed", str(options.seed), "--max-examples", str(options.max_examples)]
+    if options.backend != "numpy":
+        args += ["--backend", options.backend]
+    return " ".join(shlex.quote(a) for a in args)
+
+
+def verify_model(model: Model, options: Options | None = None) -> list[Result]:
+    options = options or Options()
+    results = []
+    for prop in model.properties:
+        if prop.kind == "closed_loop":
+            checks = [c for c in prop.args["checks"] if _selected(options, c, prop)]
+            if checks:
+                results += _closed_loop(model, prop, checks, options)
+            continue
+        if not _selected(options, prop):
+            continue
+        if options.progress:
+            options.progress(prop.text)
+        start = time.perf_counter()
+        evidence = check_property(model, prop, options)
+        results.append(Result(prop, property_name(model, prop), evidence,
+                              finding_for(model, prop), reproduce_command(model, prop, options),
+                              time.perf_counter() - start))
+    return results
+
+
+def _selected(options: Options, prop: Property, parent: Property | None = None) -> bool:
+    if not options.only:
+        return True
+    return options.only in prop.text or (parent is not None and options.only in parent.text)
+
+
+def check_property(model: Model, prop: Property, options: Options) -> list[Evidence]:
+    rb, a = model.rulebase, prop.args
+    n, s, budget = options.max_examples, options.seed, options.grid_budget
+    if prop.kind == "consistent":
+        return [tables.consistent(rb)]
+    if prop.kind == "complete":
+        return [tables.complete(rb, a["output"])]
+    if prop.kind == "continuous":
+        return [tables.continuous(rb, a["output"])]
+    if prop.kind == "covers":
+        proved = coverage.prove_covers(rb, a["inputs"], a["level"])
+        if proved.status != Status.UNDECIDED:
+            return [proved]
+        return [proved, search.covers(rb, a["inputs"], a["level"], budget)]
+    if prop.kind == "monotone":
+        args = (a["output"], a["input"], a["direction"], a["where"])
+        evidence = [tables.monotone(rb, *args), proof.prove_monotone(rb, *args)]
+        if evidence[-1].status == Status.UNDECIDED:
+            evidence += search.monotone(rb, *args, budget, n, s)
+        return evidence
+    if prop.kind == "bounded":
+        return _bounded(model, a["signal"], a["lo"], a["hi"], options)
+    return [Evidence("none", Status.UNDECIDED, f"unknown property kind `{prop.kind}`")]
+
+
+def _bounded(model: Model, signal: str, lo: float, hi: float, options: Options):
+    rb = model.rulebase
+    if signal in [v.name for v in rb.outputs]:
+        proved = proof.prove_bounded(rb, signal, lo, hi)
+        if proved.status != Status.UNDECIDED:
+            return [proved]
+        return [proved] + search.bounded(rb, signal, lo, hi, options.grid_budget,
+                                         options.max_examples, options.seed)
+    out = next((o for o in model.outputs if o.name == signal), None)
+    if out is not None:
+        return [outputs.output_bounded(model, out, lo, hi, options.grid_budget)]
+    return [outputs.let_bounded(model, signal, lo, hi)]
+
+
+def _closed_loop(model: Model, prop: Property, checks: list[Property],
+                 options: Options) -> list[Result]:
+    from . import closed_loop
+    start = time.perf_counter()
+    if options.progress:
+        options.progress(prop.text)
+    verdicts = closed_loop.check(model, prop, checks, options)
+    elapsed = time.perf_counter() - start
+    return [Result(c, property_name(model, c, prop), ev, finding_for(model, c),
+                   reproduce_command(model, c, options), elapsed / len(checks))
+            for c, ev in zip(checks, verdicts)]
