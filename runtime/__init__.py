@@ -1,0 +1,43 @@
+"""fuzzyc.runtime: controllers in fixed-period loops against plants, batched.
+
+The API (stable; plants, the CLI, the verifier and the learner build on it):
+
+Plants (modules of fuzzyc.plants) are pure and batched:
+    INPUTS, OUTPUTS: tuple[str, ...]                         names on the signal bus
+    XxxParams: a dataclass; fields scalars or (N,) arrays (randomized plants in a batch)
+    initial_state(params, batch, rng) -> dict[str, (N,)]
+    step(params, state, inputs: dict[str, (N,)], t, dt, rng) -> (new_state, outputs)
+    (an input absent from `inputs` falls back to the params, e.g. a fixed workpiece height)
+
+Blocks (runtime.blocks) have input_names, output_names, reset(batch), step(signals) -> dict:
+    PlantBlock(plant_module, params, inputs, outputs, seed=0)
+    ControllerBlock(controller, param_inputs=[], rename={})   wraps fuzzyc.controller.Controller
+        or the C-backed CController (anything with input_names/output_names/reset/step);
+        param_inputs: controller params that follow a bus signal (set-point schedules)
+    FunctionBlock(fn, input_names, output_names)               fn(**inputs) -> dict
+    ScheduleBlock(output, [(t0, v0), (t1, v1), ...])           piecewise-constant signal
+  The bus also carries floats `t` (start of the period, s) and `dt` (the period, s).
+  A block with `initial_outputs() -> dict` seeds the bus before the first period.
+
+The loop (runtime.loop):
+    run(blocks, period, duration, batch=1, pace="sim"|"wall", progress=False,
+        initial=None, record=None, decimate=1) -> Trace
+  blocks run in list order every period; pace="wall" sleeps to the wall clock and counts
+  deadline misses (Trace.deadline_misses).
+
+Traces (runtime.trace): Trace.time (T,), Trace.signals {name: (T, N)}, trace["name"],
+    .select(i), .to_csv(path, loops=None) (atomic), Trace.from_csv(path).
+Plots (runtime.plots): plot_trace(trace, path, signals=None, references=None, title="").
+Metrics (runtime.metrics): settling_time, overshoot, steady_state_error, chattering,
+    steady_change, event_count — each over (T, N) arrays, one value per loop.
+Scenarios (runtime.simulate, with fuzzyc.plants.scenario.load(name_or_path, overrides)):
+    simulate(scenario, batch=1, baseline=False, backend="numpy", seed=0, randomize=False,
+             progress=False, record=None) -> Trace
+    summarize(scenario, trace) -> {label: {mean, min, max, unit}}
+    build(scenario, controller, batch, seed, randomize) -> blocks
+"""
+from .blocks import ControllerBlock, FunctionBlock, PlantBlock, ScheduleBlock
+from .loop import run
+from .trace import Trace
+
+__all__ = ["ControllerBlock", "FunctionBlock", "PlantBlock", "ScheduleBlock", "Trace", "run"]

@@ -1,0 +1,126 @@
+"""A scenario made runnable: the blocks it describes, the run, and its summary.
+
+Block order in every period: schedules (set points, disturbances) -> plant (driven by the
+controller outputs of the previous period, u(-1) the first time) -> observers (estimators,
+filters) -> controller (reads this period's measurements; its outputs act next period).
+"""
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from . import metrics as M
+from .blocks import ControllerBlock, PlantBlock, ScheduleBlock
+from .loop import run
+from .trace import Trace
+
+METRICS = {
+    "settling_time": lambda t, y, target, spec: M.settling_time(t, y, target, spec["band"]),
+    "overshoot": lambda t, y, target, spec: M.overshoot(y, target),
+    "steady_state_error": lambda t, y, target, spec: M.steady_state_error(
+        y, target, spec.get("tail", 0.2)),
+    "chattering": lambda t, y, target, spec: M.chattering(y, spec.get("tail", 0.5)),
+    "steady_change": lambda t, y, target, spec: M.steady_change(y, spec.get("tail", 0.2)),
+    "events": lambda t, y, target, spec: M.event_count(y),
+    "max": lambda t, y, target, spec: np.max(y, axis=0),
+    "min": lambda t, y, target, spec: np.min(y, axis=0),
+    "final": lambda t, y, target, spec: np.mean(y[-max(1, len(y) // 20):], axis=0),
+    "mean": lambda t, y, target, spec: np.mean(y[int(len(y) * (1 - spec.get("tail", 1.0))):],
+                                               axis=0),
+    # the first time a 0/1 signal turns on (machining time: `done`); NaN if never
+    "time_until": lambda t, y, target, spec: np.where(
+        (y > 0.5).any(axis=0), t[np.argmax(y > 0.5, axis=0)], np.nan),
+}
+
+
+def load_controller(scenario, batch: int, backend: str = "numpy"):
+    """The scenario's rule base with its params and initial outputs applied, as a controller."""
+    from fuzzyc.parser import load as load_model
+    model = load_model(scenario.rulebase_path())
+    spec = scenario.controller
+    for name, value in (spec.get("params") or {}).items():
+        if name not in model.params:
+            raise scenario.error(f"controller.params.{name}",
+                                 f"the rule base has no param `{name}`")
+        model.params[name].value = float(value)
+    outputs = {o.name: o for o in model.outputs}
+    for name, value in (spec.get("initial") or {}).items():
+        if name not in outputs:
+            raise scenario.error(f"controller.initial.{name}",
+                                 f"the rule base has no output `{name}`")
+        outputs[name].init = float(value)
+    if backend == "c":
+        from fuzzyc.backends.cload import CController
+        return CController(model, batch)
+    from fuzzyc.controller import Controller
+    return Controller(model, batch)
+
+
+def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
+          randomize: bool = False) -> list:
+    """The blocks of one scenario around `controller` (a rule-base controller or a baseline)."""
+    rng = np.random.default_rng(seed)
+    module = scenario.plant_module()
+    params = scenario.plant_params(batch, rng, randomize)
+    schedules = [ScheduleBlock(name, points) for name, points in scenario.schedules.items()]
+    inputs = getattr(module, "INPUTS", None)
+    plant = PlantBlock(module, params, None if inputs is None else list(inputs),
+                       list(getattr(module, "OUTPUTS", ())), seed=seed)
+    observers = [scenario.make(f"observers.{i}", spec)
+                 for i, spec in enumerate(scenario.data.get("observers") or [])]
+    own_params = getattr(controller, "params", {})
+    followed = [name for name in scenario.schedules if name in own_params]
+    return [*schedules, plant, *observers, ControllerBlock(controller, followed)]
+
+
+def simulate(scenario, batch: int = 1, baseline: bool = False, backend: str = "numpy",
+             seed: int = 0, randomize: bool = False, progress: bool | None = False,
+             record: list[str] | None = None, pace: str = "sim") -> Trace:
+    """Run a scenario with its rule base (or, with baseline=True, its baseline controller)."""
+    if baseline:
+        if not scenario.baseline:
+            raise scenario.error("baseline", "this scenario names no baseline")
+        controller = scenario.make("baseline", scenario.baseline)
+    else:
+        controller = load_controller(scenario, batch, backend)
+    blocks = build(scenario, controller, batch, seed, randomize)
+    trace = run(blocks, scenario.period, scenario.duration, batch, pace=pace, progress=progress,
+                initial=scenario.data.get("initial"), record=record)
+    trace.meta.update(scenario=scenario.name, controller="baseline" if baseline else "fuzzy")
+    return trace
+
+
+def _target(scenario, trace: Trace, spec: dict):
+    target = spec.get("target")
+    if isinstance(target, str):
+        if target not in trace:
+            raise scenario.error("metrics", f"target `{target}` is not a recorded signal")
+        return trace[target]
+    return 0.0 if target is None else float(target)
+
+
+def summarize(scenario, trace: Trace) -> dict[str, dict[str, float]]:
+    """metric label -> {mean, min, max} over the batch (one loop: all three equal)."""
+    out: dict[str, dict[str, float]] = {}
+    for i, spec in enumerate(scenario.metrics):
+        kind, signal = spec.get("name"), spec.get("signal")
+        if kind not in METRICS:
+            raise scenario.error(f"metrics.{i}.name",
+                                 f"unknown metric `{kind}`; known: {' '.join(sorted(METRICS))}")
+        if signal not in trace:
+            raise scenario.error(f"metrics.{i}.signal", f"no recorded signal `{signal}`")
+        after = float(spec.get("after", 0.0))
+        keep = trace.time >= after
+        target = _target(scenario, trace, spec)
+        target = target[keep] if isinstance(target, np.ndarray) else target
+        values = METRICS[kind](trace.time[keep], trace[signal][keep], target, spec)
+        label = spec.get("label") or f"{kind}({signal})"
+        out[label] = {"mean": float(np.nanmean(values)) if np.isfinite(values).any() else
+                      float("nan"),
+                      "min": float(np.nanmin(values)) if np.isfinite(values).any() else
+                      float("nan"),
+                      "max": float(np.nanmax(values)) if np.isfinite(values).any() else
+                      float("nan"),
+                      "unit": spec.get("unit", "")}
+    return out

@@ -1,0 +1,113 @@
+"""The loop runner, blocks, traces and metrics on systems whose answers are known by hand."""
+import types
+
+import numpy as np
+import pytest
+
+from fuzzyc.runtime import ControllerBlock, FunctionBlock, PlantBlock, ScheduleBlock, Trace, run
+from fuzzyc.runtime import metrics
+
+
+@pytest.fixture
+def first_order():
+    """x(k+1) = a x(k) + (1 - a) u(k), a = exp(-dt/tau): an exact discretisation."""
+    def initial_state(params, batch, rng):
+        return {"x": np.zeros(batch)}
+
+    def step(params, state, inputs, t, dt, rng):
+        a = np.exp(-dt / params)
+        x = a * state["x"] + (1 - a) * inputs["u"]
+        return {"x": x}, {"y": x}
+
+    return types.SimpleNamespace(initial_state=initial_state, step=step)
+
+
+class Gain:
+    """A minimal controller: u = K (r - y)."""
+    input_names = ["y"]
+    output_names = ["u"]
+
+    def __init__(self, k, ref):
+        self.k, self.ref = k, ref
+        self.params = {"ref": ref}
+
+    def reset(self, batch):
+        self.batch = batch
+
+    def initial_outputs(self):
+        return {"u": 0.0}
+
+    def step(self, inputs):
+        return {"u": self.k * (self.params["ref"] - inputs["y"])}
+
+
+def test_open_loop_step_response_is_exact(first_order):
+    # u = 1 from t = 0: y(k) = 1 - exp(-k dt / tau); tau = 0.5, dt = 0.1, after 5 steps
+    # y = 1 - exp(-1) = 0.632120559
+    blocks = [ScheduleBlock("u", [(0, 1.0)]), PlantBlock(first_order, 0.5, ["u"], ["y"])]
+    trace = run(blocks, period=0.1, duration=0.5, batch=3)
+    assert trace["y"].shape == (5, 3)
+    assert trace.time[-1] == pytest.approx(0.5)
+    assert trace["y"][-1] == pytest.approx(np.full(3, 1 - np.exp(-1)))
+
+
+def test_closed_loop_converges_to_the_static_gain(first_order):
+    # u = K (1 - y) with plant DC gain 1: y* = K / (1 + K) = 4/5 for K = 4
+    ctl = Gain(4.0, 1.0)
+    blocks = [PlantBlock(first_order, 0.2, ["u"], ["y"]), ControllerBlock(ctl)]
+    trace = run(blocks, period=0.01, duration=5.0, batch=2)
+    assert trace["y"][-1] == pytest.approx([0.8, 0.8], abs=1e-6)
+    # the plant's first period sees u(-1) = 0, so y stays 0 after it
+    assert trace["y"][0] == pytest.approx([0.0, 0.0])
+
+
+def test_param_inputs_follow_a_schedule(first_order):
+    # the set point steps 1 -> 2 at t = 2.5: y* = 0.8 * 2 = 1.6 at the end
+    ctl = Gain(4.0, 1.0)
+    blocks = [ScheduleBlock("ref", [(0, 1.0), (2.5, 2.0)]),
+              PlantBlock(first_order, 0.2, ["u"], ["y"]), ControllerBlock(ctl, ["ref"])]
+    trace = run(blocks, period=0.01, duration=5.0)
+    k = np.searchsorted(trace.time, 2.5)
+    assert trace["y"][k - 1, 0] == pytest.approx(0.8, abs=1e-4)
+    assert trace["y"][-1, 0] == pytest.approx(1.6, abs=1e-4)
+
+
+def test_missing_signal_is_reported_by_name():
+    block = FunctionBlock(lambda z: {"w": z}, ["z"], ["w"], name="doubler")
+    with pytest.raises(KeyError, match="doubler: no signal named z"):
+        run([block], period=0.1, duration=0.2)
+
+
+def test_wall_pacing_takes_wall_time_and_counts_misses():
+    import time
+    slow = FunctionBlock(lambda: (time.sleep(0.03), {})[1], [], [])
+    start = time.perf_counter()
+    trace = run([ScheduleBlock("a", [(0, 1)])], period=0.02, duration=0.1, pace="wall")
+    assert time.perf_counter() - start >= 0.09
+    assert trace.deadline_misses == 0
+    assert run([slow], period=0.01, duration=0.05, pace="wall").deadline_misses == 5
+
+
+def test_csv_round_trip(tmp_path, first_order):
+    blocks = [ScheduleBlock("u", [(0, 1.0)]), PlantBlock(first_order, 0.5, ["u"], ["y"])]
+    trace = run(blocks, period=0.1, duration=0.3)
+    back = Trace.from_csv(trace.to_csv(tmp_path / "t.csv"))
+    assert back.time == pytest.approx(trace.time)
+    assert back["y"][:, 0] == pytest.approx(trace["y"][:, 0], rel=1e-8)
+    assert not list(tmp_path.glob(".*"))     # no temporary file left behind
+
+
+def test_metrics_on_a_hand_made_signal():
+    t = np.arange(6.0)
+    # two loops: one rises 0 -> 1.2 -> 1.0, one stays low
+    y = np.array([[0, 0], [0.5, 0.1], [1.2, 0.2], [1.05, 0.2], [1.0, 0.2], [1.0, 0.2]])
+    assert metrics.overshoot(y, 1.0) == pytest.approx([0.2, 0.0])
+    # within 0.1 of 1.0 from sample 3 (t = 3) on; the second never gets there
+    settle = metrics.settling_time(t, y, 1.0, 0.1)
+    assert settle[0] == 3.0 and np.isnan(settle[1])
+    # last 2 of 6 samples (tail 1/3): |y - 1| = 0, 0 and 0.8, 0.8
+    assert metrics.steady_state_error(y, 1.0, tail=1 / 3) == pytest.approx([0.0, 0.8])
+    # mean |diff| over the last half (samples 3..5): (0.05 + 0) / 2 and 0
+    assert metrics.chattering(y, tail=0.5) == pytest.approx([0.025, 0.0])
+    flags = np.array([[0], [1], [1], [0], [1], [0]])
+    assert metrics.event_count(flags) == [2]
