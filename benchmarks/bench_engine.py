@@ -1,0 +1,82 @@
+"""Engine speed on the 75-rule WEDM rule base (rulebases/wedm_three_region.fz).
+
+Evaluations per second at several batch sizes, for center of area (the paper's eq. 2) and for
+the exact centroid (outputs switched to uniform triangles with the same peaks), against the
+plain dense numpy baseline (benchmarks/dense_numpy_wedm.py) and, if installed, pyfuzzylite.
+Median of repeated runs; peak memory by tracemalloc.  Writes benchmarks/results/engine.md.
+
+    python3 benchmarks/bench_engine.py [--quick]
+"""
+from __future__ import annotations
+
+import copy
+import pathlib
+import sys
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
+
+from common import markdown_table, median_seconds, peak_bytes, write_result  # noqa: E402
+import dense_numpy_wedm  # noqa: E402
+from fuzzyc.engine import evaluate  # noqa: E402
+from fuzzyc.model import Defuzzifier, TermKind  # noqa: E402
+from fuzzyc.parser import load  # noqa: E402
+
+
+def triangle_outputs(rb):
+    """The same rule base with uniform triangle output terms (peaks kept) and exact centroid."""
+    rb = copy.deepcopy(rb)
+    for v in rb.outputs:
+        peaks = v.peaks()
+        h = np.diff(peaks).min()
+        v.kinds = np.full(len(peaks), TermKind.TRAPEZOID)
+        v.params = np.stack([peaks - h, peaks, peaks, peaks + h], axis=1)
+    rb.inference.defuzzifier = Defuzzifier.CENTROID
+    return rb
+
+
+def rate(fn, n, repeats):
+    return n / median_seconds(fn, repeats)
+
+
+def main(quick: bool = False) -> str:
+    rb = load(ROOT / "rulebases" / "wedm_three_region.fz").rulebase
+    cases = {"center of area": rb, "exact centroid": triangle_outputs(rb)}
+    sizes = [1, 1000, 100_000] if quick else [1, 1000, 100_000, 1_000_000]
+    rng = np.random.default_rng(0)
+    rows = []
+    for n in sizes:
+        x = rng.uniform(-1, 1, (n, 3))
+        repeats = 5 if n >= 100_000 else 20
+        base = rate(lambda: dense_numpy_wedm.evaluate(x), n, repeats)
+        row = [f"{n:,}", f"{base:,.0f}"]
+        for rbx in cases.values():
+            r = rate(lambda: evaluate(rbx, x), n, repeats)
+            row += [f"{r:,.0f}", f"{r / base:.1f}x"]
+        mem = [peak_bytes(lambda: evaluate(rbx, x)) / 2**20 for rbx in cases.values()]
+        row += [f"{peak_bytes(lambda: dense_numpy_wedm.evaluate(x)) / 2**20:.1f}"]
+        row += [f"{m:.1f}" for m in mem]
+        rows.append(row)
+        print(" | ".join(row), flush=True)
+    header = ["batch", "dense numpy COA /s", "engine COA /s", "vs dense", "engine centroid /s",
+              "vs dense", "dense MiB", "COA MiB", "centroid MiB"]
+    text = ("# Engine benchmark: WEDM three-region rule base (75 rules, 3 inputs, 2 outputs)\n\n"
+            "Evaluations per second (median of repeats; one evaluation = both outputs). "
+            "Peak memory by tracemalloc.\n\n" + markdown_table(header, rows))
+    text += "\n" + fuzzylite_row(rng)
+    write_result(ROOT / "benchmarks" / "results" / "engine.md", text)
+    return text
+
+
+def fuzzylite_row(rng) -> str:
+    try:
+        import fuzzylite  # noqa: F401
+    except ImportError:
+        return "pyfuzzylite is not installed: no comparison.\n"
+    return "pyfuzzylite is installed; a comparison with it is not implemented yet.\n"
+
+
+if __name__ == "__main__":
+    print(main(quick="--quick" in sys.argv))
