@@ -1,0 +1,128 @@
+"""Reports: readable text for the terminal, JSON and JUnit XML for CI, PNG plots of
+counterexample traces. Every writer is atomic (temp file in the same folder, then rename)."""
+from __future__ import annotations
+
+import json
+import os
+import xml.etree.ElementTree as ET
+from pathlib import Path
+
+import numpy as np
+
+from ..atomic import atomic_path, write_text
+from .result import Result, Status
+
+MARK = {Status.PROVED: "PROVED  ", Status.HELD: "HELD    ", Status.VIOLATED: "VIOLATED",
+        Status.UNDECIDED: "UNDECIDED"}
+MAX_CELLS = 8
+
+
+def format_result(r: Result) -> str:
+    mark = "FINDING " if r.status == Status.VIOLATED and r.finding else MARK[r.status]
+    lines = [f"{mark} {r.name}  [{r.summary()}, {r.seconds:.2f} s]"]
+    for e in r.evidence:
+        cases = f" ({e.cases} cases)" if e.cases else ""
+        lines.append(f"    {e.method}: {e.status.value}{cases} - {e.detail}")
+        for cell in e.cells[:MAX_CELLS]:
+            lines.append(f"      cell: {cell}")
+        if len(e.cells) > MAX_CELLS:
+            lines.append(f"      ... and {len(e.cells) - MAX_CELLS} more")
+        if e.point and e.status == Status.VIOLATED:
+            lines.append("      at " + ", ".join(f"{k}={v:.6g}" for k, v in e.point.items()))
+        if e.trace and e.status == Status.VIOLATED:
+            lines.append(f"      trace: {trace_summary(e.trace)}")
+    if r.status == Status.VIOLATED:
+        if r.finding:
+            lines.append(f"    recorded in the file: {r.finding}")
+        lines.append(f"    reproduce: {r.reproduce}")
+    return "\n".join(lines)
+
+
+def trace_summary(trace: dict) -> str:
+    parts = [f"{k}={v:g}" for k, v in trace.get("case", {}).items()]
+    if trace.get("plot"):
+        parts.append(f"plot {trace['plot']}")
+    if "violated_at" in trace:
+        parts.append(f"first violated at t={trace['violated_at']:g} s")
+    return ", ".join(parts)
+
+
+def format_text(results: list[Result]) -> str:
+    body = "\n".join(format_result(r) for r in results)
+    counts = {s: sum(r.status == s for r in results) for s in Status}
+    known = sum(r.status == Status.VIOLATED and r.finding is not None for r in results)
+    tail = (f"{len(results)} properties: {counts[Status.PROVED]} proved, {counts[Status.HELD]} "
+            f"held, {counts[Status.VIOLATED] - known} violated, {known} known findings, "
+            f"{counts[Status.UNDECIDED]} undecided")
+    return f"{body}\n{tail}"
+
+
+def _evidence_json(e) -> dict:
+    trace = None
+    if e.trace:
+        trace = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in e.trace.items()}
+    return {"method": e.method, "status": e.status.value, "detail": e.detail, "cases": e.cases,
+            "cells": e.cells, "point": e.point, "trace": trace}
+
+
+def to_json(results: list[Result]) -> dict:
+    return {"properties": [
+        {"name": r.name, "kind": r.prop.kind, "text": r.prop.text,
+         "location": str(r.prop.loc) if r.prop.loc else None, "status": r.status.value,
+         "summary": r.summary(), "finding": r.finding, "failure": r.is_failure,
+         "reproduce": r.reproduce, "seconds": r.seconds,
+         "evidence": [_evidence_json(e) for e in r.evidence]} for r in results]}
+
+
+def to_junit(results: list[Result]) -> str:
+    suites = ET.Element("testsuites", name="fuzzyc verify")
+    by_file: dict[str, list[Result]] = {}
+    for r in results:
+        by_file.setdefault(r.name.split("::")[0], []).append(r)
+    for file, rs in by_file.items():
+        suite = ET.SubElement(suites, "testsuite", name=file, tests=str(len(rs)),
+                              failures=str(sum(r.is_failure for r in rs)),
+                              skipped=str(sum(r.finding is not None and
+                                              r.status == Status.VIOLATED for r in rs)))
+        for r in rs:
+            case = ET.SubElement(suite, "testcase", classname=file, name=r.name.split("::", 1)[1],
+                                 time=f"{r.seconds:.3f}")
+            if r.is_failure:
+                ET.SubElement(case, "failure", message=r.summary()).text = format_result(r)
+            elif r.status == Status.VIOLATED:
+                ET.SubElement(case, "skipped", message=f"known finding: {r.finding}")
+            else:
+                ET.SubElement(case, "system-out").text = format_result(r)
+    return ET.tostring(suites, encoding="unicode")
+
+
+def write_reports(results: list[Result], folder: str | os.PathLike) -> list[Path]:
+    folder = Path(folder)
+    json_path, junit_path = folder / "verify.json", folder / "verify.junit.xml"
+    write_text(json_path, json.dumps(to_json(results), indent=1, default=float))
+    write_text(junit_path, to_junit(results))
+    return [json_path, junit_path]
+
+
+def plot_trace(trace: dict, signals: list[str], title: str, path: str | os.PathLike) -> Path:
+    """A counterexample trace: each named signal against time, the violation marked."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    shown = [s for s in signals if s in trace["signals"]]
+    fig, axes = plt.subplots(len(shown), 1, sharex=True, figsize=(8, 1.8 * len(shown) + 0.8),
+                             squeeze=False)
+    t = np.asarray(trace["t"])
+    for ax, name in zip(axes[:, 0], shown):
+        ax.plot(t, trace["signals"][name], lw=1)
+        ax.set_ylabel(name)
+        if trace.get("violated_at") is not None:
+            ax.axvline(trace["violated_at"], color="r", ls="--", lw=1)
+    axes[-1, 0].set_xlabel("t [s]")
+    fig.suptitle(title, fontsize=9)
+    fig.tight_layout()
+    path = Path(path)
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format="png", dpi=90)
+    plt.close(fig)
+    return path
