@@ -6,8 +6,8 @@ Outputs: `force` (N, peak resultant in the revolution), `feed_actual` V_f (mm/mi
 (tool-centre travel along the path, mm), `done` (1.0 once the tool has left the workpiece).
 
 Physics, by equation of the chapter:
-  (6.1)  V_f/U_com = Kn / ((s/wn)^2 + 2 zeta (s/wn) + 1): integrated with semi-implicit Euler
-         sub-steps inside the revolution (wn*h < 0.2).
+  (6.1)  V_f/U_com = Kn / ((s/wn)^2 + 2 zeta (s/wn) + 1): solved exactly over the revolution
+         for the command held by the controller (zero-order hold).
   (6.2)  f_t = V_f / (N m): feed per tooth from the mean V_f of the revolution.
   (6.3-4) chip thickness with run-out: tooth i at angle theta_i cuts the surface left by the
          last tooth that cut deeper; written closed-form as
@@ -79,6 +79,14 @@ def step_cut(air: float = 2.0, first: float = 20.0, second: float = 20.0,
                      radial_depth=[radial_depth, radial_depth], start=air)
 
 
+def workpiece_from_spec(spec: dict) -> Workpiece:
+    """From a scenario's `workpiece: {start: mm, pieces: [[length, b, a_r], ...]}`."""
+    pieces = np.asarray(spec["pieces"], float)
+    if pieces.ndim != 2 or pieces.shape[1] != 3:
+        raise ValueError("workpiece pieces are [length, axial depth, radial depth] triples")
+    return Workpiece(pieces[:, 0], pieces[:, 1], pieces[:, 2], start=float(spec.get("start", 0.0)))
+
+
 @dataclass
 class MillingParams:
     workpiece: Workpiece = field(default_factory=step_cut)
@@ -94,6 +102,14 @@ class MillingParams:
     zeta: float = 0.7               # assumption
     angle_samples: int = 72
     force_noise: float = 0.0        # N, std of dynamometer noise (0: none)
+
+    @classmethod
+    def from_dict(cls, values: dict) -> "MillingParams":
+        """Scenario params: the fields above by name, `workpiece` as in `workpiece_from_spec`."""
+        values = dict(values)
+        if "workpiece" in values:
+            values["workpiece"] = workpiece_from_spec(values["workpiece"])
+        return cls(**values)
 
     @property
     def radius(self) -> float:
@@ -137,19 +153,38 @@ def peak_force(params: MillingParams, x_centre: np.ndarray, feed_per_tooth: np.n
     return np.max(np.hypot(FX, FY), axis=-1)
 
 
+def _expm(a: np.ndarray, terms: int = 18) -> np.ndarray:
+    """Matrix exponential of (..., n, n) by scaling and squaring a Taylor series."""
+    norm = np.max(np.abs(a).sum(axis=-1))
+    squarings = max(0, int(np.ceil(np.log2(max(norm, 1e-300)))) + 1)
+    scaled = a / 2.0 ** squarings
+    result = term = np.broadcast_to(np.eye(a.shape[-1]), a.shape).copy()
+    for k in range(1, terms):
+        term = term @ scaled / k
+        result = result + term
+    for _ in range(squarings):
+        result = result @ result
+    return result
+
+
 def _servo(params: MillingParams, v: np.ndarray, dv: np.ndarray, command: np.ndarray,
            dt: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Eq. 6.1 over dt: returns (v, dv, mean v) with v in mm/min."""
-    n_sub = max(1, int(np.ceil(dt * params.wn / 0.2)))
-    h = dt / n_sub
-    wn2 = params.wn ** 2
-    total = np.zeros_like(v)
-    for _ in range(n_sub):   # sub-steps in time, each vectorised over the batch
-        acc = wn2 * (params.Kn * command - v) - 2 * params.zeta * params.wn * dv
-        dv = dv + h * acc
-        v = v + h * dv
-        total = total + v
-    return v, dv, total / n_sub
+    """Eq. 6.1 over dt, exactly for a command held over the step (zero-order hold).
+
+    Augmented state [v, dv/dt, U_com, integral of v]: its transition matrix exp(A dt) gives
+    the new speed and the mean speed over the step (for the distance travelled). mm/min.
+    """
+    wn, zeta, kn = (np.broadcast_to(np.asarray(x, float), v.shape)
+                    for x in (params.wn, params.zeta, params.Kn))
+    a = np.zeros(v.shape + (4, 4))
+    a[..., 0, 1] = 1.0
+    a[..., 1, 0] = -wn ** 2
+    a[..., 1, 1] = -2 * zeta * wn
+    a[..., 1, 2] = wn ** 2 * kn
+    a[..., 3, 0] = 1.0
+    x = np.stack([v, dv, command, np.zeros_like(v)], axis=-1)[..., None]
+    x = (_expm(a * dt) @ x)[..., 0]
+    return x[..., 0], x[..., 1], x[..., 3] / dt
 
 
 def step(params: MillingParams, state: dict[str, np.ndarray], inputs: dict[str, np.ndarray],
@@ -187,3 +222,28 @@ def run_constant_feed(params: MillingParams, feeds: np.ndarray, max_time: float
         if not np.isnan(finish).any():
             break
     return {"peak_force": peak, "time": finish}
+
+
+def max_constant_feed(params: MillingParams, force_limit: float, feed_range=(1.0, 75.0),
+                      spacing: float = 0.1, tolerance: float = 0.01) -> float:
+    """The largest constant feed (mm/min) whose peak force stays <= force_limit everywhere.
+
+    The baseline a CAD/CAM programmer would pick given the force limit. At a constant feed the
+    force at a tool position is the steady one, so the whole path is checked at once (tool
+    centre every `spacing` mm) and the feed found by bisection (peak force rises with feed).
+    """
+    x = np.arange(-params.radius, params.workpiece.end + params.radius, spacing)
+    revs_per_min = params.spindle_rpm * params.teeth
+
+    def worst(feed: float) -> float:
+        return float(peak_force(params, x, np.full(x.shape, feed / revs_per_min)).max())
+
+    lo, hi = feed_range
+    if worst(lo) > force_limit:
+        raise ValueError(f"even {lo} mm/min exceeds the force limit {force_limit} N")
+    if worst(hi) <= force_limit:
+        return hi
+    while hi - lo > tolerance:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if worst(mid) <= force_limit else (lo, mid)
+    return lo

@@ -1,0 +1,99 @@
+"""Neuro-fuzzy learning on the milling plant, held to the chapter (Tarng, Hua, Huang, ch. 6).
+
+One module-scoped run learns 15 cycles on the step cut (about 20 s); the tests share it.
+"""
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from fuzzyc.controller import Controller
+from fuzzyc.learn import Learner, learn, run_cycle, trained_text
+from fuzzyc.parser import load, parse
+from fuzzyc.plants import milling
+
+ROOT = Path(__file__).resolve().parents[1]
+RULES = ROOT / "rulebases" / "milling_neurofuzzy.fz"
+
+
+def scenario(name):
+    spec = yaml.safe_load((ROOT / "plants" / "scenarios" / f"{name}.yaml").read_text())
+    return spec, milling.MillingParams.from_dict(spec["params"])
+
+
+@pytest.fixture(scope="module")
+def learned():
+    spec, params = scenario("milling_step")
+    model = load(RULES)
+    result = learn(model, milling, params, cycles=15, max_time=spec["duration"])
+    return model, result
+
+
+def test_learning_rule_hand_computed():
+    model = load(RULES)
+    learner = Learner(model)
+    # e = 0.4: mu_PS = (2/3 - 0.4)/(1/3) = 0.8 beats mu_PM = 0.2; cf = 0 is ZE: the winner is
+    # cell (PS, ZE) = term 4*7+3 = 31, dw = 0.25 * 0.4 = 0.1; PI term = 0.5*0.4^2 = 0.08
+    pi = learner.update({"e": np.array([0.4]), "cf": np.array([0.0])})
+    assert pi[0] == pytest.approx(0.08)
+    expected = np.zeros(49)
+    expected[31] = 0.1
+    np.testing.assert_allclose(learner.weights, expected)
+    # e = 0, cf = 0.1: winner (ZE, ZE) = term 24, dw = 0.25*(0 - 6*(0.0017/0.0033)*0.1)
+    learner.update({"e": np.array([0.0]), "cf": np.array([0.1])})
+    assert learner.weights[24] == pytest.approx(-0.25 * 6 * 0.0017 / 0.0033 * 0.1)
+
+
+def test_learning_needs_a_weighted_sum_rule_base():
+    with pytest.raises(ValueError, match="weighted_sum"):
+        Learner(load(ROOT / "rulebases" / "wedm_corner.fz"), output="y")
+
+
+def test_pi_falls_to_under_half_in_15_cycles(learned):
+    _, result = learned
+    assert len(result.pi) == 15
+    assert all(c.finished for c in result.cycles)
+    assert result.pi[-1] < 0.5 * result.pi[0]
+    # fast first, then slow (Fig. 6.5): the first cycle's gain exceeds the last five together
+    assert result.pi[0] - result.pi[1] > result.pi[-6] - result.pi[-1] > 0
+
+
+def test_force_held_at_300_N_at_both_depths(learned):
+    _, result = learned
+    trace = result.cycles[-1].trace
+    x, force = trace["position"], trace["force"]
+    # tool centre windows where every engaged tooth tip (x .. x + R) is in one depth, after
+    # the entry transient: b = 6 mm over tips 2..22 mm, b = 12 mm over tips 22..42 mm
+    for lo, hi in [(8.0, 16.0), (28.0, 36.0)]:
+        steady = force[(x > lo) & (x < hi)]
+        assert steady.size > 20
+        assert np.all(np.abs(steady - 300.0) <= 30.0)
+    # the entry overshoot the chapter describes, then the force comes back
+    assert force.max() > 330.0
+
+
+def test_pocket_is_faster_than_the_constant_feed_at_the_same_force_limit(learned):
+    model, _ = learned
+    spec, params = scenario("milling_pocket")
+    limit = spec["baseline"]["force_limit"]
+    adaptive = run_cycle(Controller(model, 1), milling, params, Learner(model), False,
+                         spec["duration"], spec["period"])
+    feed = milling.max_constant_feed(params, limit)
+    constant = milling.run_constant_feed(params, np.array([feed]), spec["duration"] * 2)
+    assert adaptive.finished
+    assert constant["peak_force"][0] <= limit
+    assert adaptive.time <= 0.85 * constant["time"][0]
+
+
+def test_trained_file_keeps_the_text_and_reads_back(learned):
+    model, result = learned
+    text = trained_text(model, result.weights)
+    source = model.source_text
+    head = source.index("learnable {")
+    assert text[:head] == source[:head]
+    assert text[text.index("}", head):] == source[source.index("}", head):]   # after the table
+    assert text != source
+    again = parse(text, "trained.fz")
+    got = again.rulebase.outputs[0].params[:, 0]
+    np.testing.assert_allclose(got, result.weights, rtol=1e-5, atol=1e-5)

@@ -1,0 +1,76 @@
+"""Milling force plant (eqs. 6.1-6.12) against hand-computed forces and servo facts."""
+import numpy as np
+import pytest
+
+from fuzzyc.plants import milling
+
+SQRT_1_KR2 = np.sqrt(1 + 0.6 ** 2)    # |F_t + F_r| per tooth = F_t * sqrt(1 + kr^2)
+
+
+def params(radial_depth, runout=0.0, b=6.0):
+    work = milling.Workpiece([100.0], [b], [radial_depth], start=-50.0)
+    return milling.MillingParams(workpiece=work, runout=runout)
+
+
+def test_half_immersion_peak_is_one_tooth_at_90_degrees():
+    # ft = 0.05 mm, b = 6 mm: h = ft at theta = 90 deg, F_t = 1500*6*0.05 = 450 N,
+    # resultant 450 * sqrt(1.36) = 524.79 N; the other teeth are out of the cut then
+    force = milling.peak_force(params(6.0), np.array([0.0]), np.array([0.05]))
+    assert force[0] == pytest.approx(450 * SQRT_1_KR2, rel=1e-9)
+
+
+def test_slot_with_four_teeth_has_constant_resultant():
+    # two engaged teeth at theta and theta+90: chips ft*sin, ft*cos along perpendicular
+    # directions, so |F| = 450*sqrt(1.36)*sqrt(sin^2 + cos^2) = 524.79 N at every angle
+    force = milling.peak_force(params(12.0), np.array([0.0]), np.array([0.05]))
+    assert force[0] == pytest.approx(450 * SQRT_1_KR2, rel=1e-9)
+
+
+def test_runout_thickens_the_longest_tooth_chip():
+    # r = R + 0.005*cos(2 pi i/4): tooth 0 is 5 um longer than tooth 3 before it, so its chip
+    # at 90 deg is ft + 0.005 = 0.025 mm: 1500*6*0.025*sqrt(1.36) = 262.39 N
+    force = milling.peak_force(params(6.0, runout=0.005), np.array([0.0]), np.array([0.02]))
+    assert force[0] == pytest.approx(1500 * 6 * 0.025 * SQRT_1_KR2, rel=1e-9)
+
+
+def test_small_radial_depth_limits_the_engagement_angle():
+    # a_r = 3 mm, R = 6: theta_exit = arccos(1 - 3/6) = 60 deg, the chip peaks at ft*sin 60
+    force = milling.peak_force(params(3.0), np.array([0.0]), np.array([0.05]))
+    assert force[0] == pytest.approx(450 * np.sin(np.pi / 3) * SQRT_1_KR2, rel=1e-9)
+
+
+def test_no_force_in_air_and_depth_follows_the_tool_tip():
+    p = milling.MillingParams(runout=0.0)          # step cut: air until 2 mm, b=6, then b=12
+    x = np.array([-5.0, 10.0, 30.0, 60.0])         # tool centres
+    f = milling.peak_force(p, x, np.full(4, 0.05))
+    np.testing.assert_allclose(f, [0.0, 450 * SQRT_1_KR2, 900 * SQRT_1_KR2, 0.0], rtol=1e-9)
+
+
+def test_servo_is_the_second_order_drive():
+    # step response of Kn/((s/wn)^2 + 2 zeta s/wn + 1), sampled every revolution:
+    # y(t) = 1 - exp(-zeta wn t) / sqrt(1 - zeta^2) * sin(wd t + arccos zeta), wd = wn sqrt(1-zeta^2)
+    p = milling.MillingParams(workpiece=milling.Workpiece([1.0], [0.0], [0.0], start=1e6))
+    state = milling.initial_state(p, 1)
+    speeds = []
+    for i in range(40):
+        state, out = milling.step(p, state, {"feed": np.array([30.0])}, i * 0.15, 0.15)
+        speeds.append(out["feed_actual"][0])
+    t = 0.15 * np.arange(1, 41)
+    wn, zeta = p.wn, p.zeta
+    wd = wn * np.sqrt(1 - zeta ** 2)
+    y = 1 - np.exp(-zeta * wn * t) / np.sqrt(1 - zeta ** 2) * np.sin(wd * t + np.arccos(zeta))
+    np.testing.assert_allclose(speeds, 30.0 * y, atol=1e-9)
+
+
+def test_max_constant_feed_inverts_the_linear_force_law():
+    # slot, no run-out: F = ks*b*ft*sqrt(1+kr^2) with ft = U/(400*4), so the feed for 330 N is
+    # 330 / (1500*6*1.16619) * 1600 = 50.31 mm/min
+    feed = milling.max_constant_feed(params(12.0), 330.0)
+    assert feed == pytest.approx(330 / (1500 * 6 * SQRT_1_KR2) * 1600, abs=0.02)
+
+
+def test_workpiece_spec_is_checked():
+    with pytest.raises(ValueError):
+        milling.workpiece_from_spec({"pieces": [[10.0, 6.0]]})
+    with pytest.raises(ValueError):
+        milling.Workpiece([-1.0], [6.0], [6.0])
