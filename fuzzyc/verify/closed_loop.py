@@ -1,0 +1,181 @@
+"""Closed-loop search (method 3): hypothesis draws plant parameters and disturbance steps, the
+whole set runs as ONE batch of loops (the runtime is batched), the temporal checks are
+evaluated on every trace, and a failing case is shrunk toward the scenario's nominal values in
+batched rounds (each round simulates every simpler candidate at once)."""
+from __future__ import annotations
+
+import copy
+import dataclasses
+import os
+import re
+
+import numpy as np
+from hypothesis import HealthCheck, Phase, given, seed as hseed, settings, strategies as st
+
+from ..model import Model, Property
+from . import temporal
+from .result import Evidence, Status
+
+SHRINK_ROUNDS = 4
+
+
+def check(model: Model, prop: Property, checks: list[Property], options) -> list[list[Evidence]]:
+    from fuzzyc.plants import scenario as scenarios
+    a = prop.args
+    overrides = {k: str(v) for k, v in a["set"].items()}
+    scen = scenarios.load(a["scenario"], overrides)
+    bad = [k for k in a["vary"] if not k.startswith("plant.")]
+    if bad:
+        return [[Evidence("closed-loop", Status.UNDECIDED, f"`vary {bad[0]}`: only plant "
+                          f"parameters (plant.NAME) can vary")] for _ in checks]
+    loop = _Loop(model, scen, a["duration"], options.backend, options.seed)
+    cases = _draw_cases(loop, a["vary"], options.max_examples, options.seed)
+    time, signals = loop.run(cases)
+    try:
+        verdicts = [temporal.evaluate(c, time, signals, loop.params) for c in checks]
+    except temporal.UnknownSignal as exc:
+        return [[Evidence("closed-loop", Status.UNDECIDED, f"no signal or param named "
+                          f"`{exc.args[0]}` in the loop: {', '.join(sorted(signals))}")]
+                for _ in checks]
+    results = []
+    for c, (violated, when) in zip(checks, verdicts):
+        if not violated.any():
+            results.append([Evidence("closed-loop", Status.HELD, f"{len(cases)} loops of "
+                                     f"{a['duration']:g} s on scenario {scen.name}",
+                                     cases=len(cases))])
+            continue
+        first = int(np.argmax(violated))
+        case, trace = _shrink(loop, c, cases[first], a["vary"])
+        detail = (f"{int(violated.sum())} of {len(cases)} loops break it; shrunk case: "
+                  + (", ".join(f"{k}={v:.6g}" for k, v in case.items() if k != "step")
+                     or "nominal plant") + _step_text(case))
+        if options.report_dir:
+            from .report import plot_trace
+            name = re.sub(r"[^A-Za-z0-9]+", "_", f"{model.name}_{c.text}").strip("_")[:80]
+            shown = temporal.names_in(c) + [o.name for o in model.outputs]
+            trace["plot"] = str(plot_trace(trace, shown, f"{model.name}: {c.text}",
+                                           os.path.join(options.report_dir, name + ".png")))
+        results.append([Evidence("closed-loop", Status.VIOLATED, detail, cases=len(cases),
+                                 trace=trace)])
+    return results
+
+
+def _step_text(case: dict) -> str:
+    step = case.get("step")
+    return "" if not step else f"; step of {step[0]} to {step[2]:.6g} at t={step[1]:.6g} s"
+
+
+class _Loop:
+    """The scenario's blocks around the model's controller, for any batch of cases."""
+
+    def __init__(self, model: Model, scen, duration: float, backend: str, seed: int):
+        self.model, self.scen, self.duration, self.backend, self.seed = (
+            model, scen, duration, backend, seed)
+        self.module = scen.plant_module()
+        self.nominal = scen.plant_params(1)
+        self.plant_inputs = set(getattr(self.module, "INPUTS", ()))
+        self.params = self._controller_model().symbol_values()
+
+    def _controller_model(self) -> Model:
+        model = copy.deepcopy(self.model)
+        spec = self.scen.controller or {}
+        for name, value in (spec.get("params") or {}).items():
+            if name in model.params:
+                model.params[name].value = float(value)
+        for out in model.outputs:
+            out.init = float((spec.get("initial") or {}).get(out.name, out.init))
+        return model
+
+    def nominal_value(self, key: str) -> float:
+        return float(getattr(self.nominal, key.split(".", 1)[1]))
+
+    def run(self, cases: list[dict]):
+        from fuzzyc.runtime import FunctionBlock, PlantBlock, run
+        from fuzzyc.runtime.simulate import build
+        batch = len(cases)
+        model = self._controller_model()
+        if self.backend == "c":
+            from fuzzyc.backends.cload import CController
+            controller = CController(model, batch)
+        else:
+            from fuzzyc.controller import Controller
+            controller = Controller(model, batch)
+        blocks = build(self.scen, controller, batch, self.seed)
+        k = next(i for i, b in enumerate(blocks) if isinstance(b, PlantBlock))
+        varied = {key.split(".", 1)[1]: np.array([c[key] for c in cases], dtype=float)
+                  for key in cases[0] if key != "step"}
+        blocks[k].params = dataclasses.replace(blocks[k].params, **varied)
+        steps = [c.get("step") for c in cases]
+        for name in sorted({s[0] for s in steps if s}):
+            blocks.insert(k, _disturbance(name, steps, varied, self.nominal, FunctionBlock))
+        trace = run(blocks, self.scen.period, self.duration, batch,
+                    initial=self.scen.data.get("initial"))
+        return trace.time, trace.signals
+
+
+def _disturbance(name, steps, varied, nominal, FunctionBlock):
+    """A per-loop step of a plant input: its varied (or nominal) value, then the step value."""
+    before = varied.get(name, np.full(len(steps), float(getattr(nominal, name))))
+    at = np.array([s[1] if s and s[0] == name else np.inf for s in steps])
+    after = np.array([s[2] if s and s[0] == name else 0.0 for s in steps])
+
+    def value(t):
+        return {name: np.where(t >= at, after, before)}
+    return FunctionBlock(value, ["t"], [name], name=f"step {name}")
+
+
+def _draw_cases(loop: _Loop, vary: dict, n: int, seed: int) -> list[dict]:
+    """n cases from hypothesis: a value per varied parameter and, for a varied parameter the
+    plant also reads as an input (e.g. workpiece height), maybe a step to a new value."""
+    fields = {k: st.floats(lo, hi, allow_nan=False) for k, (lo, hi) in vary.items()}
+    steppable = [k for k in vary if k.split(".", 1)[1] in loop.plant_inputs]
+    step = st.none()
+    if steppable:
+        step = st.one_of(st.none(), st.sampled_from(steppable).flatmap(
+            lambda k: st.tuples(st.just(k.split(".", 1)[1]), st.floats(0, loop.duration),
+                                st.floats(*vary[k], allow_nan=False))))
+    strategy = st.fixed_dictionaries({**fields, "step": step})
+    drawn: list[dict] = []
+
+    @hseed(seed)
+    @settings(max_examples=max(1, n), database=None, deadline=None, phases=[Phase.generate],
+              suppress_health_check=list(HealthCheck))
+    @given(strategy)
+    def collect(case):
+        if len(drawn) < n:
+            drawn.append(case)
+
+    collect()
+    return drawn or [{"step": None}]
+
+
+def _shrink(loop: _Loop, check: Property, case: dict, vary: dict):
+    """Simpler failing cases, simplest first: no disturbance step, then each parameter at its
+    nominal value, then halfway there; the first candidate that still fails is kept."""
+    for _ in range(SHRINK_ROUNDS):
+        candidates = _simpler(loop, case, vary)
+        if not candidates:
+            break
+        time, signals = loop.run(candidates)
+        violated, _ = temporal.evaluate(check, time, signals, loop.params)
+        if not violated.any():
+            break
+        case = candidates[int(np.argmax(violated))]
+    time, signals = loop.run([case])
+    _, when = temporal.evaluate(check, time, signals, loop.params)
+    trace = {"case": {k: v for k, v in case.items() if k != "step"}, "step": case.get("step"),
+             "violated_at": None if np.isnan(when[0]) else float(when[0]), "t": time,
+             "signals": {k: v[:, 0] for k, v in signals.items()}}
+    return case, trace
+
+
+def _simpler(loop: _Loop, case: dict, vary: dict) -> list[dict]:
+    out = []
+    if case.get("step"):
+        out.append({**case, "step": None})
+    for key, (lo, hi) in vary.items():
+        target = min(max(loop.nominal_value(key), lo), hi)
+        if abs(case[key] - target) > 1e-9 * max(1.0, abs(target)):
+            out.append({**case, key: target})
+            out.append({**case, key: 0.5 * (case[key] + target)})
+    return out
