@@ -1,0 +1,155 @@
+"""What the importers share: variables and rules collected from a file -> the Model that the .fz
+front end would build for the same rule base (raw inputs feeding the rule base directly, one
+DIRECT output per rule-base output, rules with the same premise merged as the builder does).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import sympy
+
+from ..builder import _merge_rules, _Rule
+from ..errors import Reporter, suggest
+from ..model import (Inference, Model, Output, OutputKind, RuleBase, Signal, SourceLoc, TermKind,
+                     Variable)
+
+INF = math.inf
+OUTPUT_SUFFIX = "_out"   # .fz needs the signal-chain output named apart from the rule-base output
+
+
+@dataclass
+class TermSpec:
+    name: str
+    kind: TermKind
+    params: tuple[float, float, float, float]
+    loc: SourceLoc | None = None
+
+
+@dataclass
+class VarSpec:
+    """A linguistic variable as read from a file, before it becomes a `Variable`."""
+    name: str
+    loc: SourceLoc | None
+    lo: float | None = None
+    hi: float | None = None
+    terms: list[TermSpec] = field(default_factory=list)
+    default: float = 0.0
+
+    def term_names(self) -> list[str]:
+        return [t.name for t in self.terms]
+
+    def add(self, term: TermSpec, rep: Reporter) -> None:
+        if term.name in self.term_names():
+            rep.error(term.loc, f"term `{term.name}` is already defined for `{self.name}`")
+        else:
+            self.terms.append(term)
+
+    def term_index(self, name: str, loc: SourceLoc | None, rep: Reporter) -> int | None:
+        if name in self.term_names():
+            return self.term_names().index(name)
+        rep.error(loc, f"`{self.name}` has no term `{name}`: {suggest(name, self.term_names())}")
+        return None
+
+    def range_from_terms(self) -> tuple[float, float] | None:
+        """The span of the terms' finite break points: for formats where a range is optional."""
+        points = [p for t in self.terms
+                  for p in (t.params if t.kind == TermKind.TRAPEZOID else t.params[:1])
+                  if math.isfinite(p)]
+        return (min(points), max(points)) if points and min(points) < max(points) else None
+
+
+def shape(kind: TermKind, *params: float) -> tuple[TermKind, tuple[float, float, float, float]]:
+    padded = tuple(float(p) for p in params) + (0.0,) * (4 - len(params))
+    return kind, padded
+
+
+def trapezoid_or_none(a: float, b: float, c: float, d: float):
+    """A trapezoid (a <= b <= c <= d, a < d; infinite ends make shoulders), or None."""
+    if a <= b <= c <= d and a < d:
+        return shape(TermKind.TRAPEZOID, a, b, c, d)
+    return None
+
+
+@dataclass
+class Collected:
+    """Everything an importer read; `model()` turns it into the Model."""
+    rep: Reporter
+    name: str
+    inputs: dict[str, VarSpec] = field(default_factory=dict)
+    outputs: dict[str, VarSpec] = field(default_factory=dict)
+    rules: list[_Rule] = field(default_factory=list)
+    inference: Inference = field(default_factory=Inference)
+    notes: list[str] = field(default_factory=list)
+
+    def declare(self, var: VarSpec, is_input: bool) -> VarSpec:
+        if var.name in self.inputs or var.name in self.outputs:
+            self.rep.error(var.loc, f"variable `{var.name}` is declared twice")
+            return var
+        (self.inputs if is_input else self.outputs)[var.name] = var
+        return var
+
+    def check_ranges(self) -> None:
+        for var in (*self.inputs.values(), *self.outputs.values()):
+            if var.lo is None:
+                span = var.range_from_terms()
+                if span is None:
+                    self.rep.error(var.loc, f"`{var.name}` has no range and its terms do not "
+                                            "give one: declare a range")
+                    continue
+                var.lo, var.hi = span
+                self.notes.append(f"`{var.name}` had no range: took [{span[0]:g}, {span[1]:g}] "
+                                  "from its terms' break points")
+            elif not (math.isfinite(var.lo) and math.isfinite(var.hi) and var.lo < var.hi):
+                self.rep.error(var.loc, f"`{var.name}` needs a finite range lo < hi, got "
+                                        f"[{var.lo:g}, {var.hi:g}]")
+            if not var.terms:
+                self.rep.error(var.loc, f"`{var.name}` has no terms")
+
+    def model(self, path: str, text: str) -> Model:
+        self.check_ranges()
+        self.rep.raise_if_any()
+        inputs = [_variable(v, is_input=True) for v in self.inputs.values()]
+        outputs = [_variable(v, is_input=False) for v in self.outputs.values()]
+        rb = _rulebase(inputs, outputs, _merge_rules(self.rules), self.inference)
+        return Model(
+            name=self.name, rulebase=rb, title=f"imported from {path}",
+            signals=[Signal(v.name, v.lo, v.hi, loc=v.loc) for v in inputs],
+            outputs=[Output(v.name + OUTPUT_SUFFIX, OutputKind.DIRECT, sympy.Symbol(v.name),
+                            v.lo, v.hi, init=v.lo, loc=v.loc)
+                     for v in outputs],
+            source_path=path, source_text=text, notes=list(self.notes))
+
+
+def _variable(v: VarSpec, is_input: bool) -> Variable:
+    n = len(v.terms)
+    return Variable(
+        name=v.name, lo=float(v.lo), hi=float(v.hi), names=v.term_names(),
+        kinds=np.array([int(t.kind) for t in v.terms], dtype=np.int64),
+        params=np.array([t.params for t in v.terms], dtype=float).reshape(n, 4),
+        default=float(v.default), learnable=None if is_input else np.zeros(n, dtype=bool),
+        loc=v.loc, term_locs=[t.loc for t in v.terms])
+
+
+def _rulebase(inputs: list[Variable], outputs: list[Variable], rules: list[_Rule],
+              inference: Inference) -> RuleBase:
+    in_index = {v.name: i for i, v in enumerate(inputs)}
+    out_index = {v.name: i for i, v in enumerate(outputs)}
+    n = len(rules)
+    ante = np.full((n, len(inputs)), -1, dtype=np.int64)
+    negated = np.zeros((n, len(inputs)), dtype=bool)
+    hedges = np.zeros((n, len(inputs)), dtype=np.int64)
+    cons = np.full((n, len(outputs)), -1, dtype=np.int64)
+    for r, rule in enumerate(rules):
+        for name, (term, neg, hedge) in rule.clauses.items():
+            ante[r, in_index[name]] = term
+            negated[r, in_index[name]] = neg
+            hedges[r, in_index[name]] = int(hedge)
+        for name, term in rule.conclusions.items():
+            cons[r, out_index[name]] = term
+    return RuleBase(
+        inputs=inputs, outputs=outputs, antecedents=ante, consequents=cons,
+        weights=np.array([r.weight for r in rules], dtype=float), negated=negated, hedges=hedges,
+        connective=np.array([int(r.connective) for r in rules], dtype=np.int64),
+        inference=inference, rule_locs=[r.loc for r in rules], origins=[r.origin for r in rules])

@@ -1,0 +1,129 @@
+"""What the exporters share: what of a model lies outside its rule base (and so is left out of
+an exported file), numbers written so they read back bit for bit, and how rules read as text.
+
+Policy: an export writes the bare rule base and returns warnings naming everything it left out
+(the signal chain, learnable flags, properties, ...); it refuses (FuzzycError) only when the
+rule base itself cannot be said in the target format.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import sympy
+
+from ..errors import Diagnostic, FuzzycError
+from ..model import Connective, Hedge, Model, OutputKind, TermKind, Variable
+
+
+def num(value: float) -> str:
+    """Shortest text that reads back as the same float (`repr`), integers without `.0`."""
+    value = float(value)
+    if math.isfinite(value) and value == int(value) and abs(value) < 1e15:
+        return str(int(value))
+    return repr(value)
+
+
+def refuse(model: Model, fmt: str, problems: list[str]) -> None:
+    if problems:
+        raise FuzzycError([Diagnostic(None, f"cannot export `{model.name}` to {fmt}: {p}")
+                           for p in problems])
+
+
+def left_out(model: Model) -> list[str]:
+    """Everything of the model that a bare rule-base export does not carry, as sentences."""
+    rb = model.rulebase
+    lost = []
+    signals = {s.name for s in model.signals}
+    derived = [v.name for v in rb.inputs if v.name not in signals]
+    if model.steps:
+        shown = ", ".join(s.name for s in model.steps if not s.hidden)
+        lost.append(f"the input signal chain ({shown}): the rule base's inputs "
+                    f"{', '.join(v.name for v in rb.inputs)} become the exported inputs")
+    elif derived:
+        lost.append(f"inputs {', '.join(derived)} are not raw signals")
+    unused = sorted(signals - {v.name for v in rb.inputs})
+    if unused:
+        lost.append(f"raw inputs not read by the rule base: {', '.join(unused)}")
+    for out in model.outputs:
+        if not _is_plain_output(out, rb.outputs):
+            kind = {OutputKind.INCREMENT: "integrate", OutputKind.RECIPROCAL_INCREMENT:
+                    "1/integrate"}.get(out.kind, "")
+            lost.append(f"output {out.name} = {kind}({out.expr}) in [{out.lo:g}, {out.hi:g}]: "
+                        "the rule-base outputs are exported instead")
+    if model.params:
+        lost.append("params " + ", ".join(model.params))
+    for v in rb.outputs:
+        if v.learnable is not None and np.any(v.learnable):
+            lost.append(f"the learnable flags of `{v.name}`'s terms")
+    if model.properties:
+        lost.append(f"{len(model.properties)} verify properties")
+    if model.period is not None:
+        lost.append(f"the sample period {model.period:g} s")
+    return lost
+
+
+def _is_plain_output(out, variables: list[Variable]) -> bool:
+    """An output that just passes a rule-base output through, saturated to its range."""
+    if out.kind != OutputKind.DIRECT or not isinstance(out.expr, sympy.Symbol):
+        return False
+    var = next((v for v in variables if v.name == out.expr.name), None)
+    return var is not None and (out.lo, out.hi) == (var.lo, var.hi)
+
+
+def all_singletons(var: Variable) -> bool:
+    return bool(np.all(var.kinds == TermKind.SINGLETON))
+
+
+def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str,
+                  problems: list[str], upper: bool = False) -> str:
+    """Rule r as `if x is not very A and ... then y is B<also>z is C with w` (FLL, FCL, .fz
+    share this shape; `also` joins conclusions, `upper` writes FCL's upper-case keywords)."""
+    rb = model.rulebase
+    kw = str.upper if upper else str
+    clauses = []
+    for i, v in enumerate(rb.inputs):
+        t = int(rb.antecedents[r, i])
+        if t < 0:
+            continue
+        words = [kw("not")] if rb.negated[r, i] else []
+        hedge = Hedge(int(rb.hedges[r, i]))
+        if hedge != Hedge.NONE:
+            words.append(hedge_words[hedge])
+        clauses.append(" ".join([v.name, kw("is"), *words, v.names[t]]))
+    if not clauses:
+        problems.append(f"rule {r + 1} has no clause, which the format cannot say")
+    conclusions = [f"{v.name} {kw('is')} {v.names[int(rb.consequents[r, o])]}"
+                   for o, v in enumerate(rb.outputs) if rb.consequents[r, o] >= 0]
+    connective = kw(" or " if rb.connective[r] == Connective.OR else " and ")
+    text = f"{kw('if')} {connective.join(clauses)} {kw('then')} {also.join(conclusions)}"
+    if rb.weights[r] != 1.0:
+        text += f" {kw('with')} {num(rb.weights[r])}"
+    return text
+
+
+def unsayable_hedges(model: Model, hedge_words: dict[Hedge, str], fmt: str) -> list[str]:
+    rb = model.rulebase
+    used = {Hedge(int(h)) for h in np.unique(rb.hedges)} - {Hedge.NONE}
+    return [f"hedge `{h.name.lower()}` has no equivalent in {fmt}"
+            for h in sorted(used) if h not in hedge_words]
+
+
+def peaks_instead(model: Model, fmt: str) -> tuple[list[Variable], list[str]]:
+    """The outputs as singletons at their peaks, for peak-based defuzzifiers in formats whose
+    peak-based defuzzifier needs singleton terms (the numbers it gives do not change)."""
+    changed, notes = [], []
+    for v in model.rulebase.outputs:
+        if all_singletons(v):
+            changed.append(v)
+            continue
+        peaks = v.peaks()
+        params = np.zeros((v.n_terms, 4))
+        params[:, 0] = peaks
+        changed.append(Variable(v.name, v.lo, v.hi, list(v.names),
+                                np.full(v.n_terms, int(TermKind.SINGLETON)), params,
+                                default=v.default))
+        notes.append(f"`{v.name}`'s terms are written as singletons at their peaks "
+                     f"({', '.join(num(p) for p in peaks)}): {fmt}'s peak-based defuzzifier "
+                     "needs singletons; the outputs are the same, the term shapes are not kept")
+    return changed, notes

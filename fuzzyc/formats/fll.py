@@ -1,0 +1,434 @@
+"""fuzzylite's FLL, as fuzzylite 6-8 write it: import and export.
+
+FLL is line-oriented (`key: value`, sections opened by `Engine:`, `InputVariable:`,
+`OutputVariable:`, `RuleBlock:`), so it is read line by line, every token keeping its column;
+only the rule lines need a grammar, and they share the FCL one (`rule_text`).
+
+Mapping (exact unless said):
+  Triangle, Trapezoid, Rectangle, Ramp -> TRAPEZOID (Ramp = shoulder); Gaussian, Bell, Sigmoid;
+  Constant -> SINGLETON.  Minimum/AlgebraicProduct, Maximum/AlgebraicSum, Maximum/UnboundedSum.
+  Centroid, Bisector, MeanOfMaximum -> exact integrals here; fuzzylite samples the range at
+  `resolution` midpoints (see fuzzylite_compat).  WeightedAverage groups the activations of each
+  term with the output's aggregation: `none`/UnboundedSum -> WEIGHTED_AVERAGE,
+  Maximum -> CENTER_OF_AREA.  WeightedSum with `none` -> WEIGHTED_SUM.
+Anything else (Spike, Cosine, Concave, S/Z/Pi shapes, Linear, Function, Discrete, drastic,
+Einstein, Hamacher, nilpotent and bounded norms, `seldom`, `any`, fuzzylite's `extremely`,
+activation methods other than General, lock-previous) is reported with its place.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+import numpy as np
+from lark.exceptions import UnexpectedInput
+
+from ..errors import Reporter
+from ..model import (Aggregation, Defuzzifier, Hedge, Implication, Inference, Model,
+                     SNorm, SourceLoc, TermKind, TNorm)
+from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
+from .export import (all_singletons, left_out, num, peaks_instead, refuse, rule_sentence,
+                     unsayable_hedges)
+from .rules import fcl_lark, rule_from_tree, syntax_error
+
+HEDGES = {"very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT}
+TNORMS = {"Minimum": TNorm.MIN, "AlgebraicProduct": TNorm.PRODUCT}
+SNORMS = {"Maximum": SNorm.MAX, "AlgebraicSum": SNorm.PROBSUM}
+IMPLICATIONS = {"Minimum": Implication.MIN, "AlgebraicProduct": Implication.PRODUCT}
+AGGREGATIONS = {"Maximum": Aggregation.MAX, "UnboundedSum": Aggregation.SUM}
+INTEGRAL = {"Centroid": Defuzzifier.CENTROID, "Bisector": Defuzzifier.BISECTOR,
+            "MeanOfMaximum": Defuzzifier.MEAN_OF_MAXIMUM}
+KNOWN_UNSUPPORTED_TERMS = ("Spike", "Cosine", "Concave", "SShape", "ZShape", "PiShape", "Linear",
+                           "Function", "Discrete", "Binary", "GaussianProduct",
+                           "SigmoidDifference", "SigmoidProduct", "Activated", "Aggregated")
+SECTIONS = ("Engine", "InputVariable", "OutputVariable", "RuleBlock")
+KEYS = {
+    "Engine": {"description"},
+    "InputVariable": {"description", "enabled", "range", "lock-range", "term"},
+    "OutputVariable": {"description", "enabled", "range", "lock-range", "term", "aggregation",
+                       "defuzzifier", "default", "lock-previous"},
+    "RuleBlock": {"description", "enabled", "conjunction", "disjunction", "implication",
+                  "activation", "rule"},
+}
+TOKEN = re.compile(r"\S+")
+
+
+class _Line:
+    """One `key: value` line; tokens of the value with their 1-based columns."""
+
+    def __init__(self, number: int, text: str):
+        self.number = number
+        body = text.split("#", 1)[0]
+        key, _, value = body.partition(":")
+        self.key = key.strip()
+        self.key_col = len(key) - len(key.lstrip()) + 1
+        self.value_col = len(key) + 2
+        self.value = value
+        self.tokens = [(m.group(), self.value_col + m.start()) for m in TOKEN.finditer(value)]
+
+
+class _FllReader:
+    def __init__(self, text: str, path: str):
+        self.rep = Reporter(path, text)
+        self.got = Collected(self.rep, "imported")
+        self.path = path
+        self.section: str | None = None
+        self.var: VarSpec | None = None
+        self.settings: dict[str, dict] = {}   # kind -> {value: first line} for agreement checks
+
+    def loc(self, line: _Line, col: int) -> SourceLoc:
+        return self.rep.loc(line.number, col)
+
+    def read(self, text: str) -> Model:
+        for number, raw in enumerate(text.splitlines(), start=1):
+            if raw.split("#", 1)[0].strip():
+                self._line(_Line(number, raw))
+        self._inference()
+        return self.got.model(self.path, text)
+
+    def _line(self, line: _Line) -> None:
+        first_value = line.tokens[0][0] if line.tokens else ""
+        if line.key in SECTIONS:
+            self.section = line.key
+            self.var = None
+            if line.key == "Engine" and first_value:
+                self.got.name = re.sub(r"\W", "_", line.value.strip())
+            elif line.key in ("InputVariable", "OutputVariable"):
+                if not first_value:
+                    self.rep.error(self.loc(line, line.value_col), "a variable needs a name")
+                    return
+                var = VarSpec(first_value, self.loc(line, line.tokens[0][1]))
+                self.var = self.got.declare(var, line.key == "InputVariable")
+            return
+        if self.section is None:
+            self.rep.error(self.loc(line, line.key_col),
+                           f"`{line.key}` before any section: an FLL file starts with `Engine:`")
+            return
+        if line.key not in KEYS[self.section]:
+            self.rep.error(self.loc(line, line.key_col),
+                           f"unknown key `{line.key}` in {self.section}: expected one of "
+                           + ", ".join(sorted(KEYS[self.section])))
+            return
+        if self.section in ("InputVariable", "OutputVariable") and self.var is None:
+            return  # its header was already reported
+        getattr(self, "_" + line.key.replace("-", "_"))(line)
+
+    # ------------------------------------------------------------------ variables
+    def _description(self, line: _Line) -> None:
+        if line.value.strip():
+            self.got.notes.append(f"{self.section} description: {line.value.strip()}")
+
+    def _enabled(self, line: _Line) -> None:
+        if self._word(line) not in ("true", None):
+            self.rep.error(self._first(line), f"a disabled {self.section} is not supported: "
+                                              "remove it or enable it")
+
+    def _range(self, line: _Line) -> None:
+        values = self._numbers(line, 2, "range: LOW HIGH")
+        if values is not None:
+            self.var.lo, self.var.hi = values
+
+    def _lock_range(self, line: _Line) -> None:
+        if self._word(line) == "true":
+            self.got.notes.append(f"`{self.var.name}` had lock-range: true; the model saturates "
+                                  "outputs to their range but never clamps inputs")
+
+    def _lock_previous(self, line: _Line) -> None:
+        if self._word(line) == "true":
+            self.rep.error(self._first(line), "lock-previous: true (hold the last output when "
+                                              "no rule fires) is not supported: the model gives "
+                                              "the output's default")
+
+    def _default(self, line: _Line) -> None:
+        values = self._numbers(line, 1, "default: VALUE")
+        if values is None:
+            return
+        value = values[0]
+        if math.isnan(value):
+            lo, hi = self.var.lo, self.var.hi
+            value = 0.0 if lo is None or lo <= 0.0 <= hi else lo
+            self.got.notes.append(f"`{self.var.name}` default nan (NaN when no rule fires): the "
+                                  f"model needs a number, took {value:g}")
+        self.var.default = value
+
+    def _term(self, line: _Line) -> None:
+        if len(line.tokens) < 2:
+            self.rep.error(self._first(line), "a term reads `term: NAME Shape PARAMETERS...`")
+            return
+        (name, name_col), (kind, kind_col), *params = line.tokens
+        values = []
+        for text, col in params:
+            try:
+                values.append(float(text))
+            except ValueError:
+                self.rep.error(self.loc(line, col), f"`{text}` is not a number")
+                return
+        made = self._shape(kind, values, self.loc(line, kind_col))
+        if made is not None:
+            self.var.add(TermSpec(name, *made, loc=self.loc(line, name_col)), self.rep)
+
+    def _shape(self, kind: str, v: list[float], loc: SourceLoc):
+        arity = {"Triangle": 3, "Trapezoid": 4, "Rectangle": 2, "Ramp": 2, "Gaussian": 2,
+                 "Bell": 3, "Sigmoid": 2, "Constant": 1}.get(kind)
+        if arity is None:
+            what = "is not supported" if kind in KNOWN_UNSUPPORTED_TERMS else "is unknown"
+            self.rep.error(loc, f"term shape `{kind}` {what}: the model carries Triangle, "
+                                "Trapezoid, Rectangle, Ramp, Gaussian, Bell, Sigmoid, Constant")
+            return None
+        height_allowed = kind != "Constant"
+        if len(v) not in (arity, arity + height_allowed) or len(v) == 0:
+            self.rep.error(loc, f"`{kind}` takes {arity} parameters"
+                                + (" and an optional height" if height_allowed else "")
+                                + f", got {len(v)}")
+            return None
+        if len(v) > arity and v[arity] != 1.0:
+            self.rep.error(loc, f"a term height of {v[arity]:g} is not supported: the model's "
+                                "terms reach 1")
+            return None
+        v = v[:arity]
+        made = {
+            "Triangle": lambda: trapezoid_or_none(v[0], v[1], v[1], v[2]),
+            "Trapezoid": lambda: trapezoid_or_none(*v),
+            "Rectangle": lambda: trapezoid_or_none(v[0], v[0], v[1], v[1]),
+            "Ramp": lambda: (trapezoid_or_none(v[0], v[1], math.inf, math.inf) if v[0] < v[1]
+                             else trapezoid_or_none(-math.inf, -math.inf, v[1], v[0])
+                             if v[0] > v[1] else None),
+            "Gaussian": lambda: shape(TermKind.GAUSSIAN, *v) if v[1] > 0 else None,
+            "Bell": lambda: shape(TermKind.BELL, *v) if v[1] > 0 and v[2] > 0 else None,
+            "Sigmoid": lambda: shape(TermKind.SIGMOID, *v) if v[1] != 0 else None,
+            "Constant": lambda: shape(TermKind.SINGLETON, *v) if math.isfinite(v[0]) else None,
+        }[kind]()
+        if made is None:
+            self.rep.error(loc, f"degenerate {kind} ({' '.join(f'{p:g}' for p in v)})")
+        return made
+
+    # ------------------------------------------------------------------ operators
+    def _aggregation(self, line: _Line) -> None:
+        self._setting("aggregation", line)
+
+    def _defuzzifier(self, line: _Line) -> None:
+        words = [t for t, _ in line.tokens]
+        if not words:
+            self.rep.error(self._first(line), "defuzzifier: NAME [resolution | type]")
+            return
+        if words[0] in INTEGRAL and len(words) > 1:
+            self.got.notes.append(f"`{self.var.name}` {words[0]} resolution {words[1]}: the "
+                                  "model integrates exactly (fuzzylite_compat reproduces the "
+                                  "sampling)")
+            words = words[:1]
+        if words[0] in ("WeightedAverage", "WeightedSum") and len(words) > 1:
+            if words[1] not in ("TakagiSugeno", "Automatic"):
+                self.rep.error(self.loc(line, line.tokens[1][1]),
+                               f"{words[0]} {words[1]} is not supported: the model's weighted "
+                               "defuzzifiers are Takagi-Sugeno (constant consequents)")
+                return
+            words = words[:1]
+        self._setting("defuzzifier", line, " ".join(words))
+
+    def _conjunction(self, line: _Line) -> None:
+        self._setting("conjunction", line)
+
+    def _disjunction(self, line: _Line) -> None:
+        self._setting("disjunction", line)
+
+    def _implication(self, line: _Line) -> None:
+        self._setting("implication", line)
+
+    def _activation(self, line: _Line) -> None:
+        if self._word(line) not in ("General", "none", None):
+            self.rep.error(self._first(line), f"activation `{self._word(line)}` is not "
+                                              "supported: every rule is evaluated (General)")
+
+    def _setting(self, kind: str, line: _Line, value: str | None = None) -> None:
+        """Remember a per-block/per-output operator; they must agree across blocks/outputs."""
+        value = value if value is not None else (self._word(line) or "none")
+        seen = self.settings.setdefault(kind, {})
+        if seen and value not in seen:
+            other_value, other = next(iter(seen.items()))
+            self.rep.error(self._first(line), f"{kind} `{value}` differs from `{other_value}` "
+                                              f"at line {other.line}: the model has one "
+                                              f"{kind} for the whole rule base")
+        seen.setdefault(value, self._first(line))
+
+    def _inference(self) -> None:
+        """Turn the operators seen into the model's Inference, reporting what it lacks."""
+        inf = Inference()
+        choice = {kind: next(iter(seen.items())) for kind, seen in self.settings.items()}
+        for kind, table, field in (("conjunction", TNORMS, "and_"), ("disjunction", SNORMS, "or_"),
+                                   ("implication", IMPLICATIONS, "implication")):
+            if kind in choice and choice[kind][0] != "none":
+                value, loc = choice[kind]
+                if value not in table:
+                    self.rep.error(loc, f"{kind} `{value}` is not supported: the model has "
+                                        + " and ".join(table))
+                else:
+                    setattr(inf, field, table[value])
+        aggregation, agg_loc = choice.get("aggregation", ("none", None))
+        defuzz, loc = choice.get("defuzzifier", ("Centroid", None))
+        if defuzz in INTEGRAL:
+            inf.defuzzifier = INTEGRAL[defuzz]
+            if aggregation not in AGGREGATIONS:
+                self.rep.error(agg_loc or loc, f"aggregation `{aggregation}` with {defuzz} is "
+                                               "not supported: use Maximum or UnboundedSum")
+            else:
+                inf.aggregation = AGGREGATIONS[aggregation]
+        elif defuzz == "WeightedAverage" and aggregation in ("none", "UnboundedSum", "Maximum"):
+            # Grouping by Maximum is the center of area; by a sum, the per-rule weighted average
+            # (whose result does not depend on the model's aggregation, left at its default).
+            inf.defuzzifier = (Defuzzifier.CENTER_OF_AREA if aggregation == "Maximum"
+                               else Defuzzifier.WEIGHTED_AVERAGE)
+            self._require_constants(defuzz)
+        elif defuzz == "WeightedSum" and aggregation in ("none", "UnboundedSum"):
+            inf.defuzzifier = Defuzzifier.WEIGHTED_SUM
+            self._require_constants(defuzz)
+        elif defuzz in ("WeightedAverage", "WeightedSum"):
+            self.rep.error(agg_loc or loc, f"{defuzz} with aggregation `{aggregation}` is not "
+                                           "supported")
+        else:
+            self.rep.error(loc, f"defuzzifier `{defuzz}` is not supported: the model has "
+                                "Centroid, Bisector, MeanOfMaximum, WeightedAverage, WeightedSum")
+        self.got.inference = inf
+
+    def _require_constants(self, defuzz: str) -> None:
+        for var in self.got.outputs.values():
+            for term in var.terms:
+                if term.kind != TermKind.SINGLETON:
+                    self.rep.error(term.loc, f"{defuzz} needs Constant terms (Takagi-Sugeno); "
+                                             f"`{term.name}` is not one")
+
+    # ------------------------------------------------------------------ rules
+    def _rule(self, line: _Line) -> None:
+        text = line.value
+        start = len(text) - len(text.lstrip())
+        offset = line.value_col + start
+        loc = self.loc(line, offset)
+
+        def loc_of(token) -> SourceLoc:
+            return self.loc(line, offset + token.column - 1)
+
+        try:
+            tree = fcl_lark().parse(text.strip(), start="rule_text")
+        except UnexpectedInput as exc:
+            syntax_error(exc, self.rep, self.loc(line, offset + max(exc.column, 1) - 1))
+            return
+        rule = rule_from_tree(tree, self.got, loc_of, HEDGES, f"{self.path}:{line.number}", loc)
+        if rule is not None:
+            self.got.rules.append(rule)
+
+    # ------------------------------------------------------------------ helpers
+    def _first(self, line: _Line) -> SourceLoc:
+        return self.loc(line, line.tokens[0][1] if line.tokens else line.value_col)
+
+    def _word(self, line: _Line) -> str | None:
+        return line.tokens[0][0] if line.tokens else None
+
+    def _numbers(self, line: _Line, count: int, usage: str) -> list[float] | None:
+        try:
+            values = [float(t) for t, _ in line.tokens]
+        except ValueError:
+            values = []
+        if len(values) != count:
+            self.rep.error(self._first(line), f"expected `{usage}`")
+            return None
+        return values
+
+
+def read_fll(text: str, path: str = "<string>") -> Model:
+    """An FLL engine as a Model; raises FuzzycError listing everything it cannot carry."""
+    return _FllReader(text, path).read(text)
+
+
+# ---------------------------------------------------------------------- export
+FLL_HEDGES = {Hedge.VERY: "very", Hedge.SOMEWHAT: "somewhat"}
+FLL_NAMES = {
+    "and_": {TNorm.MIN: "Minimum", TNorm.PRODUCT: "AlgebraicProduct"},
+    "or_": {SNorm.MAX: "Maximum", SNorm.PROBSUM: "AlgebraicSum"},
+    "implication": {Implication.MIN: "Minimum", Implication.PRODUCT: "AlgebraicProduct"},
+}
+FLL_INTEGRAL = {v: k for k, v in INTEGRAL.items()}
+
+
+def write_fll(model: Model, warnings: list[str] | None = None) -> str:
+    """The model's rule base as FLL; what is left out is appended to `warnings`.
+    Raises FuzzycError when the rule base itself cannot be written in FLL."""
+    rb = model.rulebase
+    inf = rb.inference
+    notes = left_out(model)
+    problems = unsayable_hedges(model, FLL_HEDGES, "FLL")
+    outputs, aggregation, defuzzifier = _fll_defuzzifier(model, problems, notes)
+    lines = [f"Engine: {model.name}"]
+    if model.title:
+        lines.append(f"description: {model.title}")
+    for var in rb.inputs:
+        lines += _fll_variable("InputVariable", var, problems, is_input=True)
+    for var in outputs:
+        lines += _fll_variable("OutputVariable", var, problems, is_input=False,
+                               extra=[f"aggregation: {aggregation}", f"defuzzifier: {defuzzifier}",
+                                      f"default: {num(var.default)}", "lock-previous: false"])
+    lines += ["RuleBlock: rules", "  enabled: true"]
+    lines += [f"  {key}: {FLL_NAMES[field][getattr(inf, field)]}"
+              for key, field in (("conjunction", "and_"), ("disjunction", "or_"),
+                                 ("implication", "implication"))]
+    lines.append("  activation: General")
+    for r in range(rb.n_rules):
+        lines.append("  rule: " + rule_sentence(model, r, FLL_HEDGES, " and ", problems))
+    refuse(model, "FLL", problems)
+    if warnings is not None:
+        warnings.extend(notes)
+    return "\n".join(lines) + "\n"
+
+
+def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):
+    """(output variables to write, aggregation, defuzzifier) in fuzzylite's words."""
+    rb = model.rulebase
+    inf = rb.inference
+    method = inf.defuzzifier
+    aggregation = "Maximum" if inf.aggregation == Aggregation.MAX else "UnboundedSum"
+    singletons = all(all_singletons(v) for v in rb.outputs)
+    if method in FLL_INTEGRAL and not (method == Defuzzifier.CENTROID and singletons):
+        if any(np.any(v.kinds == TermKind.SINGLETON) for v in rb.outputs):
+            problems.append(f"{method.name.lower()} over singleton terms has no FLL equivalent")
+        notes.append(f"fuzzylite computes {FLL_INTEGRAL[method]} by sampling the range "
+                     "(pyfuzzylite 8: 1000 midpoints, fuzzylite 6 C++: 100); fuzzyc integrates "
+                     "exactly (see fuzzylite_compat.evaluate_sampled)")
+        return rb.outputs, aggregation, FLL_INTEGRAL[method]
+    outputs, changed = peaks_instead(model, "FLL")
+    notes.extend(changed)
+    if method == Defuzzifier.WEIGHTED_SUM:
+        return outputs, "none", "WeightedSum TakagiSugeno"
+    grouped = "Maximum" if (method != Defuzzifier.WEIGHTED_AVERAGE
+                            and inf.aggregation == Aggregation.MAX) else "none"
+    return outputs, grouped, "WeightedAverage TakagiSugeno"
+
+
+def _fll_variable(section: str, var, problems: list[str], is_input: bool,
+                  extra: list[str] = ()) -> list[str]:
+    lines = [f"{section}: {var.name}", "  enabled: true",
+             f"  range: {num(var.lo)} {num(var.hi)}", "  lock-range: false", *("  " + e for e in extra)]
+    for name, kind, p in zip(var.names, var.kinds, var.params):
+        term = _fll_term(TermKind(int(kind)), p, is_input)
+        if term is None:
+            problems.append(f"term `{name}` of `{var.name}` ({TermKind(int(kind)).name.lower()} "
+                            f"{', '.join(num(x) for x in p)}) has no FLL shape")
+        else:
+            lines.append(f"  term: {name} {term}")
+    return lines
+
+
+def _fll_term(kind: TermKind, p, is_input: bool) -> str | None:
+    a, b, c, d = (float(x) for x in p)
+    if kind == TermKind.TRAPEZOID:
+        if a == b == -math.inf and math.isfinite(c) and c < d < math.inf:
+            return f"Ramp {num(d)} {num(c)}"
+        if c == d == math.inf and -math.inf < a < b and math.isfinite(b):
+            return f"Ramp {num(a)} {num(b)}"
+        if a == b and c == d and a < d:
+            return f"Rectangle {num(a)} {num(d)}"
+        if b == c:
+            return f"Triangle {num(a)} {num(b)} {num(d)}"
+        return f"Trapezoid {num(a)} {num(b)} {num(c)} {num(d)}"
+    if kind == TermKind.SINGLETON:
+        return None if is_input else f"Constant {num(a)}"
+    name = {TermKind.GAUSSIAN: "Gaussian", TermKind.BELL: "Bell", TermKind.SIGMOID: "Sigmoid"}[kind]
+    arity = {TermKind.GAUSSIAN: 2, TermKind.BELL: 3, TermKind.SIGMOID: 2}[kind]
+    return " ".join([name, *(num(x) for x in (a, b, c)[:arity])])

@@ -1,0 +1,89 @@
+"""The model's rule base as .fz text that `fuzzyc.parser.parse` reads back to the same rule base.
+
+Inputs become `input` declarations with their terms, outputs `var` + `terms` and a plain
+`output NAME_out = NAME` each; rules are written one per `rule` statement (tables are a
+reading aid of the source, not part of the model).  A model with a signal chain is written as
+its bare rule base, with warnings naming what was left out.
+"""
+from __future__ import annotations
+
+import math
+import re
+
+from ..model import (Aggregation, Defuzzifier, Hedge, Implication, Model, SNorm,
+                     TermKind, TNorm, Variable)
+from .common import OUTPUT_SUFFIX
+from .export import left_out, num, refuse, rule_sentence
+
+FZ_HEDGES = {Hedge.VERY: "very", Hedge.SOMEWHAT: "somewhat", Hedge.EXTREMELY: "extremely"}
+FZ_INFERENCE = (
+    ("and", "and_", {TNorm.MIN: "min", TNorm.PRODUCT: "product"}),
+    ("or", "or_", {SNorm.MAX: "max", SNorm.PROBSUM: "probsum"}),
+    ("implication", "implication", {Implication.MIN: "min", Implication.PRODUCT: "product"}),
+    ("aggregation", "aggregation", {Aggregation.MAX: "max", Aggregation.SUM: "sum"}),
+    ("defuzzify", "defuzzifier", {d: d.name.lower() for d in Defuzzifier}),
+)
+
+
+def write_fz(model: Model, warnings: list[str] | None = None) -> str:
+    rb = model.rulebase
+    problems: list[str] = []
+    name = re.sub(r"\W", "_", model.name) or "imported"
+    if not re.match(r"[A-Za-z_]", name):
+        name = "_" + name
+    lines = [f"controller {name} {_string(model.title)} {{".replace("  ", " ")]
+    lines += [f"  note {_string(n)}" for n in model.notes]
+    for var in rb.inputs:
+        lines.append(f"  input {var.name}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}]")
+    for var in rb.inputs:
+        lines.append(f"  terms {var.name} : {_terms(var, problems)}")
+    for var in rb.outputs:
+        lines.append(f"  var {var.name}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}] "
+                     f"default {num(var.default)}")
+        lines.append(f"  terms {var.name} : {_terms(var, problems)}")
+    inf = rb.inference
+    lines.append("  inference " + ", ".join(f"{key} = {words[getattr(inf, field)]}"
+                                            for key, field, words in FZ_INFERENCE))
+    for r in range(rb.n_rules):
+        lines.append("  rule " + rule_sentence(model, r, FZ_HEDGES, ", ", problems))
+    for var in rb.outputs:
+        lines.append(f"  output {var.name}{OUTPUT_SUFFIX}{_unit(var)} "
+                     f"in [{num(var.lo)}, {num(var.hi)}] = {var.name}")
+    lines.append("}")
+    refuse(model, ".fz", problems)
+    if warnings is not None:
+        warnings.extend(left_out(model))
+    return "\n".join(lines) + "\n"
+
+
+def _string(text: str) -> str:
+    """A .fz string literal (the language has no escapes: quotes and backslashes are replaced)."""
+    return '"' + text.replace("\\", "/").replace('"', "'").replace("\n", " ") + '"'
+
+
+def _unit(var: Variable) -> str:
+    return f" : {var.unit}" if var.unit else ""
+
+
+def _terms(var: Variable, problems: list[str]) -> str:
+    return ", ".join(f"{name} = {_shape(TermKind(int(kind)), p, var.name, name, problems)}"
+                     for name, kind, p in zip(var.names, var.kinds, var.params))
+
+
+def _shape(kind: TermKind, p, var: str, term: str, problems: list[str]) -> str:
+    a, b, c, d = (float(x) for x in p)
+    if kind == TermKind.TRAPEZOID:
+        if a == b == -math.inf and c < d < math.inf:
+            return f"lshoulder({num(c)}, {num(d)})"
+        if c == d == math.inf and -math.inf < a < b:
+            return f"rshoulder({num(a)}, {num(b)})"
+        if not all(math.isfinite(x) for x in (a, b, c, d)):
+            problems.append(f"term `{term}` of `{var}` ({', '.join(map(num, (a, b, c, d)))}) "
+                            "has no .fz shape")
+        if b == c:
+            return f"tri({num(a)}, {num(b)}, {num(d)})"
+        return f"trap({num(a)}, {num(b)}, {num(c)}, {num(d)})"
+    arity = {TermKind.GAUSSIAN: 2, TermKind.BELL: 3, TermKind.SIGMOID: 2, TermKind.SINGLETON: 1}
+    word = {TermKind.GAUSSIAN: "gauss", TermKind.BELL: "bell", TermKind.SIGMOID: "sigmoid",
+            TermKind.SINGLETON: "singleton"}[kind]
+    return f"{word}({', '.join(num(x) for x in (a, b, c)[:arity[kind]])})"

@@ -1,0 +1,161 @@
+"""Rules of FCL and FLL (the same `if ... then ... with w` shape): lark tree -> builder `_Rule`.
+
+The model has one connective per rule, one clause per input, hedges before `not`: anything else
+(mixed and/or, `not` around a compound condition, a hedge the model lacks) is reported.
+"""
+from __future__ import annotations
+
+import functools
+from collections.abc import Callable
+from importlib import resources
+
+from lark import Lark, Token, Tree
+from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
+
+from ..builder import _Rule
+from ..errors import Reporter, suggest
+from ..model import Connective, Hedge, SourceLoc
+from .common import Collected
+
+LocOf = Callable[[Token], SourceLoc]
+
+
+@functools.lru_cache(maxsize=1)
+def fcl_lark() -> Lark:
+    grammar = resources.files("fuzzyc").joinpath("grammar/fcl.lark").read_text()
+    return Lark(grammar, parser="lalr", start=["start", "rule_text"], propagate_positions=True)
+
+
+def syntax_error(exc: UnexpectedInput, rep: Reporter, loc: SourceLoc) -> None:
+    """One readable diagnostic for a lark error at `loc`."""
+    if isinstance(exc, UnexpectedEOF):
+        rep.error(loc, "the text ends too early: " + _expected(exc.expected))
+    elif isinstance(exc, UnexpectedToken):
+        rep.error(loc, f"unexpected `{exc.token}`: " + _expected(exc.expected))
+    elif isinstance(exc, UnexpectedCharacters):
+        rep.error(loc, f"unexpected character `{exc.char}`")
+    else:  # pragma: no cover - lark has no other kinds
+        rep.error(loc, str(exc))
+
+
+def _expected(names) -> str:
+    shown = sorted(n.strip("_").lower() if n.isupper() else n for n in names)[:8]
+    return "expected one of " + ", ".join(shown)
+
+
+def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, Hedge],
+                   origin: str, loc: SourceLoc) -> _Rule | None:
+    """A `rule_text` tree as a rule of the model, or None after reporting why it cannot be."""
+    rep = got.rep
+    condition, *rest = tree.children
+    weight_tree = rest.pop() if rest and rest[-1].data == "weight" else None
+    flat = _flatten(condition, rep, loc)
+    if flat is None:
+        return None
+    clauses, connective = flat
+    ok = True
+    rule_clauses: dict = {}
+    for negated, is_clause in clauses:
+        name, *words = [c for c in is_clause.children]
+        if words and words[0].type == "NOT":
+            negated, words = not negated, words[1:]
+        clause = _clause(name, words, negated, got, loc_of, hedges)
+        if clause is None:
+            ok = False
+        elif name.value in rule_clauses:
+            rep.error(loc_of(name), f"`{name}` appears twice in one rule: the model has one "
+                                    "clause per input; split the rule")
+            ok = False
+        else:
+            rule_clauses[name.value] = clause
+    conclusions: dict[str, int] = {}
+    for concl in rest:
+        name, *words = concl.children
+        term = _conclusion(name, words, got, loc_of)
+        if term is None:
+            ok = False
+        elif name.value in conclusions:
+            rep.error(loc_of(name), f"`{name}` is concluded twice in one rule")
+            ok = False
+        else:
+            conclusions[name.value] = term
+    weight = 1.0
+    if weight_tree is not None:
+        token = weight_tree.children[0].children[0]
+        weight = float(token)
+        if not 0.0 <= weight <= 1.0:
+            rep.error(loc_of(token), f"a rule weight lies in [0, 1], got {weight:g}")
+            ok = False
+    if not rule_clauses and ok:
+        rep.error(loc, "a rule needs at least one clause")
+        ok = False
+    return _Rule(rule_clauses, connective, conclusions, weight, loc, origin) if ok else None
+
+
+def _flatten(cond: Tree, rep: Reporter, loc: SourceLoc):
+    """[(negated, is_clause tree)], connective — or None if the rule mixes and/or."""
+    clauses, connectives, stack = [], set(), [(False, cond)]
+    while stack:
+        negated, node = stack.pop()
+        if node.data == "is_clause":
+            clauses.append((negated, node))
+        elif node.data == "not_cond":
+            inner = node.children[0]
+            if inner.data != "is_clause":
+                rep.error(loc, "`not` applies to one clause here: write `x is not t`, "
+                               "not `not (...)` around a compound condition")
+                return None
+            stack.append((not negated, inner))
+        else:
+            if len(node.children) > 1:
+                connectives.add(node.data)
+            stack.extend((negated, child) for child in reversed(node.children))
+    if len(connectives) > 1:
+        rep.error(loc, "this rule mixes `and` and `or`; the model has one connective per rule: "
+                       "split it into rules")
+        return None
+    return clauses, Connective.OR if connectives == {"or_cond"} else Connective.AND
+
+
+def _clause(name: Token, words: list[Token], negated: bool, got: Collected, loc_of: LocOf,
+            hedges: dict[str, Hedge]):
+    rep = got.rep
+    var = got.inputs.get(name.value)
+    if var is None:
+        known = list(got.inputs)
+        where = "an output: rules read inputs" if name.value in got.outputs else suggest(name.value, known)
+        rep.error(loc_of(name), f"no input variable `{name}`: {where}")
+        return None
+    *hedge_words, term = words
+    hedge = Hedge.NONE
+    if hedge_words:
+        word = hedge_words[-1] if len(hedge_words) == 1 else None
+        if word is None or word.value.lower() not in hedges:
+            bad = hedge_words[0]
+            rep.error(loc_of(bad), f"hedge `{' '.join(h.value for h in hedge_words)}` is not "
+                                   f"supported: {hedge_message(bad.value.lower(), hedges)}")
+            return None
+        hedge = hedges[word.value.lower()]
+    index = var.term_index(term.value, loc_of(term), rep)
+    return None if index is None else (index, negated, hedge)
+
+
+def hedge_message(word: str, hedges: dict[str, Hedge]) -> str:
+    if word == "extremely":
+        return ("fuzzylite's `extremely` is 2x^2 below 0.5 and 1-2(1-x)^2 above; the model's "
+                "is x^3, so it is not carried")
+    known = ", ".join(hedges) if hedges else "none in this format"
+    return f"the model carries {known} (one hedge per clause, applied before `not`)"
+
+
+def _conclusion(name: Token, words: list[Token], got: Collected, loc_of: LocOf) -> int | None:
+    rep = got.rep
+    var = got.outputs.get(name.value)
+    if var is None:
+        rep.error(loc_of(name), f"no output variable `{name}`: {suggest(name.value, list(got.outputs))}")
+        return None
+    if len(words) > 1:
+        rep.error(loc_of(words[0]), "a hedge on a conclusion is not supported: the model's "
+                                    "consequents are plain terms")
+        return None
+    return var.term_index(words[0].value, loc_of(words[0]), rep)
