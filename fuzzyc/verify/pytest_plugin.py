@@ -34,7 +34,8 @@ class PropertyItem(pytest.Item):
         self.model, self.prop, self.parent_prop = model, prop, parent_prop
         finding = finding_for(model, prop)
         if finding:
-            self.add_marker(pytest.mark.xfail(reason=finding, strict=True))
+            self.add_marker(pytest.mark.xfail(reason=finding, strict=True,
+                                              raises=RecordedFinding))
 
     def runtest(self):
         from .report import format_result
@@ -45,11 +46,13 @@ class PropertyItem(pytest.Item):
         if not results:
             raise PropertyFailure(f"{self.prop.text}: nothing was checked")
         for r in results:
-            if r.status == Status.VIOLATED:
+            if r.is_failure:
                 raise PropertyFailure(format_result(r))
+            if r.status == Status.VIOLATED:
+                raise RecordedFinding(format_result(r))
 
     def repr_failure(self, excinfo):
-        if isinstance(excinfo.value, PropertyFailure):
+        if isinstance(excinfo.value, (PropertyFailure, RecordedFinding)):
             return str(excinfo.value)
         return super().repr_failure(excinfo)
 
@@ -59,7 +62,11 @@ class PropertyItem(pytest.Item):
 
 
 class PropertyFailure(Exception):
-    pass
+    """A violation nobody recorded: a real failure even on an item marked xfail."""
+
+
+class RecordedFinding(Exception):
+    """The violation the file's `note "finding: ..."` records: the expected failure."""
 
 
 def _only(model, target: Property, check: Property):

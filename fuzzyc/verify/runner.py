@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import os
+import re
 import shlex
 import time
 from dataclasses import dataclass
@@ -25,6 +26,19 @@ class Options:
     progress: Callable[[str], None] | None = None
 
 
+def covers_violation(note: str, evidence: list[Evidence]) -> bool:
+    """A recorded finding explains a violation only if it names every rule-table place the
+    tables report (the [...] part of each cell), so a new bad cell is never hidden by an old
+    note. Violations found by proof or search are explained by the note as a whole."""
+    for e in evidence:
+        if e.method == "table" and e.status == Status.VIOLATED:
+            for cell in e.cells:
+                places = re.findall(r"\[([^\]]+)\]", cell)
+                if not places or not all(p in note for p in places):
+                    return False
+    return True
+
+
 def finding_for(model: Model, prop: Property) -> str | None:
     """The note recording a known violation of this property: `note "finding: <text> ..."`."""
     for note in model.notes:
@@ -32,6 +46,11 @@ def finding_for(model: Model, prop: Property) -> str | None:
                 note[len(FINDING_PREFIX):].lstrip().startswith(prop.text):
             return note
     return None
+
+
+def _finding(model: Model, prop: Property, evidence: list[Evidence]) -> str | None:
+    note = finding_for(model, prop)
+    return note if note and covers_violation(note, evidence) else None
 
 
 def property_name(model: Model, prop: Property, parent: Property | None = None) -> str:
@@ -64,7 +83,8 @@ def verify_model(model: Model, options: Options | None = None) -> list[Result]:
         start = time.perf_counter()
         evidence = check_property(model, prop, options)
         results.append(Result(prop, property_name(model, prop), evidence,
-                              finding_for(model, prop), reproduce_command(model, prop, options),
+                              _finding(model, prop, evidence),
+                              reproduce_command(model, prop, options),
                               time.perf_counter() - start))
     return results
 
@@ -122,6 +142,6 @@ def _closed_loop(model: Model, prop: Property, checks: list[Property],
         options.progress(prop.text)
     verdicts = closed_loop.check(model, prop, checks, options)
     elapsed = time.perf_counter() - start
-    return [Result(c, property_name(model, c, prop), ev, finding_for(model, c),
+    return [Result(c, property_name(model, c, prop), ev, _finding(model, c, ev),
                    reproduce_command(model, c, options), elapsed / len(checks))
             for c, ev in zip(checks, verdicts)]
