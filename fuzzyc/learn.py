@@ -137,20 +137,34 @@ class LearningResult:
     cycles: list[CycleResult]
 
 
-def learn(model: Model, plant: ModuleType, params: Any, cycles: int, max_time: float,
-          output: str = "du", eta: float = 0.25, rho: float = 6.0,
+def learn(controller: Any, plant: ModuleType, params: Any, cycles: int, max_time: float,
+          period: float | None = None, output: str = "du", eta: float = 0.25, rho: float = 6.0,
           rng: np.random.Generator | None = None) -> LearningResult:
-    """Repeat the cutting cycle `cycles` times, learning on line; weights carry over."""
-    from .controller import Controller
+    """Repeat the cutting cycle `cycles` times, learning on line; weights carry over.
 
-    if model.period is None:
+    `controller` runs the model being trained (e.g. `fuzzyc.controller.Controller`); its
+    model's learnable values are the starting weights and end up as the learned ones.
+    """
+    model = controller.model
+    period = period or model.period
+    if period is None:
         raise ValueError(f"{model.name}: learning needs the controller's `period`")
-    controller = Controller(model, batch=1)
     learner = Learner(model, output=output, eta=eta, rho=rho)
-    controller.set_consequent_values(output, learner.weights)
-    results = [run_cycle(controller, plant, params, learner, True, max_time, model.period, rng)
+    results = [run_cycle(controller, plant, params, learner, True, max_time, period, rng)
                for _ in range(cycles)]
     return LearningResult(learner.weights.copy(), np.array([r.pi for r in results]), results)
+
+
+def learn_scenario(scenario: Any, cycles: int, eta: float = 0.25, rho: float = 6.0,
+                   output: str = "du") -> tuple[Any, LearningResult]:
+    """Learn on a scenario (`fuzzyc.plants.scenario.Scenario`): its plant, params, rule base,
+    controller settings, period and duration (the time limit of a cycle)."""
+    from fuzzyc.runtime.simulate import load_controller
+
+    controller = load_controller(scenario, batch=1)
+    result = learn(controller, scenario.plant_module(), scenario.plant_params(), cycles,
+                   scenario.duration, scenario.period, output, eta, rho)
+    return controller, result
 
 
 _TABLE = r"table\s+{name}\b[^{{]*\blearnable\s*\{{(?P<body>[^}}]*)\}}"

@@ -41,6 +41,10 @@ from dataclasses import dataclass, field
 import numpy as np
 
 
+INPUTS = ("feed",)
+OUTPUTS = ("force", "feed_actual", "position", "done")
+
+
 @dataclass
 class Workpiece:
     """Pieces along the path: lengths (mm), axial depths b (mm), radial depths a_r (mm)."""
@@ -103,13 +107,9 @@ class MillingParams:
     angle_samples: int = 72
     force_noise: float = 0.0        # N, std of dynamometer noise (0: none)
 
-    @classmethod
-    def from_dict(cls, values: dict) -> "MillingParams":
-        """Scenario params: the fields above by name, `workpiece` as in `workpiece_from_spec`."""
-        values = dict(values)
-        if "workpiece" in values:
-            values["workpiece"] = workpiece_from_spec(values["workpiece"])
-        return cls(**values)
+    def __post_init__(self) -> None:
+        if isinstance(self.workpiece, dict):   # from a scenario file
+            self.workpiece = workpiece_from_spec(self.workpiece)
 
     @property
     def radius(self) -> float:
@@ -222,6 +222,26 @@ def run_constant_feed(params: MillingParams, feeds: np.ndarray, max_time: float
         if not np.isnan(finish).any():
             break
     return {"peak_force": peak, "time": finish}
+
+
+@dataclass
+class ConstantFeed:
+    """The baseline controller: the constant feed a CAD/CAM program would run (mm/min)."""
+    feed: float
+
+    def __post_init__(self) -> None:
+        self.input_names: list[str] = []
+        self.output_names = ["feed"]
+        self.batch = 1
+
+    def reset(self, batch: int) -> None:
+        self.batch = batch
+
+    def initial_outputs(self) -> dict[str, float]:
+        return {"feed": self.feed}
+
+    def step(self, signals: dict) -> dict[str, np.ndarray]:
+        return {"feed": np.full(self.batch, self.feed)}
 
 
 def max_constant_feed(params: MillingParams, force_limit: float, feed_range=(1.0, 75.0),

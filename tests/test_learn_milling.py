@@ -6,28 +6,20 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-import yaml
 
-from fuzzyc.controller import Controller
-from fuzzyc.learn import Learner, learn, run_cycle, trained_text
+from fuzzyc.learn import Learner, learn_scenario, run_cycle, trained_text
 from fuzzyc.parser import load, parse
-from fuzzyc.plants import milling
+from fuzzyc.plants import milling, scenario
+from fuzzyc.runtime.simulate import load_controller
 
 ROOT = Path(__file__).resolve().parents[1]
 RULES = ROOT / "rulebases" / "milling_neurofuzzy.fz"
 
 
-def scenario(name):
-    spec = yaml.safe_load((ROOT / "plants" / "scenarios" / f"{name}.yaml").read_text())
-    return spec, milling.MillingParams.from_dict(spec["params"])
-
-
 @pytest.fixture(scope="module")
 def learned():
-    spec, params = scenario("milling_step")
-    model = load(RULES)
-    result = learn(model, milling, params, cycles=15, max_time=spec["duration"])
-    return model, result
+    controller, result = learn_scenario(scenario.load("milling_step"), cycles=15)
+    return controller.model, result
 
 
 def test_learning_rule_hand_computed():
@@ -74,15 +66,18 @@ def test_force_held_at_300_N_at_both_depths(learned):
 
 
 def test_pocket_is_faster_than_the_constant_feed_at_the_same_force_limit(learned):
-    model, _ = learned
-    spec, params = scenario("milling_pocket")
-    limit = spec["baseline"]["force_limit"]
-    adaptive = run_cycle(Controller(model, 1), milling, params, Learner(model), False,
-                         spec["duration"], spec["period"])
-    feed = milling.max_constant_feed(params, limit)
-    constant = milling.run_constant_feed(params, np.array([feed]), spec["duration"] * 2)
+    model, result = learned
+    pocket = scenario.load("milling_pocket")
+    params = pocket.plant_params()
+    controller = load_controller(pocket, 1)          # the pocket's settings, learned weights
+    controller.set_consequent_values("du", result.weights)
+    adaptive = run_cycle(controller, milling, params, Learner(controller.model), False,
+                         pocket.duration, pocket.period)
+    feed = milling.max_constant_feed(params, 330.0)  # 300 N + 10 %
+    assert pocket.baseline["params"]["feed"] == pytest.approx(feed, abs=0.1)
+    constant = milling.run_constant_feed(params, np.array([feed]), pocket.duration * 2)
     assert adaptive.finished
-    assert constant["peak_force"][0] <= limit
+    assert constant["peak_force"][0] <= 330.0
     assert adaptive.time <= 0.85 * constant["time"][0]
 
 
