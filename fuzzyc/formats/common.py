@@ -77,6 +77,7 @@ class Collected:
     """Everything an importer read; `model()` turns it into the Model."""
     rep: Reporter
     name: str
+    title: str = ""
     inputs: dict[str, VarSpec] = field(default_factory=dict)
     outputs: dict[str, VarSpec] = field(default_factory=dict)
     rules: list[_Rule] = field(default_factory=list)
@@ -114,7 +115,7 @@ class Collected:
         outputs = [_variable(v, is_input=False) for v in self.outputs.values()]
         rb = _rulebase(inputs, outputs, _merge_rules(self.rules), self.inference)
         return Model(
-            name=self.name, rulebase=rb, title=f"imported from {path}",
+            name=self.name, rulebase=rb, title=self.title or f"imported from {path}",
             signals=[Signal(v.name, v.lo, v.hi, loc=v.loc) for v in inputs],
             outputs=[Output(v.name + OUTPUT_SUFFIX, OutputKind.DIRECT, sympy.Symbol(v.name),
                             v.lo, v.hi, init=v.lo, loc=v.loc)

@@ -115,7 +115,9 @@ class _FllReader:
 
     # ------------------------------------------------------------------ variables
     def _description(self, line: _Line) -> None:
-        if line.value.strip():
+        if self.section == "Engine":
+            self.got.title = line.value.strip()
+        elif line.value.strip():
             self.got.notes.append(f"{self.section} description: {line.value.strip()}")
 
     def _enabled(self, line: _Line) -> None:
@@ -356,7 +358,7 @@ def write_fll(model: Model, warnings: list[str] | None = None) -> str:
     notes = left_out(model)
     problems = unsayable_hedges(model, FLL_HEDGES, "FLL")
     outputs, aggregation, defuzzifier = _fll_defuzzifier(model, problems, notes)
-    lines = [f"Engine: {model.name}"]
+    lines = [f"# {note}" for note in model.notes] + [f"Engine: {model.name}"]
     if model.title:
         lines.append(f"description: {model.title}")
     for var in rb.inputs:

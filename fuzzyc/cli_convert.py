@@ -1,0 +1,47 @@
+"""`fuzzyc convert IN OUT`: import .fz/.fll/.fcl/.fis, export .fz/.fll/.fcl (by extension).
+
+What the output file cannot carry is printed as warnings (the bare rule base is still written);
+a rule base the target format cannot say at all, or a bad input file, exits with status 2.
+"""
+from __future__ import annotations
+
+import sys
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "convert", help="convert between .fz, fuzzylite .fll, IEC 61131-7 .fcl (both ways) and "
+                        "MATLAB .fis (import only)")
+    p.add_argument("input", metavar="IN", help="a .fz, .fll, .fcl or .fis file")
+    p.add_argument("output", metavar="OUT", help="a .fz, .fll or .fcl file to write")
+    p.add_argument("--strict", action="store_true",
+                   help="refuse (exit 2) instead of writing when something would be left out")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from .errors import Diagnostic, FuzzycError
+    from .formats import WRITERS, load_any, save
+
+    model = load_any(args.input)
+    imported = _suffix(args.input) != ".fz"   # a .fz file's notes are its own findings
+    for note in model.notes if imported else []:
+        print(f"{args.input}: note: {note}", file=sys.stderr)
+    if args.strict:
+        writer = WRITERS.get(_suffix(args.output))
+        lost: list[str] = []
+        if writer is not None:
+            writer(model, lost)
+        if lost:
+            raise FuzzycError([Diagnostic(None, f"--strict: {args.output} would leave out {w}")
+                               for w in lost])
+    for warning in save(model, args.output):
+        print(f"{args.output}: warning: {warning}", file=sys.stderr)
+    print(f"wrote {args.output}: {model.rulebase.n_rules} rules, "
+          f"{len(model.rulebase.inputs)} inputs, {len(model.rulebase.outputs)} outputs")
+    return 0
+
+
+def _suffix(path: str) -> str:
+    from pathlib import Path
+    return Path(path).suffix.lower()

@@ -1,0 +1,334 @@
+"""IEC 61131-7 FCL function blocks: import (lark grammar `grammar/fcl.lark`) and export.
+
+FCL is block-structured and free-form (statements end with `;`, comments `(* *)`), so it gets a
+real grammar.  Mapping (exact unless said):
+  point-list terms that form a triangle, trapezoid or shoulder -> TRAPEZOID (IEC: a term keeps
+  its first/last point's value beyond them, so (0,1) (4,0) is a left shoulder); a number ->
+  SINGLETON; jFuzzyLogic's TRIAN, TRAPE, GAUSS, GBELL, SIGM -> TRAPEZOID, GAUSSIAN, BELL, SIGMOID.
+  AND MIN/PROD, OR MAX/ASUM, ACT MIN/PROD, ACCU MAX (and jFuzzyLogic's SUM).
+  METHOD COG -> CENTROID, COGS -> CENTER_OF_AREA (the centre of gravity of singletons, which the
+  model computes over the terms' peaks), COA -> BISECTOR (IEC's "centre of area" halves the
+  area), MM -> MEAN_OF_MAXIMUM.
+Not carried, reported: other point lists, BDIF, BSUM, NSUM, LM, RM, DEFAULT NC, hedges.
+Several RULEBLOCKs are merged when their operators agree; one FUNCTION_BLOCK per file.
+"""
+from __future__ import annotations
+
+import math
+
+from lark import Token, Tree
+from lark.exceptions import UnexpectedInput
+
+from ..errors import Reporter
+from ..model import (Aggregation, Defuzzifier, Implication, Inference, Model, SNorm, SourceLoc,
+                     TermKind, TNorm)
+from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
+from .export import (all_singletons, left_out, num, peaks_instead, refuse, rule_sentence,
+                     unsayable_hedges)
+from .rules import fcl_lark, rule_from_tree, syntax_error
+
+OPERATORS = {
+    "and_op": ("AND", "and_", {"MIN": TNorm.MIN, "PROD": TNorm.PRODUCT}),
+    "or_op": ("OR", "or_", {"MAX": SNorm.MAX, "ASUM": SNorm.PROBSUM}),
+    "act": ("ACT", "implication", {"MIN": Implication.MIN, "PROD": Implication.PRODUCT}),
+    "accu": ("ACCU", "aggregation", {"MAX": Aggregation.MAX, "SUM": Aggregation.SUM}),
+}
+METHODS = {"COG": Defuzzifier.CENTROID, "COGS": Defuzzifier.CENTER_OF_AREA,
+           "COA": Defuzzifier.BISECTOR, "MM": Defuzzifier.MEAN_OF_MAXIMUM}
+
+
+class _FclReader:
+    def __init__(self, text: str, path: str):
+        self.rep = Reporter(path, text)
+        self.got = Collected(self.rep, "imported")
+        self.path = path
+        self.declared: dict[str, bool] = {}       # VAR_INPUT / VAR_OUTPUT name -> is input
+        self.chosen: dict[str, tuple[str, SourceLoc]] = {}
+
+    def loc(self, token: Token) -> SourceLoc:
+        return self.rep.loc(token.line, token.column)
+
+    def read(self, text: str) -> Model:
+        try:
+            tree = fcl_lark().parse(text, start="start")
+        except UnexpectedInput as exc:
+            syntax_error(exc, self.rep, self.rep.loc(exc.line, exc.column))
+            self.rep.raise_if_any()
+        blocks = tree.children
+        if len(blocks) > 1:
+            self.rep.error(self._where(blocks[1]), "one FUNCTION_BLOCK per file: the model is "
+                                                   "one rule base; split the file")
+        block = blocks[0]
+        names = [c for c in block.children if isinstance(c, Token)]
+        if names:
+            self.got.name = names[0].value
+        items = [c for c in block.children if isinstance(c, Tree)]
+        for kind in ("var_input", "var_output", "fuzzify", "defuzzify", "ruleblock"):
+            for item in items:
+                if item.data == kind:
+                    getattr(self, "_" + kind)(item)
+        self._inference()
+        return self.got.model(self.path, text)
+
+    def _where(self, tree: Tree) -> SourceLoc:
+        return self.rep.loc(tree.meta.line, tree.meta.column)
+
+    # ------------------------------------------------------------------ declarations
+    def _var_input(self, tree: Tree) -> None:
+        self._declare(tree, is_input=True)
+
+    def _var_output(self, tree: Tree) -> None:
+        self._declare(tree, is_input=False)
+
+    def _declare(self, tree: Tree, is_input: bool) -> None:
+        for decl in tree.children:
+            name, type_, *rng = decl.children
+            if type_.value.upper() != "REAL":
+                self.rep.error(self.loc(type_), f"`{name}` is {type_}: fuzzy variables are REAL")
+            var = self.got.declare(VarSpec(name.value, self.loc(name)), is_input)
+            self.declared[name.value] = is_input
+            if rng:
+                var.lo, var.hi = self._interval(rng[0].children[0])
+
+    def _variable(self, name: Token, is_input: bool) -> VarSpec | None:
+        table = self.got.inputs if is_input else self.got.outputs
+        if name.value not in table:
+            section = "VAR_INPUT" if is_input else "VAR_OUTPUT"
+            self.rep.error(self.loc(name), f"`{name}` is not declared in {section}")
+            return None
+        return table[name.value]
+
+    def _fuzzify(self, tree: Tree) -> None:
+        self._terms(tree, is_input=True)
+
+    def _defuzzify(self, tree: Tree) -> None:
+        var = self._terms(tree, is_input=False)
+        if var is None:
+            return
+        for item in tree.children[1:]:
+            if item.data == "method":
+                word = item.children[0]
+                self._choose("METHOD", word)
+            elif item.data == "default":
+                value = item.children[0]
+                if isinstance(value, Token):  # NC: keep the last output
+                    self.rep.error(self.loc(value), "DEFAULT := NC (keep the last output when "
+                                                    "no rule fires) is not supported: give a value")
+                else:
+                    var.default = float(value.children[0])
+            elif item.data == "accu":
+                self._choose("ACCU", item.children[0])
+
+    def _terms(self, tree: Tree, is_input: bool) -> VarSpec | None:
+        name, *items = tree.children
+        var = self._variable(name, is_input)
+        if var is None:
+            return None
+        for item in items:
+            if item.data == "term":
+                term_name, body = item.children
+                made = self._shape(body)
+                if made is not None:
+                    var.add(TermSpec(term_name.value, *made, loc=self.loc(term_name)), self.rep)
+            elif item.data == "range_item":
+                var.lo, var.hi = self._interval(item.children[0])
+        return var
+
+    def _interval(self, tree: Tree) -> tuple[float, float]:
+        return tuple(float(n.children[0]) for n in tree.children)
+
+    def _shape(self, body: Tree):
+        loc = self._where(body)
+        if body.data == "singleton":
+            return shape(TermKind.SINGLETON, float(body.children[0].children[0]))
+        if body.data == "function":
+            word, *numbers = body.children
+            v = [float(n.children[0]) for n in numbers]
+            return self._function(word.value.upper(), v, loc)
+        points = [tuple(float(n.children[0]) for n in p.children) for p in body.children]
+        made = _points_to_trapezoid(points)
+        if made is None:
+            self.rep.error(loc, "this point list is not a triangle, trapezoid or shoulder (values "
+                                "0 and 1 only, rising then falling): the model cannot carry it")
+        return made
+
+    def _function(self, word: str, v: list[float], loc: SourceLoc):
+        arity = {"TRIAN": 3, "TRAPE": 4, "GAUSS": 2, "GBELL": 3, "SIGM": 2}[word]
+        if len(v) != arity:
+            self.rep.error(loc, f"{word} takes {arity} numbers, got {len(v)}")
+            return None
+        made = {"TRIAN": lambda: trapezoid_or_none(v[0], v[1], v[1], v[2]),
+                "TRAPE": lambda: trapezoid_or_none(*v),
+                "GAUSS": lambda: shape(TermKind.GAUSSIAN, *v) if v[1] > 0 else None,
+                # jFuzzyLogic: GBELL a b mean (width, slope, centre); SIGM gain centre
+                "GBELL": lambda: shape(TermKind.BELL, v[2], v[0], v[1]) if v[0] > 0 and v[1] > 0
+                else None,
+                "SIGM": lambda: shape(TermKind.SIGMOID, v[1], v[0]) if v[0] != 0 else None}[word]()
+        if made is None:
+            self.rep.error(loc, f"degenerate {word} ({' '.join(f'{p:g}' for p in v)})")
+        return made
+
+    # ------------------------------------------------------------------ rules
+    def _ruleblock(self, tree: Tree) -> None:
+        for item in tree.children:
+            if isinstance(item, Token):
+                continue
+            if item.data == "rule":
+                number, text = item.children
+                loc = self.loc(number)
+                rule = rule_from_tree(text, self.got, self.loc, {}, f"{self.path} RULE {number}",
+                                      loc)
+                if rule is not None:
+                    self.got.rules.append(rule)
+            else:
+                self._choose(OPERATORS[item.data][0], item.children[0])
+
+    def _choose(self, key: str, word: Token) -> None:
+        """One operator per kind for the whole rule base (blocks must agree)."""
+        value = word.value.upper()
+        if key in self.chosen and self.chosen[key][0] != value:
+            first, where = self.chosen[key]
+            self.rep.error(self.loc(word), f"{key} {value} differs from {first} at line "
+                                           f"{where.line}: the model has one {key} for the "
+                                           "whole rule base")
+            return
+        self.chosen.setdefault(key, (value, self.loc(word)))
+
+    def _inference(self) -> None:
+        inf = Inference()
+        for key, field, table in OPERATORS.values():
+            if key in self.chosen:
+                value, loc = self.chosen[key]
+                if value not in table:
+                    self.rep.error(loc, f"{key} {value} is not supported: the model has "
+                                        + ", ".join(table))
+                else:
+                    setattr(inf, field, table[value])
+        if "METHOD" in self.chosen:
+            value, loc = self.chosen["METHOD"]
+            if value not in METHODS:
+                self.rep.error(loc, f"METHOD {value} is not supported: the model has COG, COGS, "
+                                    "COA (bisector), MM (mean of maximum)")
+            else:
+                inf.defuzzifier = METHODS[value]
+                if value == "COGS":
+                    self._require_singletons()
+        self.got.inference = inf
+
+    def _require_singletons(self) -> None:
+        for var in self.got.outputs.values():
+            for term in var.terms:
+                if term.kind != TermKind.SINGLETON:
+                    self.rep.error(term.loc, f"COGS needs singleton terms; `{term.name}` is not one")
+
+
+def _points_to_trapezoid(points: list[tuple[float, float]]):
+    """A point list of 0/1 values rising once and falling once, as the equal trapezoid."""
+    xs = [p[0] for p in points]
+    ys = [p[1] for p in points]
+    if any(y not in (0.0, 1.0) for y in ys) or xs != sorted(xs) or 1.0 not in ys:
+        return None
+    first = ys.index(1.0)
+    last = len(ys) - 1 - ys[::-1].index(1.0)
+    if any(y != 1.0 for y in ys[first:last + 1]):
+        return None  # a dip inside the top
+    # Beyond the first/last point a term keeps that point's value: a 1 there makes a shoulder.
+    a, b = (xs[first - 1], xs[first]) if first > 0 else (-math.inf, -math.inf)
+    c, d = (xs[last], xs[last + 1]) if last + 1 < len(xs) else (math.inf, math.inf)
+    if first == 0 and last == len(xs) - 1:
+        return None  # 1 everywhere
+    return trapezoid_or_none(a, b, c, d)
+
+
+def read_fcl(text: str, path: str = "<string>") -> Model:
+    """An FCL function block as a Model; raises FuzzycError listing what it cannot carry."""
+    return _FclReader(text, path).read(text)
+
+
+# ---------------------------------------------------------------------- export
+FCL_OPERATOR_WORDS = {
+    "and_": ("AND", {TNorm.MIN: "MIN", TNorm.PRODUCT: "PROD"}),
+    "or_": ("OR", {SNorm.MAX: "MAX", SNorm.PROBSUM: "ASUM"}),
+    "implication": ("ACT", {Implication.MIN: "MIN", Implication.PRODUCT: "PROD"}),
+    "aggregation": ("ACCU", {Aggregation.MAX: "MAX", Aggregation.SUM: "SUM"}),
+}
+JFUZZYLOGIC = "a jFuzzyLogic extension, not IEC 61131-7"
+
+
+def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
+    """The model's rule base as an FCL function block; what is left out or written with a
+    jFuzzyLogic extension is appended to `warnings`.  Raises FuzzycError when the rule base
+    cannot be said in FCL (weighted sum, hedges)."""
+    rb = model.rulebase
+    inf = rb.inference
+    notes = left_out(model)
+    problems = unsayable_hedges(model, {}, "FCL")
+    outputs, method = _fcl_method(model, problems, notes)
+    # A weighted average is COGS over the per-rule activations summed per term.
+    accu = Aggregation.SUM if inf.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE else inf.aggregation
+    if accu == Aggregation.SUM:
+        notes.append(f"ACCU SUM (unbounded) is {JFUZZYLOGIC}")
+    if method == "MM":
+        notes.append(f"METHOD MM is {JFUZZYLOGIC}")
+    comments = [f"(* {text.replace('*)', '* )')} *)" for text in (model.title, *model.notes) if text]
+    lines = [*comments, f"FUNCTION_BLOCK {model.name}", ""]
+    for section, variables in (("VAR_INPUT", rb.inputs), ("VAR_OUTPUT", outputs)):
+        lines += [section, *(f"  {v.name} : REAL;" for v in variables), "END_VAR", ""]
+    for var in rb.inputs:
+        lines += [f"FUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
+                  f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_FUZZIFY", ""]
+    for var in outputs:
+        lines += [f"DEFUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
+                  f"  METHOD : {method};", f"  DEFAULT := {num(var.default)};",
+                  f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_DEFUZZIFY", ""]
+    lines.append("RULEBLOCK rules")
+    for field, (key, words) in FCL_OPERATOR_WORDS.items():
+        value = accu if field == "aggregation" else getattr(inf, field)
+        lines.append(f"  {key} : {words[value]};")
+    for r in range(rb.n_rules):
+        lines.append(f"  RULE {r + 1} : {rule_sentence(model, r, {}, ', ', problems, upper=True)};")
+    lines += ["END_RULEBLOCK", "", "END_FUNCTION_BLOCK"]
+    refuse(model, "FCL", problems)
+    if warnings is not None:
+        warnings.extend(notes)
+    return "\n".join(lines) + "\n"
+
+
+def _fcl_method(model: Model, problems: list[str], notes: list[str]):
+    rb = model.rulebase
+    method = rb.inference.defuzzifier
+    singletons = all(all_singletons(v) for v in rb.outputs)
+    if method == Defuzzifier.WEIGHTED_SUM:
+        problems.append("FCL has no weighted-sum defuzzifier")
+    if method in (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE) or (
+            method == Defuzzifier.CENTROID and singletons):
+        outputs, changed = peaks_instead(model, "FCL")
+        notes.extend(changed)
+        return outputs, "COGS"
+    return rb.outputs, {Defuzzifier.CENTROID: "COG", Defuzzifier.BISECTOR: "COA",
+                        Defuzzifier.MEAN_OF_MAXIMUM: "MM"}.get(method, "COG")
+
+
+def _fcl_terms(var, problems: list[str], notes: list[str]) -> list[str]:
+    lines = []
+    for name, kind, p in zip(var.names, var.kinds, var.params):
+        a, b, c, d = (float(x) for x in p)
+        kind = TermKind(int(kind))
+        if kind == TermKind.TRAPEZOID:
+            points = [(a, 0), (b, 1), (c, 1), (d, 0)]
+            if b == c:
+                del points[2]
+            body = " ".join(f"({num(x)}, {y})" for x, y in points if math.isfinite(x))
+            if not all(math.isfinite(x) for x in (b, c)) and not (
+                    (a == b == -math.inf) ^ (c == d == math.inf)):
+                problems.append(f"term `{name}` of `{var.name}` has no FCL point list")
+        elif kind == TermKind.SINGLETON:
+            body = num(a)
+        else:
+            word, args = {TermKind.GAUSSIAN: ("GAUSS", (a, b)),
+                          TermKind.BELL: ("GBELL", (b, c, a)),
+                          TermKind.SIGMOID: ("SIGM", (b, a))}[kind]
+            body = " ".join([word, *map(num, args)])
+            notes.append(f"term `{name}` of `{var.name}` uses {word}, {JFUZZYLOGIC}")
+        lines.append(f"  TERM {name} := {body};")
+    return lines
