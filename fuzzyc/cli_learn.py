@@ -1,0 +1,83 @@
+"""`fuzzyc learn FILE --scenario NAME -o OUT`: neuro-fuzzy learning of a rule base's weights.
+
+Runs the scenario's cutting cycle `--cycles` times with on-line learning (`fuzzyc.learn`),
+writes the rule file with the learned table (atomically; everything else in the file is kept)
+and a plot of the performance index per cycle.
+"""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+import numpy as np
+
+from .atomic import atomic_path, write_text
+from .errors import FuzzycError
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser("learn", help="learn the weights of a neuro-fuzzy rule base "
+                                            "over cutting cycles of a scenario")
+    p.add_argument("file", metavar="FILE", help="rule file with a `learnable` table")
+    p.add_argument("--scenario", required=True, help="scenario name or YAML path (the cycle)")
+    p.add_argument("-o", "--output", required=True, metavar="OUT", help="trained rule file")
+    p.add_argument("--cycles", type=int, default=15, help="learning cycles (default 15)")
+    p.add_argument("--eta", type=float, default=0.25, help="learning rate (default 0.25)")
+    p.add_argument("--rho", type=float, default=6.0, help="weight of cf^2 in PI (default 6)")
+    p.add_argument("--table", default="du", help="the learnable output (default du)")
+    p.add_argument("--plot", metavar="PNG", help="PI plot (default: OUT with _pi.png)")
+    p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                   help="override a scenario setting (repeatable)")
+    p.set_defaults(run=run)
+
+
+def plot_pi(pi: np.ndarray, path: str | Path, title: str) -> None:
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    ax.plot(np.arange(1, len(pi) + 1), pi, "o-")
+    ax.set_xlabel("learning (cutting) cycle")
+    ax.set_ylabel("performance index PI")
+    ax.set_title(title)
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    with atomic_path(path) as tmp:
+        fig.savefig(tmp, format=Path(path).suffix.lstrip(".") or "png")
+    plt.close(fig)
+
+
+def run(args) -> int:
+    from fuzzyc.plants import scenario as scenarios
+
+    from .learn import learn_scenario, trained_text
+
+    if args.cycles < 1:
+        print("error: --cycles must be at least 1", file=sys.stderr)
+        return 2
+    try:
+        overrides = dict(pair.split("=", 1) for pair in args.set)
+    except ValueError:
+        print(f"error: --set takes KEY=VALUE, got {args.set}", file=sys.stderr)
+        return 2
+    try:
+        scenario = scenarios.load(args.scenario, overrides)
+        scenario.data.setdefault("controller", {})["rulebase"] = str(Path(args.file).resolve())
+        controller, result = learn_scenario(scenario, args.cycles, args.eta, args.rho, args.table)
+        text = trained_text(controller.model, result.weights, args.table)
+    except FuzzycError as exc:
+        for diagnostic in exc.diagnostics:
+            print(diagnostic.format(), file=sys.stderr)
+        return 2
+    except ValueError as exc:
+        print(f"error: {exc}", file=sys.stderr)
+        return 2
+    write_text(args.output, text)
+    plot = args.plot or str(Path(args.output).with_suffix("")) + "_pi.png"
+    plot_pi(result.pi, plot, f"{controller.model.name} on {scenario.name}")
+    for i, (pi, cycle) in enumerate(zip(result.pi, result.cycles), 1):
+        state = "" if cycle.finished else " (time limit reached)"
+        print(f"cycle {i:3d}: PI = {pi:10.4f}, machining time {cycle.time:8.2f} s{state}")
+    print(f"wrote {args.output} (learned `{args.table}` table) and {plot}")
+    return 0
