@@ -1,0 +1,234 @@
+"""Wire-EDM gap process under servo feed and pulse off-time (Yan & Liao 1998; Liao & Yu).
+
+Inputs: `feed` (servo feed command, mm/min), `t_off` (pulse off-time, us); optional `height`
+(workpiece height, mm) and `on_time` (us) override the params (height steps, power changes).
+Outputs (each a 40-ms-style count over the period dt, as the papers' counter card measures):
+`spark_freq` (kHz, all discharges N_t/dt), `abnormal_ratio` (N_a/N_t, arcs + shorts),
+`gap_voltage` (mean, V), `removal_rate` (mm^2/min = table speed x height), `feed_actual`
+(table speed, mm/min), `rupture` (1.0 in the period a wire breaks), `ruptures` (count so far).
+
+The physics, per pulse cycle of the iso-pulse generator:
+- A pulse waits the ignition delay t_d, discharges for the on-time, then rests t_off. The gap
+  state decides its kind: a short (electrode contact, probability p_s, no delay, no removal),
+  an arc (discharge through debris that did not de-ionise, probability p_a among the rest, no
+  delay) or a normal spark (delay t_d). Mean cycle T = t_on + t_off + (1-p_s)(1-p_a) t_d; the
+  discharge frequency Fq = (1 - p_s)/T (shorts are not discharges); the abnormal ratio
+  r = (p_s + (1-p_s) p_a) counts shorts and arcs among all pulses.
+- Ignition delay grows with the gap g: t_d = td_ref exp((g - g_ref)/g_scale) (the statistical
+  time lag of breakdown; the EDM-sinking thesis, seeds/002, reads the gap through it too).
+- Shorts close in as the gap closes: p_s = 1/(1 + exp((g - g_short)/w_short)).
+- Arcs come from debris that the off-time did not clear: p_a = 1 - exp(-k_arc c exp(-t_off /
+  tau_deion)); the debris concentration c in the gap relaxes, with the flushing time constant,
+  to the debris made per gap volume and flushed away: c* = debris_gain v_table g_ref /
+  (flushing g) (dc/dt = (c* - c)/tau_flush): the slow first-order process dynamics.
+- Removal per discharge, Liao & Yu eq. 5-7: volume = V_D K eta (t_on^2 (1-r') + A_on^2 r'/2)
+  / u0 with the triangular current of slope K (iso-energy generator), r' the arc share of the
+  discharges. Hence the table can advance at v_e = Fq * volume / (kerf * H): H F = gamma Fq.
+- Gap: dg/dt = v_e - v_table. The table follows the feed command but the machine retracts on
+  shorts (Yan & Liao: "the table is withdrawn ... when successive abnormal sparks reach a
+  specified number"): v_table = feed (1 - p_s) - v_retract p_s^2 (successive shorts ~ p_s^2).
+- Mean gap voltage: (V_open (1-p_s)(1-p_a) t_d + V_D t_on (1-p_s)) / T (zero during off-time
+  and shorts).
+- Measurement: counts of discharges and abnormal pulses in dt are binomial/Poisson; the normal
+  approximation gives the noise (about 1.4 % on the ratio at 30 kHz and 40 ms).
+- Wire rupture, the two mechanisms Yan & Liao observed:
+  (1) thermal: the discharge power per unit wire length q = Fq E / H heats the wire with a
+      time constant tau_wire (the 50 ms - 2 s precursor); rupture when q_filtered exceeds
+      q_rupture (higher with faster wire renewal: q_rupture ~ wire_speed, lower with tension);
+  (2) arcing: abnormal ratio above arc_rupture_ratio (about 50 %) for arc_rupture_time (60 s).
+  After a rupture the wire is re-threaded: both accumulators restart, the count goes on.
+
+Workpiece-height dependence of gamma (Liao & Yu, Table 1): with gamma taken at 10 mm, heights
+10..60 mm read as 10, 20.7, 32.1, 44.1, 55.3, 66.5 mm (kerf and discharge efficiency change
+with height). The plant reproduces that published fact by scaling eta with
+height_efficiency(H) = H_true/H_read, interpolated in the table, so the estimator's correction
+factor has the physics it corrects.
+
+Constants marked "assumption:" are not in the papers; they were chosen for plausible physics
+and so that the static map at the conditions of Yan & Liao's Fig. 3 (t_on 0.5 us, t_off
+11.2 us, 30 mm SKD61, flushing 2 bar) shows the published facts: removal rate peaks near an
+abnormal ratio of 54 % at a feed of about 1.2 mm/min, and falls beyond. Those static facts are
+therefore calibration, not evidence; the closed-loop behaviour of the tests is not fitted.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+INPUTS = ("feed", "t_off", "height", "on_time")
+OUTPUTS = ("spark_freq", "abnormal_ratio", "gap_voltage", "removal_rate", "feed_actual",
+           "rupture", "ruptures")
+
+# Liao & Yu Table 1: true height -> height read with gamma identified at 10 mm.
+TABLE1_TRUE = np.array([10.0, 20.0, 30.0, 40.0, 50.0, 60.0])
+TABLE1_READ = np.array([10.0, 20.7, 32.1, 44.1, 55.3, 66.5])
+
+
+@dataclass
+class WedmGapParams:
+    height: float = 30.0            # mm, workpiece height (Table 3)
+    on_time: float = 0.5            # us (Table 3: 500 ns finish, 1000 ns rough)
+    wire_speed: float = 7.0         # m/min (Table 3)
+    tension: float = 800.0          # gf (Table 3)
+    flushing: float = 2.0           # bar, mean of upper and lower (Table 3)
+    current_slope: float = 380.0    # A/us, triangular current (Yan & Liao; 450 in Liao & Yu)
+    discharge_voltage: float = 25.0     # V; assumption: arc-column voltage of brass wire in water
+    open_voltage: float = 110.0     # V, the ignition circuit (Yan & Liao)
+    arc_on_time: float = 0.2        # us; assumption: arcs are cut short by the generator
+    u0: float = 10.0                # J/mm^3; assumption: heat to melt tool steel
+    efficiency: float = 0.02        # assumption: share of discharge energy that removes metal
+    kerf: float = 0.29              # mm; assumption: 0.25 mm wire + 2 x 20 um side gap
+    td_ref: float = 4.0             # us at g_ref; assumption (ignition delays of a few us)
+    g_ref: float = 10.0             # um
+    g_scale: float = 6.0            # um; assumption: delay e-folds per 6 um of gap
+    g_short: float = 5.0            # um; assumption
+    w_short: float = 2.0            # um; assumption
+    k_arc: float = 10.0             # assumption: arc sensitivity to debris
+    tau_deion: float = 12.0         # us; assumption: de-ionisation time of water at 2 bar
+    debris_gain: float = 1.0        # bar/(mm/min); assumption: c* = gain v g_ref/(flushing g)
+    tau_flush: float = 3.0          # s; assumption: debris residence time in a 30 mm kerf
+    v_retract: float = 2.0          # mm/min; assumption: the servo's back-off speed
+    tau_wire: float = 0.5           # s; assumption: wire heating (precursor 50 ms - 2 s)
+    q_rupture_per_speed: float = 0.35   # W/mm per m/min at 800 gf; assumption
+    arc_rupture_ratio: float = 0.5  # Yan & Liao: "abnormal ratio rises to 50 % or more"
+    arc_rupture_time: float = 60.0  # s, Yan & Liao: "60 seconds or longer"
+    gap0: float = 9.0               # um, initial gap (a scenario's starting condition)
+    debris0: float = 0.0            # initial debris concentration (a starting condition)
+    noise: float = 1.0              # scale of the counting noise (0 = noise-free means)
+
+
+def height_efficiency(height: np.ndarray) -> np.ndarray:
+    """H_true / H_read of Liao & Yu Table 1, linearly interpolated (held beyond 10..60 mm)."""
+    return np.interp(height, TABLE1_TRUE, TABLE1_TRUE / TABLE1_READ)
+
+
+def discharge_energy(p: WedmGapParams, on_time) -> np.ndarray:
+    """J per discharge of a triangular current: V_D * (K t_on) * t_on / 2."""
+    t = np.asarray(on_time) * 1e-6
+    return p.discharge_voltage * p.current_slope * 1e6 * t * t / 2
+
+
+def initial_state(params: WedmGapParams, batch: int, rng=None) -> dict[str, np.ndarray]:
+    zeros = np.zeros(batch)
+    return {"gap": zeros + params.gap0, "debris": zeros + params.debris0, "heat": zeros.copy(),
+            "arc_time": zeros.copy(), "ruptures": zeros.copy()}
+
+
+def pulse_statistics(p: WedmGapParams, gap, debris, t_off, on_time):
+    """Per-pulse probabilities and timing at a gap state: (p_s, p_a, t_d, T) in us."""
+    p_s = 1.0 / (1.0 + np.exp((gap - p.g_short) / p.w_short))
+    p_a = 1.0 - np.exp(-p.k_arc * debris * np.exp(-t_off / p.tau_deion))
+    t_d = p.td_ref * np.exp(np.minimum((gap - p.g_ref) / p.g_scale, 30.0))
+    cycle = on_time + t_off + (1 - p_s) * (1 - p_a) * t_d
+    return p_s, p_a, t_d, cycle
+
+
+def rates(p: WedmGapParams, gap, debris, feed, t_off, on_time, height):
+    """The mean process at a state: dict of frequencies (Hz), ratios, speeds (mm/min), V."""
+    p_s, p_a, t_d, cycle = pulse_statistics(p, gap, debris, t_off, on_time)
+    fq = (1 - p_s) / (cycle * 1e-6)                        # discharges per second
+    ratio = p_s + (1 - p_s) * p_a
+    energy_weight = (on_time ** 2 * (1 - p_a) + p.arc_on_time ** 2 * p_a / 2) * 1e-12
+    volume = (p.discharge_voltage * p.current_slope * 1e6 * energy_weight
+              * p.efficiency * height_efficiency(height) / p.u0)   # mm^3 per discharge
+    v_erosion = fq * volume / (p.kerf * height) * 60.0     # mm/min the front recedes
+    v_table = feed * (1 - p_s) - p.v_retract * p_s ** 2
+    voltage = (p.open_voltage * (1 - p_s) * (1 - p_a) * t_d
+               + p.discharge_voltage * on_time * (1 - p_s)) / cycle
+    return {"fq": fq, "pulses": 1e6 / cycle, "ratio": ratio, "v_erosion": v_erosion,
+            "v_table": v_table, "voltage": voltage, "energy": discharge_energy(p, on_time)}
+
+
+def _inputs(p: WedmGapParams, inputs: dict, n: int):
+    def get(name, default):
+        value = inputs.get(name)
+        return np.broadcast_to(np.asarray(default if value is None else value, float), (n,))
+    return (np.maximum(get("feed", 0.0), 0.0), np.clip(get("t_off", 32.0), 0.1, None),
+            get("on_time", p.on_time), np.maximum(get("height", p.height), 1e-3))
+
+
+SUBSTEPS = 2   # the gap ODE is stiff near shorts (w_short); two Euler steps per 40 ms suffice
+
+
+def step(params: WedmGapParams, state: dict, inputs: dict, t: float, dt: float, rng=None):
+    p = params
+    gap, debris = state["gap"], state["debris"]
+    n = gap.shape[0]
+    feed, t_off, on_time, height = _inputs(p, inputs, n)
+    h = dt / SUBSTEPS
+    acc = {"fq": 0.0, "pulses": 0.0, "ratio_pulses": 0.0, "voltage": 0.0, "v_table": 0.0}
+    for _ in range(SUBSTEPS):     # sub-steps in time, each vectorised over the batch
+        r = rates(p, gap, debris, feed, t_off, on_time, height)
+        gap = np.maximum(gap + h * (r["v_erosion"] - r["v_table"]) * 1000.0 / 60.0, 0.0)
+        target = (p.debris_gain * np.maximum(r["v_table"], 0.0) * p.g_ref
+                  / (p.flushing * np.maximum(gap, 0.1 * p.g_ref)))
+        debris = debris + (h / p.tau_flush) * (target - debris)
+        acc["fq"] = acc["fq"] + r["fq"] / SUBSTEPS
+        acc["pulses"] = acc["pulses"] + r["pulses"] / SUBSTEPS
+        acc["ratio_pulses"] = acc["ratio_pulses"] + r["ratio"] * r["pulses"] / SUBSTEPS
+        acc["voltage"] = acc["voltage"] + r["voltage"] / SUBSTEPS
+        acc["v_table"] = acc["v_table"] + r["v_table"] / SUBSTEPS
+    spark, ratio = _measure(p, acc, dt, n, rng)
+    heat, arc_time, rupture = _wire(p, state, acc["fq"], r["energy"], ratio, height, dt)
+    ruptures = state["ruptures"] + rupture
+    new_state = {"gap": gap, "debris": debris, "heat": heat, "arc_time": arc_time,
+                 "ruptures": ruptures}
+    outputs = {"spark_freq": spark / 1000.0, "abnormal_ratio": ratio,
+               "gap_voltage": acc["voltage"], "removal_rate": acc["v_table"] * height,
+               "feed_actual": acc["v_table"], "rupture": rupture, "ruptures": ruptures}
+    return new_state, outputs
+
+
+def _measure(p: WedmGapParams, acc: dict, dt: float, n: int, rng):
+    """Counted discharge frequency (Hz) and abnormal ratio over the window dt, with noise."""
+    pulses = np.maximum(acc["pulses"] * dt, 1.0)
+    ratio = acc["ratio_pulses"] / np.maximum(acc["pulses"], 1e-9)
+    discharges = acc["fq"] * dt
+    if rng is None or p.noise == 0:
+        return discharges / dt, ratio
+    z = rng.standard_normal((2, n)) * p.noise
+    counted = np.maximum(discharges + z[0] * np.sqrt(np.maximum(discharges, 0.0)), 0.0)
+    ratio = np.clip(ratio + z[1] * np.sqrt(ratio * (1 - ratio) / pulses), 0.0, 1.0)
+    return counted / dt, ratio
+
+
+def _wire(p: WedmGapParams, state: dict, fq, energy, ratio, height, dt):
+    """The two rupture mechanisms; returns (heat, arc_time, rupture 0/1)."""
+    load = fq * energy / height                                      # W per mm of wire
+    heat = state["heat"] + (dt / p.tau_wire) * (load - state["heat"])
+    limit = p.q_rupture_per_speed * p.wire_speed * (800.0 / p.tension)
+    arc_time = np.where(ratio > p.arc_rupture_ratio, state["arc_time"] + dt, 0.0)
+    rupture = ((heat > limit) | (arc_time >= p.arc_rupture_time)).astype(float)
+    # re-threaded: a broken wire starts cold and with a fresh arc clock
+    return np.where(rupture > 0, 0.0, heat), np.where(rupture > 0, 0.0, arc_time), rupture
+
+
+@dataclass
+class VoltageP:
+    """The conventional baseline: servo feed from the mean-gap-voltage error, fixed off-time.
+
+    feed = clip(gain * (gap_voltage - servo_voltage), 0, feed_max): a wide gap (high voltage)
+    feeds faster (Yan & Liao: "the difference between this signal and a predetermined servo
+    reference voltage is used to adjust the gap distance"). A P law has a steady-state error
+    of feed/gain volts. Controller interface: input_names, output_names, reset, step.
+    """
+    servo_voltage: float = 40.0     # V (Table 1 range 10-70 V)
+    gain: float = 0.05              # mm/min per V; assumption: an operator's servo setting
+    t_off: float = 32.0             # us, the operator's fixed off-time (test 1 start)
+    feed_max: float = 3.0           # mm/min
+    feed0: float = 0.3              # mm/min before the first sample
+
+    input_names = ["gap_voltage"]
+    output_names = ["feed", "t_off"]
+
+    def reset(self, batch: int) -> None:
+        self.batch = batch
+
+    def initial_outputs(self) -> dict[str, float]:
+        return {"feed": self.feed0, "t_off": self.t_off}
+
+    def step(self, inputs: dict) -> dict[str, np.ndarray]:
+        v = np.asarray(inputs["gap_voltage"], float)
+        feed = np.clip(self.gain * (v - self.servo_voltage), 0.0, self.feed_max)
+        return {"feed": feed, "t_off": np.full(feed.shape, self.t_off)}
