@@ -184,14 +184,18 @@ class _FisReader:
             return
         clauses, conclusions = {}, {}
         for var, code in zip(inputs, codes[:len(ins)]):
-            if code != 0 and self._in_range(var, abs(code), loc):
+            if code != 0:
                 clauses[var.name] = (abs(code) - 1, code < 0, Hedge.NONE)
         for var, code in zip(outputs, codes[len(ins):]):
             if code < 0:
                 self.rep.error(loc, f"a negated consequent (`{code}` for {var.name}) is not "
                                     "supported")
-            elif code != 0 and self._in_range(var, code, loc):
+                return
+            if code != 0:
                 conclusions[var.name] = code - 1
+        if not all(self._in_range(var, abs(code), loc) for var, code in zip(
+                inputs + outputs, codes) if code != 0):
+            return
         weight = float(match.group(3))
         connective = int(match.group(4))
         if not 0.0 <= weight <= 1.0 or connective not in (1, 2):

@@ -28,7 +28,8 @@ def fcl_lark() -> Lark:
 
 def syntax_error(exc: UnexpectedInput, rep: Reporter, loc: SourceLoc) -> None:
     """One readable diagnostic for a lark error at `loc`."""
-    if isinstance(exc, UnexpectedEOF):
+    if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken)
+                                          and exc.token.type == "$END"):
         rep.error(loc, "the text ends too early: " + _expected(exc.expected))
     elif isinstance(exc, UnexpectedToken):
         rep.error(loc, f"unexpected `{exc.token}`: " + _expected(exc.expected))
@@ -38,9 +39,14 @@ def syntax_error(exc: UnexpectedInput, rep: Reporter, loc: SourceLoc) -> None:
         rep.error(loc, str(exc))
 
 
+READABLE = {"NAME": "a name", "SIGNED_NUMBER": "a number", "INT": "a rule number",
+            "LPAR": "`(`", "RPAR": "`)`", "SEMICOLON": "`;`", "COLON": "`:`", "COMMA": "`,`",
+            "NOT": "`NOT`", "FUNCTION": "a function term", "NC": "`NC`", "$END": "the end"}
+
+
 def _expected(names) -> str:
-    shown = sorted(n.strip("_").lower() if n.isupper() else n for n in names)[:8]
-    return "expected one of " + ", ".join(shown)
+    shown = sorted(READABLE.get(n, f"`{n.strip('_')}`") for n in names)[:10]
+    return "expected " + ", ".join(shown)
 
 
 def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, Hedge],
@@ -101,6 +107,8 @@ def _flatten(cond: Tree, rep: Reporter, loc: SourceLoc):
             clauses.append((negated, node))
         elif node.data == "not_cond":
             inner = node.children[0]
+            while inner.data != "is_clause" and len(inner.children) == 1:
+                inner = inner.children[0]   # and/or wrappers of a single clause
             if inner.data != "is_clause":
                 rep.error(loc, "`not` applies to one clause here: write `x is not t`, "
                                "not `not (...)` around a compound condition")
