@@ -89,7 +89,7 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
         words = [kw("not")] if rb.negated[r, i] else []
         hedge = Hedge(int(rb.hedges[r, i]))
         if hedge != Hedge.NONE:
-            words.append(hedge_words[hedge])
+            words.append(hedge_words.get(hedge, hedge.name.lower()))  # else refused already
         clauses.append(" ".join([v.name, kw("is"), *words, v.names[t]]))
     if not clauses:
         problems.append(f"rule {r + 1} has no clause, which the format cannot say")

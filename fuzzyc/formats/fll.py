@@ -265,12 +265,17 @@ class _FllReader:
                                         + " and ".join(table))
                 else:
                     setattr(inf, field, table[value])
-        aggregation, agg_loc = choice.get("aggregation", ("none", None))
-        defuzz, loc = choice.get("defuzzifier", ("Centroid", None))
+        if not self.got.outputs:
+            self.got.inference = inf
+            return
+        # An output without these lines is reported at its header.
+        fallback = next(iter(self.got.outputs.values())).loc
+        aggregation, agg_loc = choice.get("aggregation", ("none", fallback))
+        defuzz, loc = choice.get("defuzzifier", ("Centroid", fallback))
         if defuzz in INTEGRAL:
             inf.defuzzifier = INTEGRAL[defuzz]
             if aggregation not in AGGREGATIONS:
-                self.rep.error(agg_loc or loc, f"aggregation `{aggregation}` with {defuzz} is "
+                self.rep.error(agg_loc, f"aggregation `{aggregation}` with {defuzz} is "
                                                "not supported: use Maximum or UnboundedSum")
             else:
                 inf.aggregation = AGGREGATIONS[aggregation]
@@ -284,7 +289,7 @@ class _FllReader:
             inf.defuzzifier = Defuzzifier.WEIGHTED_SUM
             self._require_constants(defuzz)
         elif defuzz in ("WeightedAverage", "WeightedSum"):
-            self.rep.error(agg_loc or loc, f"{defuzz} with aggregation `{aggregation}` is not "
+            self.rep.error(agg_loc, f"{defuzz} with aggregation `{aggregation}` is not "
                                            "supported")
         else:
             self.rep.error(loc, f"defuzzifier `{defuzz}` is not supported: the model has "

@@ -1,0 +1,93 @@
+"""Malformed or unsupported files of each format: `fuzzyc convert` exits with 2 and says what is
+wrong and where (file:line:col), never with a traceback; nothing unsupported is dropped."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from fuzzyc.cli import main
+from fuzzyc.errors import FuzzycError
+from fuzzyc.formats import read_fcl, read_fis, read_fll
+
+CORPUS = Path(__file__).parent / "format_corpus"
+
+# file -> the diagnostics expected, as (line:col, words of the message)
+EXPECTED = {
+    "bad_syntax.fll": [("11:35", "ends too early")],
+    "bad_unsupported.fll": [("4:14", "term shape `Spike` is not supported"),
+                            ("9:16", "defuzzifier `LargestOfMaximum` is not supported"),
+                            ("12:16", "conjunction `HamacherProduct` is not supported"),
+                            ("13:23", "hedge `extremely` is not supported"),
+                            ("14:23", "did you mean `good`?")],
+    "bad_syntax.fcl": [("7:3", "unexpected `TERM`: expected `(`, `;`")],
+    "bad_unsupported.fcl": [("9:15", "not a triangle, trapezoid or shoulder"),
+                            ("15:12", "METHOD LM is not supported"),
+                            ("19:9", "AND BDIF is not supported"),
+                            ("20:8", "mixes `and` and `or`")],
+    "bad_rules.fis": [("10:14", "DefuzzMethod `lom` is not supported"),
+                      ("15:5", "membership function `pimf` is not supported"),
+                      ("24:1", "expected a rule row"),
+                      ("25:1", "`x` has 1 terms, no term 3")],
+}
+
+
+@pytest.mark.parametrize("name", sorted(EXPECTED))
+def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
+    out = tmp_path / "out.fz"
+    assert main(["convert", str(CORPUS / name), str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "Traceback" not in err and not out.exists()
+    lines = [line for line in err.splitlines() if ": error: " in line]
+    assert len(lines) == len(EXPECTED[name]), err
+    for line, (where, words) in zip(lines, EXPECTED[name]):
+        assert line.startswith(f"{CORPUS / name}:{where}: error: "), line
+        assert words in line, line
+
+
+@pytest.mark.parametrize("reader, text, words", [
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 1\n",
+     "`Triangle` takes 3 parameters"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1 0.7\n",
+     "a term height of 0.7 is not supported"),
+    (read_fll, "Engine: e\nOutputVariable: y\n  range: 0 1\n  lock-previous: true\n"
+               "  term: a Triangle 0 0.5 1\n", "lock-previous: true"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
+               "OutputVariable: y\n  range: 0 1\n  term: b Triangle 0 0.5 1\n"
+               "RuleBlock:\n  rule: if x is a then y is very b\n", "hedge on a conclusion"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
+               "OutputVariable: y\n  range: 0 1\n  defuzzifier: WeightedAverage\n"
+               "  term: b Triangle 0 0.5 1\nRuleBlock:\n  rule: if x is a then y is b\n",
+     "WeightedAverage needs Constant terms"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Linear 0 1\n",
+     "`Linear` is not supported"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  colour: red\n", "unknown key `colour`"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
+               "OutputVariable: y\n  range: 0 1\n  term: b Triangle 0 0.5 1\n"
+               "RuleBlock:\n  rule: if x is a then y is b\n  rule: if x is not (a) then y is b\n",
+     "expected"),
+    (read_fcl, "FUNCTION_BLOCK f\nVAR_INPUT x : INT; END_VAR\nFUZZIFY x\n"
+               "TERM a := (0,0) (1,1);\nEND_FUZZIFY\nEND_FUNCTION_BLOCK\n",
+     "`x` is INT: fuzzy variables are REAL"),
+    (read_fcl, "FUNCTION_BLOCK f\nVAR_OUTPUT y : REAL; END_VAR\nDEFUZZIFY y\nTERM a := 1;\n"
+               "DEFAULT := NC;\nRANGE := (0 .. 1);\nEND_DEFUZZIFY\nEND_FUNCTION_BLOCK\n",
+     "DEFAULT := NC"),
+    (read_fcl, "FUNCTION_BLOCK f\nVAR_INPUT x : REAL; END_VAR\nFUZZIFY z\nEND_FUZZIFY\n"
+               "END_FUNCTION_BLOCK\n", "`z` is not declared in VAR_INPUT"),
+    (read_fis, "[System]\nType='mamdani'\nDefuzzMethod='wtaver'\n", "cannot use weighted_average"),
+    (read_fis, "[System]\nType='sugeno'\n[Input1]\nName='x'\nRange=[0 1]\n"
+               "MF1='a':'linear',[1 0]\n", "`linear` is not supported"),
+])
+def test_unsupported_constructs_are_reported(reader, text, words):
+    with pytest.raises(FuzzycError) as info:
+        reader(text, "t")
+    assert words in str(info.value)
+    assert all(d.loc is not None for d in info.value.diagnostics)
+
+
+def test_unreadable_and_unknown_files(tmp_path, capsys):
+    assert main(["convert", str(tmp_path / "missing.fll"), str(tmp_path / "o.fz")]) == 2
+    assert "cannot read" in capsys.readouterr().err
+    (tmp_path / "x.xml").write_text("<fis/>")
+    assert main(["convert", str(tmp_path / "x.xml"), str(tmp_path / "o.fz")]) == 2
+    assert "unknown extension `.xml`" in capsys.readouterr().err

@@ -1,0 +1,117 @@
+"""Round trips: .fz -> .fll/.fcl/.fz -> model gives the same rule base for the shipped rule bases
+and the corpus (where the target format can say it), and the warnings name what was left out."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from fuzzyc.cli import main
+from fuzzyc.engine import evaluate
+from fuzzyc.errors import FuzzycError
+from fuzzyc.formats import WRITERS, load_any, read_fcl, read_fll, save
+from fuzzyc.parser import parse
+
+ROOT = Path(__file__).parent.parent
+RULEBASES = sorted((ROOT / "rulebases").glob("*.fz"))
+CORPUS = Path(__file__).parent / "format_corpus"
+IMPORTS = sorted(p for p in CORPUS.iterdir() if not p.name.startswith("bad_"))
+READ_BACK = {".fz": lambda text: parse(text, "roundtrip.fz"), ".fll": read_fll, ".fcl": read_fcl}
+ARRAYS = ("antecedents", "consequents", "weights", "negated", "hedges", "connective")
+
+
+def same_rulebase(a, b, outputs_as_peaks: bool = False) -> None:
+    for name in ARRAYS:
+        np.testing.assert_array_equal(getattr(a, name), getattr(b, name), err_msg=name)
+    assert a.inference == b.inference
+    pairs = list(zip(a.inputs, b.inputs)) + ([] if outputs_as_peaks else
+                                              list(zip(a.outputs, b.outputs)))
+    assert len(a.inputs) == len(b.inputs) and len(a.outputs) == len(b.outputs)
+    for u, v in pairs:
+        assert (u.name, u.lo, u.hi, u.names, u.default) == (v.name, v.lo, v.hi, v.names, v.default)
+        np.testing.assert_array_equal(u.kinds, v.kinds)
+        np.testing.assert_array_equal(u.params, v.params)
+
+
+def same_outputs(a, b, seed: int = 0) -> None:
+    rng = np.random.default_rng(seed)
+    x = np.column_stack([rng.uniform(v.lo, v.hi, 500) for v in a.inputs])
+    np.testing.assert_allclose(evaluate(a, x), evaluate(b, x), rtol=0, atol=1e-12)
+
+
+def export(model, suffix: str):
+    warnings: list[str] = []
+    text = WRITERS[suffix](model, warnings)
+    return READ_BACK[suffix](text), warnings
+
+
+@pytest.mark.parametrize("path", RULEBASES, ids=lambda p: p.stem)
+@pytest.mark.parametrize("suffix", [".fz", ".fll", ".fcl"])
+def test_shipped_rule_bases_round_trip(path, suffix):
+    model = load_any(path)
+    rb = model.rulebase
+    if suffix == ".fcl" and rb.inference.defuzzifier.name == "WEIGHTED_SUM":
+        with pytest.raises(FuzzycError, match="no weighted-sum"):
+            export(model, suffix)
+        return
+    back, warnings = export(model, suffix)
+    # The signal chain is not part of the exported rule base: the warnings say so.
+    assert any("signal chain" in w for w in warnings)
+    assert any(o.name in " ".join(warnings) for o in model.outputs)
+    # Center of area over triangles is exported as singletons at the peaks (FLL, FCL): the
+    # numbers stay, the output shapes do not; every other rule base comes back identical.
+    peaks = suffix != ".fz" and any(not np.all(v.kinds == 4) for v in rb.outputs) \
+        and rb.inference.defuzzifier.name == "CENTER_OF_AREA"
+    same_rulebase(rb, back.rulebase, outputs_as_peaks=peaks)
+    same_outputs(rb, back.rulebase)
+    if peaks:
+        assert any("singletons at their peaks" in w for w in warnings)
+
+
+@pytest.mark.parametrize("path", IMPORTS, ids=lambda p: p.name)
+def test_imported_models_round_trip_through_fz(path):
+    model = load_any(path)
+    back, warnings = export(model, ".fz")
+    assert warnings == []                       # an imported model is a bare rule base
+    same_rulebase(model.rulebase, back.rulebase)
+    assert back.notes == model.notes
+
+
+@pytest.mark.parametrize("path", IMPORTS, ids=lambda p: p.name)
+@pytest.mark.parametrize("suffix", [".fll", ".fcl"])
+def test_imported_models_cross_formats(path, suffix):
+    model = load_any(path)
+    try:
+        back, _ = export(model, suffix)
+    except FuzzycError as exc:
+        # FCL has neither hedges nor a weighted sum; everything else in the corpus is said.
+        assert suffix == ".fcl" and path.name in ("sugeno.fll", "wsum.fll")
+        assert "hedge `very` has no equivalent in FCL" in str(exc)
+        return
+    same_outputs(model.rulebase, back.rulebase)
+
+
+def test_convert_command_writes_and_warns(tmp_path, capsys):
+    out = tmp_path / "three_region.fll"
+    assert main(["convert", str(ROOT / "rulebases/wedm_three_region.fz"), str(out)]) == 0
+    err = capsys.readouterr().err
+    assert "warning: the input signal chain (e1, e2, ce2)" in err
+    assert "integrate(GU1*du1)" in err
+    back = load_any(out)
+    assert back.rulebase.n_rules == 75
+    assert [v.name for v in back.rulebase.inputs] == ["e1", "e2", "ce2"]
+
+
+def test_convert_strict_refuses_to_leave_things_out(tmp_path, capsys):
+    out = tmp_path / "corner.fcl"
+    assert main(["convert", "--strict", str(ROOT / "rulebases/wedm_corner.fz"), str(out)]) == 2
+    assert "--strict" in capsys.readouterr().err and not out.exists()
+
+
+def test_save_is_atomic_and_rejects_unknown_extensions(tmp_path):
+    model = load_any(CORPUS / "sugeno.fll")
+    with pytest.raises(FuzzycError, match="unknown extension"):
+        save(model, tmp_path / "x.json")
+    assert save(model, tmp_path / "x.fz") == []
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["x.fz"]   # no temporary left over
