@@ -16,9 +16,6 @@ from ..model import Model, Property
 from . import temporal
 from .result import Evidence, Status
 
-SHRINK_ROUNDS = 4
-
-
 def check(model: Model, prop: Property, checks: list[Property], options) -> list[list[Evidence]]:
     from fuzzyc.plants import scenario as scenarios
     a = prop.args
@@ -37,15 +34,18 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
         return [[Evidence("closed-loop", Status.UNDECIDED, f"no signal or param named "
                           f"`{exc.args[0]}` in the loop: {', '.join(sorted(signals))}")]
                 for _ in checks]
+    failing = {i: int(np.argmax(v)) for i, (v, _) in enumerate(verdicts) if v.any()}
+    shrunk = _shrink(loop, checks, {i: cases[k] for i, k in failing.items()},
+                     {i: _column(time, signals, k) for i, k in failing.items()}, a["vary"],
+                     options.shrink_rounds)
     results = []
-    for c, (violated, when) in zip(checks, verdicts):
-        if not violated.any():
+    for i, (c, (violated, _)) in enumerate(zip(checks, verdicts)):
+        if i not in shrunk:
             results.append([Evidence("closed-loop", Status.HELD, f"{len(cases)} loops of "
                                      f"{a['duration']:g} s on scenario {scen.name}",
                                      cases=len(cases))])
             continue
-        first = int(np.argmax(violated))
-        case, trace = _shrink(loop, c, cases[first], a["vary"])
+        case, trace = shrunk[i]
         detail = (f"{int(violated.sum())} of {len(cases)} loops break it; shrunk case: "
                   + (", ".join(f"{k}={v:.6g}" for k, v in case.items() if k != "step")
                      or "nominal plant") + _step_text(case))
@@ -58,6 +58,10 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
         results.append([Evidence("closed-loop", Status.VIOLATED, detail, cases=len(cases),
                                  trace=trace)])
     return results
+
+
+def _column(time, signals, k: int):
+    return time, {name: v[:, k:k + 1] for name, v in signals.items()}
 
 
 def _step_text(case: dict) -> str:
@@ -149,24 +153,37 @@ def _draw_cases(loop: _Loop, vary: dict, n: int, seed: int) -> list[dict]:
     return drawn or [{"step": None}]
 
 
-def _shrink(loop: _Loop, check: Property, case: dict, vary: dict):
-    """Simpler failing cases, simplest first: no disturbance step, then each parameter at its
-    nominal value, then halfway there; the first candidate that still fails is kept."""
-    for _ in range(SHRINK_ROUNDS):
-        candidates = _simpler(loop, case, vary)
-        if not candidates:
+def _shrink(loop: _Loop, checks: list[Property], cases: dict[int, dict],
+            runs: dict[int, tuple], vary: dict, rounds: int) -> dict[int, tuple[dict, dict]]:
+    """Per failing check, simpler failing cases, simplest first: no disturbance step, then each
+    parameter at its nominal value, then halfway there; the first that still fails is kept.
+    Each round simulates the candidates of every check in one batch."""
+    open_ = set(cases)
+    for _ in range(rounds):
+        groups = {i: _simpler(loop, cases[i], vary) for i in sorted(open_)}
+        groups = {i: g for i, g in groups.items() if g}
+        if not groups:
             break
-        time, signals = loop.run(candidates)
-        violated, _ = temporal.evaluate(check, time, signals, loop.params)
-        if not violated.any():
-            break
-        case = candidates[int(np.argmax(violated))]
-    time, signals = loop.run([case])
-    _, when = temporal.evaluate(check, time, signals, loop.params)
-    trace = {"case": {k: v for k, v in case.items() if k != "step"}, "step": case.get("step"),
-             "violated_at": None if np.isnan(when[0]) else float(when[0]), "t": time,
-             "signals": {k: v[:, 0] for k, v in signals.items()}}
-    return case, trace
+        time, signals = loop.run([c for g in groups.values() for c in g])
+        offset = 0
+        for i, group in groups.items():
+            part = {k: v[:, offset:offset + len(group)] for k, v in signals.items()}
+            violated, _ = temporal.evaluate(checks[i], time, part, loop.params)
+            if violated.any():
+                k = int(np.argmax(violated))
+                cases[i], runs[i] = group[k], _column(time, part, k)
+            else:
+                open_.discard(i)
+            offset += len(group)
+    out = {}
+    for i, case in cases.items():
+        time, signals = runs[i]
+        _, when = temporal.evaluate(checks[i], time, signals, loop.params)
+        out[i] = (case, {"case": {k: v for k, v in case.items() if k != "step"},
+                         "step": case.get("step"),
+                         "violated_at": None if np.isnan(when[0]) else float(when[0]),
+                         "t": time, "signals": {k: v[:, 0] for k, v in signals.items()}})
+    return out
 
 
 def _simpler(loop: _Loop, case: dict, vary: dict) -> list[dict]:

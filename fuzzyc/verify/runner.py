@@ -21,6 +21,7 @@ class Options:
     max_examples: int = 100         # hypothesis examples (and closed-loop cases)
     seed: int = 0
     grid_budget: int = 20000        # dense-grid points per property
+    shrink_rounds: int = 4          # batched shrinking rounds for a failing closed loop
     report_dir: str | None = None   # counterexample plots go here
     only: str | None = None         # run only properties whose text contains this
     progress: Callable[[str], None] | None = None
