@@ -159,3 +159,11 @@ def bandstop(input_name: str, output_name: str, order: int, low_hz: float, high_
 def cascade(input_name: str, output_name: str, *sos: np.ndarray) -> SOSFilter:
     """Several designs run as one block (e.g. the thesis's low-pass followed by band-stop)."""
     return SOSFilter(np.concatenate(sos, axis=0), input_name, output_name)
+
+
+def lowpass_bandstop(input_name: str, output_name: str, fs: float, lowpass_hz: float = 200.0,
+                     lowpass_order: int = 2, stop_low_hz: float = 40.0,
+                     stop_high_hz: float = 60.0, stop_order: int = 1) -> SOSFilter:
+    """The thesis's gap-voltage conditioning: Butterworth low-pass then a 40-60 Hz band-stop."""
+    return cascade(input_name, output_name, butter_lowpass_sos(lowpass_order, lowpass_hz, fs),
+                   butter_bandstop_sos(stop_order, stop_low_hz, stop_high_hz, fs))
