@@ -169,28 +169,35 @@ def step(params: WedmGapParams, state: dict, inputs: dict, t: float, dt: float, 
         acc["ratio_pulses"] = acc["ratio_pulses"] + r["ratio"] * r["pulses"] / SUBSTEPS
         acc["voltage"] = acc["voltage"] + r["voltage"] / SUBSTEPS
         acc["v_table"] = acc["v_table"] + r["v_table"] / SUBSTEPS
-    spark, ratio = _measure(p, acc, dt, n, rng)
+    spark, ratio, voltage = _measure(p, acc, dt, n, rng)
     heat, arc_time, rupture = _wire(p, state, acc["fq"], r["energy"], ratio, height, dt)
     ruptures = state["ruptures"] + rupture
     new_state = {"gap": gap, "debris": debris, "heat": heat, "arc_time": arc_time,
                  "ruptures": ruptures}
     outputs = {"spark_freq": spark / 1000.0, "abnormal_ratio": ratio,
-               "gap_voltage": acc["voltage"], "removal_rate": acc["v_table"] * height,
+               "gap_voltage": voltage, "removal_rate": acc["v_table"] * height,
                "feed_actual": acc["v_table"], "rupture": rupture, "ruptures": ruptures}
     return new_state, outputs
 
 
 def _measure(p: WedmGapParams, acc: dict, dt: float, n: int, rng):
-    """Counted discharge frequency (Hz) and abnormal ratio over the window dt, with noise."""
+    """Counted discharge frequency (Hz), abnormal ratio and mean voltage over the window dt.
+
+    Noise: the discharge count is Poisson, the abnormal count binomial; the mean voltage is an
+    average over the normal pulses of exponentially distributed ignition delays (the
+    statistical time lag: std = mean), so its relative std is 1/sqrt(normal pulses)."""
     pulses = np.maximum(acc["pulses"] * dt, 1.0)
     ratio = acc["ratio_pulses"] / np.maximum(acc["pulses"], 1e-9)
     discharges = acc["fq"] * dt
+    voltage = acc["voltage"]
     if rng is None or p.noise == 0:
-        return discharges / dt, ratio
-    z = rng.standard_normal((2, n)) * p.noise
+        return discharges / dt, ratio, voltage
+    z = rng.standard_normal((3, n)) * p.noise
     counted = np.maximum(discharges + z[0] * np.sqrt(np.maximum(discharges, 0.0)), 0.0)
+    normal = np.maximum(pulses * (1 - ratio), 1.0)
+    voltage = np.maximum(voltage * (1 + z[2] / np.sqrt(normal)), 0.0)
     ratio = np.clip(ratio + z[1] * np.sqrt(ratio * (1 - ratio) / pulses), 0.0, 1.0)
-    return counted / dt, ratio
+    return counted / dt, ratio, voltage
 
 
 def _wire(p: WedmGapParams, state: dict, fq, energy, ratio, height, dt):

@@ -1,0 +1,95 @@
+"""The workpiece-height estimator (Liao & Yu): eq. 13, the correction factor, and the plant."""
+import numpy as np
+import pytest
+
+from fuzzyc.plants import height_estimator as HE
+from fuzzyc.plants.scenario import load
+from fuzzyc.runtime.simulate import simulate
+
+
+def test_correction_factor_reproduces_table_1():
+    # Table 1: estimated 20.7 -> CF 0.965 (20/20.7 = 0.966); 55.3 -> 0.904; 10 -> 1.0
+    # regression at 20.7: 3.84e-5*428.49 - 0.0047*20.7 + 1.04438 = 0.01645 - 0.09729 + 1.04438
+    assert HE.correction_factor(20.7) == pytest.approx(0.96354, abs=1e-5)
+    read = np.array([10.0, 20.7, 32.1, 44.1, 55.3])
+    true = np.array([10.0, 20.0, 30.0, 40.0, 50.0])
+    assert HE.correction_factor(read) * read == pytest.approx(true, abs=0.5)
+
+
+def test_eq13_with_lambda_zero_jumps_to_the_sample_ratio():
+    # lam = 0: beta = b + (dN + 0.4)/(1e-7 + dN^2) (dS - dN b); dN = 1000, dS = 0.02, b = 0:
+    # 1000.4/1e6 * 0.02 = 2.0008e-5
+    assert HE.beta_update(np.array([0.0]), np.array([1000.0]), np.array([0.02]),
+                          np.array([0.0]))[0] == pytest.approx(2.0008e-5)
+
+
+def synthetic_cut(heights, gamma=1e-5, seconds=5.0, dt=0.04, feed=0.6, seed=1):
+    """dN from H F = gamma Fq with 3 % counting noise; each height held `seconds`."""
+    rng = np.random.default_rng(seed)
+    est = HE.HeightEstimator(gamma=gamma, correct=False)
+    est.reset(1)
+    out = []
+    for h in heights:
+        for _ in range(int(seconds / dt)):
+            fq = h * feed / 60.0 / gamma                          # discharges per second
+            counted = fq * dt + np.sqrt(fq * dt) * rng.standard_normal()
+            sig = {"spark_freq": np.array([counted / dt / 1000.0]),
+                   "feed_actual": np.array([feed]), "dt": dt}
+            out.append(est.step(sig)["height_raw"][0])
+    return np.array(out)
+
+
+def test_estimator_follows_height_steps_within_1_mm_in_1_s():
+    # Liao & Yu: "error within 1 mm, response under 1 s" on a 10-50 mm stepped workpiece.
+    # 125 samples per height; 1 s = 25 samples after each step.
+    raw = synthetic_cut([10, 20, 30, 40, 50, 40, 30, 20, 10])
+    heights = np.repeat([10, 20, 30, 40, 50, 40, 30, 20, 10], 125)
+    for k in range(1, 9):
+        after = slice(125 * k + 25, 125 * (k + 1))
+        assert np.max(np.abs(raw[after] - heights[after])) < 1.0
+
+
+def test_gamma_in_the_step_scenarios_is_a_10_mm_calibration():
+    # the paper's procedure: cut a known 10 mm, invert eq. 14 over the steady part
+    scenario = load("wedm_finish", {"plant.height": "10", "duration": "160"})
+    trace = simulate(scenario)
+    keep = trace.time > 80
+    gamma = HE.calibrate_gamma(trace["spark_freq"][keep, 0], trace["feed_actual"][keep, 0], 10)
+    shipped = load("wedm_step_up").data["observers"][0]["params"]["gamma"]
+    assert gamma == pytest.approx(shipped, rel=0.03)
+
+
+@pytest.fixture(scope="module")
+def step_down():
+    return simulate(load("wedm_step_down"))
+
+
+def test_step_down_no_wire_rupture_with_the_controller(step_down):
+    assert step_down["ruptures"][-1, 0] == 0
+
+
+def test_step_down_estimate_ends_within_1_mm_at_the_calibration_height(step_down):
+    # the last height is 10 mm, where gamma was identified: 1-s mean of the estimate
+    assert np.mean(step_down["height_est"][-25:, 0]) == pytest.approx(10.0, abs=1.0)
+
+
+@pytest.mark.xfail(strict=True, reason="finding: away from 10 mm the plant's gamma moves with "
+                   "the abnormal ratio (eq. 7: arcs remove less than sparks) and the loop's "
+                   "transients, so the corrected estimate reads up to ~20 % low at 30-50 mm")
+def test_step_down_estimate_settles_within_1_5_mm_of_each_height(step_down):
+    # the last 10 s before each next step (1-s averages: the 40-ms estimate is noisy)
+    t = step_down.time
+    for t0, h in ((50, 50), (110, 40), (170, 30), (230, 20), (290, 10)):
+        window = (t > t0) & (t <= t0 + 10)
+        assert np.mean(step_down["height_est"][window, 0]) == pytest.approx(h, abs=1.5)
+
+
+@pytest.mark.xfail(strict=True, reason="finding: in the plant the estimate needs ~5 s, not 1 s, "
+                   "after a step: H F = gamma Fq holds only once the gap has re-equilibrated "
+                   "(gap and debris time constants of seconds), the estimator itself is fast "
+                   "(test_estimator_follows_height_steps_within_1_mm_in_1_s)")
+def test_step_down_estimate_within_1_mm_1_s_after_each_step(step_down):
+    t = step_down.time
+    for t_step, h in ((60, 40), (120, 30), (180, 20), (240, 10)):
+        k = np.searchsorted(t, t_step + 1.0)
+        assert abs(np.mean(step_down["height_est"][k:k + 25, 0]) - h) < 1.0

@@ -1,0 +1,155 @@
+"""The WEDM plant in closed loop with the three-region rule base, held to Yan & Liao (1998).
+
+Each scenario runs once per module (batch 1, 300-380 s of 40-ms periods). The abnormal ratio
+is judged on its 2-s moving average: a 40-ms count carries ~1.4 % of counting noise, and the
+paper's figures are read by eye at the same scale. Targets the physics-based plant does not
+meet are marked xfail(strict) with what it does instead: they are findings, not tuned away.
+"""
+import numpy as np
+import pytest
+
+from fuzzyc.plants.scenario import load
+from fuzzyc.runtime import metrics
+from fuzzyc.runtime.simulate import simulate, summarize
+
+WINDOW = 50   # samples: 2 s at 40 ms
+
+
+def smooth(x: np.ndarray) -> np.ndarray:
+    kernel = np.ones(WINDOW) / WINDOW
+    return np.stack([np.convolve(col, kernel, mode="valid") for col in x.T], axis=1)
+
+
+def run(name, baseline=False):
+    scenario = load(name)
+    return scenario, simulate(scenario, baseline=baseline)
+
+
+@pytest.fixture(scope="module")
+def finish():
+    return run("wedm_finish")
+
+
+@pytest.fixture(scope="module")
+def finish_baseline():
+    return run("wedm_finish", baseline=True)
+
+
+@pytest.fixture(scope="module")
+def rough():
+    return run("wedm_rough")
+
+
+@pytest.fixture(scope="module")
+def setpoint():
+    return run("wedm_setpoint")
+
+
+def ratio_view(trace):
+    t = trace.time[WINDOW - 1:]
+    return t, smooth(trace["abnormal_ratio"])[:, 0], smooth(trace["Yr2"])[:, 0]
+
+
+def test_finish_starts_near_25_percent(finish):
+    _, trace = finish
+    assert trace["abnormal_ratio"][0, 0] == pytest.approx(0.25, abs=0.04)
+
+
+def test_finish_rises_to_40_percent_first(finish):
+    # the part of Fig. 7a our plant reproduces: the smoothed ratio climbs from 25 % to within
+    # 3 % of 40 % well inside 150 s (the paper: "within 150 seconds")
+    _, trace = finish
+    t, ratio, ref = ratio_view(trace)
+    first = t[np.argmax(np.abs(ratio - ref) < 0.03)]
+    assert first <= 150.0
+
+
+@pytest.mark.xfail(strict=True, reason="finding: the ratio reaches 39 % after ~70 s, then "
+                   "drifts to ~35 % by 300 s: the spark frequency climbs into the e1 'critical' "
+                   "region, whose rules raise feed and off-time together")
+def test_finish_reaches_40_percent_within_150_s(finish):
+    # Fig. 7a: 25 % -> 40 % within about 150 s (we allow 150 s +- 50 s, band +- 3 %)
+    _, trace = finish
+    t, ratio, ref = ratio_view(trace)
+    settle = metrics.settling_time(t, ratio[:, None], ref[:, None], 0.03)[0]
+    assert 150.0 - 50.0 <= settle <= 150.0 + 50.0, settle
+
+
+def test_finish_no_overshoot_beyond_3_percent(finish):
+    _, trace = finish
+    _, ratio, ref = ratio_view(trace)
+    assert metrics.overshoot(ratio[:, None], ref[:, None])[0] < 0.03
+
+
+@pytest.mark.xfail(strict=True, reason="finding: in our plant the fuzzy loop holds the ratio "
+                   "at 40 % by running the spark frequency at 30-33 kHz, a little above Yr1 "
+                   "= 30 kHz (the e1 'critical' region); the paper keeps it below")
+def test_finish_spark_frequency_below_reference(finish):
+    _, trace = finish
+    assert np.max(smooth(trace["spark_freq"])) < 30.0
+
+
+def test_finish_steady_feed_change_within_0_1(finish):
+    # the finish-cut constraint |delta f| <= 0.1 mm/min over the last 30 % of the run
+    _, trace = finish
+    assert metrics.steady_change(trace["feed"], tail=0.3)[0] <= 0.1
+
+
+def test_finish_no_wire_rupture(finish):
+    _, trace = finish
+    assert trace["ruptures"][-1, 0] == 0
+
+
+def test_fuzzy_beats_voltage_p_baseline(finish, finish_baseline):
+    # Steady-state error of the abnormal ratio from Yr2 (what both should deliver) and feed
+    # chattering = mean |f(k) - f(k-1)| per sample over the second half (runtime.metrics).
+    _, fuzzy = finish
+    _, base = finish_baseline
+    assert (metrics.steady_state_error(fuzzy["abnormal_ratio"], fuzzy["Yr2"], 0.3)[0]
+            < metrics.steady_state_error(base["abnormal_ratio"], base["Yr2"], 0.3)[0])
+    assert metrics.chattering(fuzzy["feed"])[0] < 0.1 * metrics.chattering(base["feed"])[0]
+
+
+def test_baseline_voltage_p_has_a_steady_voltage_error(finish_baseline):
+    # a P law needs V - Vref = feed / gain to feed at all: 0.05 mm/min/V gives ~10 V per 0.5
+    scenario, trace = finish_baseline
+    err = np.mean(trace["gap_voltage"][-2000:, 0]) - 40.0
+    feed = np.mean(trace["feed"][-2000:, 0])
+    assert err == pytest.approx(feed / 0.05, rel=0.1)
+
+
+@pytest.mark.xfail(strict=True, reason="finding: with the rough settings our plant hits the "
+                   "spark-frequency ceiling (Yr1 = 35 kHz) at an abnormal ratio near 45 %, so "
+                   "the loop cannot reach the paper's 60 %")
+def test_rough_reaches_60_percent_and_off_time_near_19_2(rough):
+    _, trace = rough
+    t, ratio, ref = ratio_view(trace)
+    assert abs(ratio[-1] - 0.60) < 0.03
+    assert trace["t_off"][-1, 0] == pytest.approx(19.2, rel=0.2)
+
+
+@pytest.mark.xfail(strict=True, reason="finding: no oscillation, but a slow drift: the ratio "
+                   "peaks near 46 % and sags to ~37 % as off-time and feed rise together in "
+                   "the e1 'critical' region")
+def test_rough_has_no_oscillation(rough):
+    # "without oscillation": the smoothed ratio rises without crossing back by more than 3 %
+    _, trace = rough
+    _, ratio, _ = ratio_view(trace)
+    running_max = np.maximum.accumulate(ratio)
+    assert np.max(running_max - ratio) < 0.06
+
+
+@pytest.mark.xfail(strict=True, reason="finding: at 55 % the loop sits on the spark-frequency "
+                   "ceiling (Yr1 = 30 kHz) in our plant and tracks 50 % but not back to 55 %")
+def test_setpoint_change_tracked_both_ways(setpoint):
+    _, trace = setpoint
+    t, ratio, ref = ratio_view(trace)
+    for t0, t1 in ((150, 180), (250, 280), (350, 380)):
+        window = (t >= t0) & (t < t1)
+        assert np.mean(np.abs(ratio[window] - ref[window])) < 0.03
+
+
+def test_setpoint_summary_is_reported(setpoint):
+    scenario, trace = setpoint
+    summary = summarize(scenario, trace)
+    assert summary["wire ruptures"]["mean"] == 0
