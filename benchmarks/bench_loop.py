@@ -1,0 +1,69 @@
+"""Closed-loop speed: WEDM test-1 loops (three-region rule base + gap plant) per second.
+
+Reports simulated controller+plant steps per second (loop periods x batch / wall time) at
+batch 1 and 1,000 (randomized plant parameters), the median of repeated runs, and the ratio
+to batch 1 measured in the same run. Markdown to benchmarks/results/loop.md (atomic).
+Run: python3 benchmarks/bench_loop.py [--repeats 5] [--seconds 20]
+"""
+from __future__ import annotations
+
+import argparse
+import platform
+import statistics
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _import_paths() -> None:
+    """From a source checkout, alias runtime/ and plants/ as the installed package has them."""
+    try:
+        import fuzzyc.runtime  # noqa: F401
+    except ImportError:
+        sys.path.insert(0, str(ROOT))
+        sys.path.insert(0, str(ROOT / "tests"))
+        import conftest  # noqa: F401  (the aliasing lives there)
+
+
+def steps_per_second(batch: int, seconds: float, repeats: int) -> tuple[float, float]:
+    from fuzzyc.plants.scenario import load
+    from fuzzyc.runtime.simulate import simulate
+    scenario = load("wedm_finish", {"duration": str(seconds)})
+    rates = []
+    for seed in range(repeats):
+        start = time.perf_counter()
+        trace = simulate(scenario, batch=batch, seed=seed, randomize=batch > 1,
+                         record=["abnormal_ratio"])
+        rates.append(trace.steps * batch / (time.perf_counter() - start))
+    return statistics.median(rates), min(rates)
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--repeats", type=int, default=5)
+    ap.add_argument("--seconds", type=float, default=20.0, help="simulated seconds per run")
+    args = ap.parse_args(argv)
+    _import_paths()
+    from fuzzyc.atomic import write_text
+    rows = []
+    for batch in (1, 1000):
+        median, worst = steps_per_second(batch, args.seconds, args.repeats)
+        rows.append((batch, median, worst))
+        print(f"batch {batch:5d}: {median:12,.0f} steps/s (median of {args.repeats}; "
+              f"slowest {worst:,.0f})")
+    base = rows[0][1]
+    lines = ["# Closed-loop speed: WEDM test 1 (three-region rule base + gap plant)", "",
+             f"{args.seconds:g} simulated s at 40 ms per run, median of {args.repeats} runs; "
+             f"{platform.python_version()}, {platform.machine()}. Target at batch 1,000: "
+             ">= 2,000,000 steps/s.", "",
+             "| batch | steps/s (median) | slowest run | vs batch 1 |", "|---|---|---|---|"]
+    lines += [f"| {b} | {m:,.0f} | {w:,.0f} | {m / base:.0f}x |" for b, m, w in rows]
+    write_text(ROOT / "benchmarks" / "results" / "loop.md", "\n".join(lines) + "\n")
+    print(f"wrote {ROOT / 'benchmarks' / 'results' / 'loop.md'}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
