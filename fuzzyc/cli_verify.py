@@ -24,9 +24,9 @@ def add_parser(subparsers) -> None:
 class _Progress:
     """One line on stderr, rewritten per property: [k/n] file: property."""
 
-    def __init__(self, stream=sys.stderr):
-        self.stream, self.count = stream, 0
-        self.enabled = stream.isatty()
+    def __init__(self, stream=None):
+        self.stream, self.count = stream or sys.stderr, 0
+        self.enabled = self.stream.isatty()
 
     def __call__(self, text: str) -> None:
         self.count += 1

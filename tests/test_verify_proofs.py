@@ -1,0 +1,70 @@
+"""Exact proofs on small rule bases whose answers are computed by hand."""
+import pytest
+
+from fuzzyc.parser import parse
+from fuzzyc.verify import Options, Status, verify_model
+
+ONE_INPUT = """controller t {
+  input x in [0, 10]
+  terms x : L = lshoulder(2, 6), H = rshoulder(4, 8)
+  var y in [0, 1]
+  terms y : singletons lo = 0 hi = 1
+  rule if x is L then y is lo
+  rule RULE2
+  verify { PROPERTY }
+}
+"""
+
+
+def _verify(rule2, prop):
+    model = parse(ONE_INPUT.replace("RULE2", rule2).replace("PROPERTY", prop), "t.fz")
+    (result,) = verify_model(model, Options(max_examples=10, grid_budget=2000))
+    return result
+
+
+# L >= lam  <=>  x <= 6 - 4 lam ;  H >= lam  <=>  x >= 4 + 4 lam ;  very H = H^2
+@pytest.mark.parametrize("rule2, level, gap", [
+    # L >= 0.5: x <= 4; very H >= 0.5: H >= 0.7071, x >= 6.828: a gap (4, 6.828)
+    ("if x is very H then y is hi", 0.5, (4.0, 6.8285)),
+    # L >= 0.25: x <= 5; H >= 0.5: x >= 6: a gap (5, 6)
+    ("if x is very H then y is hi", 0.25, (5.0, 6.0)),
+    # L >= 0.1: x <= 5.6; H >= 0.3162: x >= 5.265: covered
+    ("if x is very H then y is hi", 0.1, None),
+    # not L >= 0.5 <=> L <= 0.5 <=> x >= 4: meets L >= 0.5 (x <= 4) exactly at 4: covered
+    ("if x is not L then y is hi", 0.5, None),
+    # L >= 0.6: x <= 3.6; not L >= 0.6 <=> x >= 4.4: a gap (3.6, 4.4)
+    ("if x is not L then y is hi", 0.6, (3.6, 4.4)),
+])
+def test_coverage_is_decided_exactly_with_hedges_and_not(rule2, level, gap):
+    result = _verify(rule2, f"covers x at least {level}")
+    proof = result.evidence[0]
+    assert proof.method == "proof"
+    if gap is None:
+        assert proof.status == Status.PROVED
+    else:
+        assert proof.status == Status.VIOLATED
+        assert gap[0] < proof.point["x"] < gap[1]
+
+
+def test_two_rules_with_one_premise_and_two_conclusions_are_inconsistent():
+    result = _verify("if x is L then y is hi", "consistent")
+    table = result.evidence[0]
+    assert table.status == Status.VIOLATED and len(table.cells) == 1
+    assert "says y is lo" in table.cells[0] and "says hi" in table.cells[0]
+
+
+def test_monotone_table_and_its_continuous_form():
+    # lo below L, hi above H: y = H/(L+H) with center of area rises with x: table and grid agree
+    result = _verify("if x is H then y is hi", "monotone y increasing in x")
+    table, proof, grid = result.evidence[:3]
+    assert table.status == Status.PROVED and grid.status == Status.HELD
+    assert proof.status == Status.UNDECIDED          # max-min: no proof method, said so
+    decreasing = _verify("if x is H then y is hi", "monotone y decreasing in x")
+    assert decreasing.evidence[0].status == Status.VIOLATED
+
+
+def test_bounded_output_of_center_of_area_is_the_hull_of_its_peaks():
+    assert _verify("if x is H then y is hi", "bounded y in [0, 1]").status == Status.PROVED
+    # the hull [0, 1] is wider than [0, 0.9]; the search finds y = 1 where only H fires
+    narrow = _verify("if x is H then y is hi", "bounded y in [0, 0.9]")
+    assert narrow.status == Status.VIOLATED and narrow.violation.point["x"] >= 6.0
