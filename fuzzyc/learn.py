@@ -35,18 +35,8 @@ from typing import Any
 
 import numpy as np
 
-from .membership import memberships
-from .model import Defuzzifier, Model, RuleBase, TNorm
-
-
-def rule_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
-    """Product-firing activations (N, R) of a rule base with AND-only, un-hedged clauses."""
-    act = np.ones((x.shape[0], rb.n_rules))
-    for i, var in enumerate(rb.inputs):   # one pass per input variable (two here), not per rule
-        mu = memberships(var, x[:, i])                                   # (N, T)
-        terms = rb.antecedents[:, i]
-        act *= np.where(terms >= 0, mu[:, np.maximum(terms, 0)], 1.0)
-    return act * rb.weights
+from .engine import activations
+from .model import Defuzzifier, Model, TNorm
 
 
 @dataclass
@@ -62,7 +52,8 @@ class Learner:
 
     def __post_init__(self) -> None:
         rb = self.model.rulebase
-        if rb.inference.defuzzifier != Defuzzifier.WEIGHTED_SUM or rb.inference.and_ != TNorm.PRODUCT:
+        inference = rb.inference
+        if inference.defuzzifier != Defuzzifier.WEIGHTED_SUM or inference.and_ != TNorm.PRODUCT:
             raise ValueError(f"{self.model.name}: neuro-fuzzy learning needs "
                              "`inference and = product, defuzzify = weighted_sum`")
         self.var = rb.outputs[rb.output_index(self.output)]
@@ -83,7 +74,7 @@ class Learner:
             return 0.5 * (e ** 2 + self.rho * cf ** 2)
         x = np.zeros((e.shape[0], len(self.model.rulebase.inputs)))
         x[:, self.inputs[0]], x[:, self.inputs[1]] = e, cf
-        winner = np.argmax(rule_activations(self.model.rulebase, x), axis=1)
+        winner = np.argmax(activations(self.model.rulebase, x), axis=1)
         step = self.eta * (e - self.change_weight * cf)
         # a batch shares one rule base: average the batch's votes per term
         votes = np.zeros_like(self.weights)

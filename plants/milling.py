@@ -15,7 +15,8 @@ Physics, by equation of the chapter:
          which is the same recursion (the over-cut h_i accumulates k feeds per tooth).
          r_i = R + runout * cos(2 pi i / m - runout_phase).
   (6.5-6) F_t = ks b h, F_r = kr F_t.
-  (6.7-10) F_X = sum delta(i) (F_t cos th + F_r sin th), F_Y = sum delta(i) (-F_t sin th + F_r cos th).
+  (6.7-10) F_X = sum delta(i) (F_t cos th + F_r sin th),
+           F_Y = sum delta(i) (-F_t sin th + F_r cos th).
   (6.11) delta(i) = 1 when the tooth is in the material: theta in [0, pi] (front half, up-milling
          angle measured from the feed normal, h ~ sin theta) and -R cos(theta) <= -R + a_r, i.e.
          theta <= theta_exit = arccos(1 - a_r / R); and the tooth tip's position along the path,
@@ -59,7 +60,8 @@ class Workpiece:
         self.radial_depth = np.asarray(self.radial_depth, float)
         if not (self.lengths.shape == self.axial_depth.shape == self.radial_depth.shape):
             raise ValueError("workpiece pieces need as many axial and radial depths as lengths")
-        if np.any(self.lengths <= 0) or np.any(self.axial_depth < 0) or np.any(self.radial_depth < 0):
+        depths = np.concatenate([self.axial_depth, self.radial_depth])
+        if np.any(self.lengths <= 0) or np.any(depths < 0):
             raise ValueError("piece lengths must be > 0 and depths >= 0")
         self.edges = self.start + np.concatenate([[0.0], np.cumsum(self.lengths)])
 

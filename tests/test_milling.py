@@ -48,7 +48,8 @@ def test_no_force_in_air_and_depth_follows_the_tool_tip():
 
 def test_servo_is_the_second_order_drive():
     # step response of Kn/((s/wn)^2 + 2 zeta s/wn + 1), sampled every revolution:
-    # y(t) = 1 - exp(-zeta wn t) / sqrt(1 - zeta^2) * sin(wd t + arccos zeta), wd = wn sqrt(1-zeta^2)
+    # y(t) = 1 - exp(-zeta wn t) / sqrt(1 - zeta^2) * sin(wd t + arccos zeta),
+    # wd = wn sqrt(1 - zeta^2)
     p = milling.MillingParams(workpiece=milling.Workpiece([1.0], [0.0], [0.0], start=1e6))
     state = milling.initial_state(p, 1)
     speeds = []
