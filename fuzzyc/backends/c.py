@@ -1,0 +1,544 @@
+"""The C99 back end: a model as one self-contained header of static inline functions.
+
+`generate_header(model, numeric)` returns the text of NAME.h with
+- NAME_state, NAME_init(), NAME_step(): the whole signal chain (preprocessing with its memory,
+  rule base, incremental and saturated outputs), the C twin of `fuzzyc.controller.Controller`;
+- NAME_rulebase(): the bare rule base, the C twin of `fuzzyc.engine.evaluate`;
+- constant tables for terms and rules, sizes as #defines.
+Two ways to find the activations, chosen like the engine chooses: a dense loop over all rules
+(any rule base), or, for plain AND rules over partitions where at most two terms are positive
+at a time, the at most 2**I rules of the active term tuples through a cell table.
+"""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+
+from ..engine import CompiledRuleBase
+from ..errors import Diagnostic, FuzzycError
+from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, Op,
+                     OutputKind, RuleBase, SNorm, TermKind, TNorm)
+from .c_centroid import CentroidEmitter, area_segments, supported
+from .c_expr import REAL_TYPES, ExprPrinter, RealType
+
+PEAK_BASED = (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
+
+
+def _fail(message: str) -> FuzzycError:
+    return FuzzycError([Diagnostic(None, message)])
+
+
+def c_identifier(name: str) -> str:
+    ident = re.sub(r"\W", "_", name)
+    return ident if not ident[:1].isdigit() else "m_" + ident
+
+
+def _table(real: RealType, rows) -> str:
+    return "{" + ", ".join("{" + ", ".join(real.lit(v) for v in row) + "}" for row in rows) + "}"
+
+
+def _int_table(rows) -> str:
+    return "{" + ", ".join("{" + ", ".join(str(int(v)) for v in row) + "}" for row in rows) + "}"
+
+
+def _uses_peaks(var, method: Defuzzifier) -> bool:
+    return method in PEAK_BASED or bool(np.all(var.kinds == TermKind.SINGLETON))
+
+
+def check_supported(rb: RuleBase) -> None:
+    """Raise FuzzycError for the inference choices this back end does not emit."""
+    method = rb.inference.defuzzifier
+    for var in rb.outputs:
+        if _uses_peaks(var, method):
+            continue
+        if method != Defuzzifier.CENTROID:
+            raise _fail(f"the C back end emits centroid and peak-based defuzzifiers; "
+                        f"`{method.name.lower()}` on `{var.name}` is not supported")
+        if np.any((var.kinds != TermKind.TRAPEZOID) & (var.kinds != TermKind.SINGLETON)):
+            raise _fail(f"the C back end computes the centroid exactly, so `{var.name}` needs "
+                        f"piecewise-linear terms (triangles, trapezoids, singletons)")
+        if not supported(rb.inference):
+            raise _fail("the C back end does not emit the centroid of sum-aggregated "
+                        "min-implied rules; use aggregation = max or implication = product")
+
+
+class HeaderWriter:
+    """Builds the header text for one model and one real type."""
+
+    def __init__(self, model: Model, real: RealType):
+        self.model, self.rb, self.real = model, model.rulebase, real
+        check_supported(self.rb)
+        self.name = c_identifier(model.name)
+        self.p = self.name + "_"
+        self.P = self.name.upper() + "_"
+        self.sparse = CompiledRuleBase(self.rb).sparse
+        self.lines: list[str] = []
+
+    # -- small helpers ----------------------------------------------------------------------
+
+    def out(self, *lines: str) -> None:
+        self.lines.extend(lines)
+
+    def helpers(self) -> None:
+        t, p, lit = self.real.name, self.p, self.real.lit
+        self.out(
+            f"/* min/max that propagate NaN, like numpy (fmin/fmax would drop it). */",
+            f"static inline {t} {p}min({t} a, {t} b) {{ return (a < b || a != a) ? a : b; }}",
+            f"static inline {t} {p}max({t} a, {t} b) {{ return (a > b || a != a) ? a : b; }}",
+            f"static inline {t} {p}sign({t} a) {{ return a > 0 ? {lit(1)} : "
+            f"(a < 0 ? {lit(-1)} : a); }}",
+            f"/* NaN-free helpers for values known to be numbers. */",
+            f"static inline {t} {p}lesser({t} a, {t} b) {{ return a < b ? a : b; }}",
+            f"static inline {t} {p}greater({t} a, {t} b) {{ return a > b ? a : b; }}",
+            f"static inline {t} {p}clamp({t} x, {t} lo, {t} hi) "
+            f"{{ return x < lo ? lo : (x > hi ? hi : x); }}",
+            f"static inline void {p}order({t} *a, {t} *b) "
+            f"{{ {t} lo = {p}lesser(*a, *b); *b = {p}greater(*a, *b); *a = lo; }}",
+            f"static inline {t} {p}ratio_or({t} num, {t} den, {t} fallback) "
+            f"{{ return den != 0 ? num / den : fallback; }}",
+            f"/* One linear piece of M: exact area and first moment. */",
+            f"static inline void {p}piece({t} x0, {t} x1, {t} f0, {t} f1, {t} *area, "
+            f"{t} *moment) {{",
+            f"    {t} dx = x1 - x0;",
+            f"    *area += {lit(0.5)} * (f0 + f1) * dx;",
+            f"    *moment += dx * (f0 * ({lit(2)} * x0 + x1) + f1 * (x0 + {lit(2)} * x1)) "
+            f"/ {lit(6)};",
+            "}",
+            f"/* Trapezoid row: a b c d 1/(b-a) 1/(d-c); shoulders have a = b = -inf or c = d = "
+            f"+inf. */",
+            f"static inline {t} {p}trapezoid({t} x, const {t} q[6]) {{",
+            f"    {t} rise = x >= q[1] ? {lit(1)} : (x > q[0] ? (x - q[0]) * q[4] : {lit(0)});",
+            f"    {t} fall = x <= q[2] ? {lit(1)} : (x < q[3] ? (q[3] - x) * q[5] : {lit(0)});",
+            f"    return rise < fall ? rise : fall;",
+            "}",
+            "")
+
+    # -- membership -------------------------------------------------------------------------
+
+    @staticmethod
+    def trapezoid_row(params) -> list[float]:
+        a, b, c, d = (float(v) for v in params)
+        if np.isneginf(a):
+            b = -np.inf
+        if np.isposinf(d):
+            c = np.inf
+        rise = 1.0 / (b - a) if np.isfinite(a) and b > a else 0.0
+        fall = 1.0 / (d - c) if np.isfinite(d) and d > c else 0.0
+        return [a, b, c, d, rise, fall]
+
+    def term_value(self, kind: TermKind, row: str, x: str) -> str:
+        """C expression of one term's membership at x (NaN x -> 0, infinities -> limits)."""
+        f, lit = self.real.fn, self.real.lit
+        if kind == TermKind.TRAPEZOID:
+            return f"{self.p}trapezoid({x}, {row})"
+        if kind == TermKind.SINGLETON:
+            return f"({x} == {row}[0] ? {lit(1)} : {lit(0)})"
+        if kind == TermKind.GAUSSIAN:
+            value = f"{f('exp')}(-({x} - {row}[0]) * ({x} - {row}[0]) * {row}[4])"
+        elif kind == TermKind.BELL:
+            value = (f"{lit(1)} / ({lit(1)} + {f('pow')}({f('fabs')}(({x} - {row}[0]) / "
+                     f"{row}[1]), {lit(2)} * {row}[2]))")
+        else:   # SIGMOID; 0 * inf (slope 0, infinite x) is NaN in C too, hence the check
+            value = f"{lit(1)} / ({lit(1)} + {f('exp')}(-{row}[1] * ({x} - {row}[0])))"
+        return f"{self.p}number_or_zero({value})"
+
+    def term_rows(self, var) -> list[list[float]]:
+        rows = []
+        for kind, params in zip(var.kinds, np.asarray(var.params, dtype=float)):
+            if kind == TermKind.TRAPEZOID:
+                rows.append(self.trapezoid_row(params))
+            elif kind == TermKind.GAUSSIAN:
+                rows.append(list(params) + [1.0 / (2.0 * params[1] ** 2), 0.0])
+            else:
+                rows.append(list(params) + [0.0, 0.0])
+        return rows
+
+    def membership_functions(self) -> None:
+        t, p, P = self.real.name, self.p, self.P
+        self.out(f"static inline {t} {p}number_or_zero({t} v) "
+                 f"{{ return v == v ? v : {self.real.lit(0)}; }}")
+        for i, var in enumerate(self.rb.inputs):
+            table = f"{P}TERMS_{c_identifier(var.name).upper()}"
+            self.out(f"/* {var.name} in [{var.lo:g}, {var.hi:g}]: "
+                     + ", ".join(f"{n} ({TermKind(int(k)).name.lower()})"
+                                 for n, k in zip(var.names, var.kinds)) + " */",
+                     f"static const {t} {table}[{var.n_terms}][6] = "
+                     f"{_table(self.real, self.term_rows(var))};",
+                     f"static inline void {p}memberships_{i}({t} x, {t} mu[{var.n_terms}]) {{")
+            for j, kind in enumerate(var.kinds):
+                self.out(f"    mu[{j}] = {self.term_value(TermKind(int(kind)), f'{table}[{j}]', 'x')};")
+            self.out("}")
+
+    # -- rule base ----------------------------------------------------------------------------
+
+    def aggregation_of(self, var) -> Aggregation:
+        method = self.rb.inference.defuzzifier
+        if method in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM):
+            return Aggregation.SUM
+        return self.rb.inference.aggregation
+
+    def accumulate(self, act: str, rule: str) -> list[str]:
+        """Statements adding `act` of rule index `rule` into every output's term strengths."""
+        code = []
+        for o, var in enumerate(self.rb.outputs):
+            slot = f"alpha{o}[{self.P}CONSEQUENTS[{rule}][{o}]]"
+            if self.aggregation_of(var) == Aggregation.MAX:
+                code.append(f"{slot} = {self.p}greater({slot}, {act});")
+            else:
+                code.append(f"{slot} += {act};")
+        return code
+
+    def combine(self, a: str, b: str, conjunction: bool) -> str:
+        inf, p = self.rb.inference, self.p
+        if conjunction:
+            return f"{p}lesser({a}, {b})" if inf.and_ == TNorm.MIN else f"{a} * {b}"
+        return f"{p}greater({a}, {b})" if inf.or_ == SNorm.MAX else f"({a} + {b} - {a} * {b})"
+
+    def consequent_table(self, extra_row: bool) -> None:
+        rb = self.rb
+        cons = np.array(rb.consequents, dtype=int).copy()
+        for o, var in enumerate(rb.outputs):   # "no consequent" goes to a dummy slot
+            cons[cons[:, o] < 0, o] = var.n_terms
+        if extra_row:
+            cons = np.vstack([cons, [v.n_terms for v in rb.outputs]])
+        self.out(f"/* Consequent term per rule and output (n_terms = the rule says nothing). */",
+                 f"static const unsigned char {self.P}CONSEQUENTS[{len(cons)}]"
+                 f"[{self.P}N_RB_OUTPUTS] = {_int_table(cons)};")
+        if not np.all(rb.weights == 1.0):
+            weights = list(rb.weights) + ([0.0] if extra_row else [])
+            self.out(f"static const {self.real.name} {self.P}WEIGHTS[{len(weights)}] = "
+                     "{" + ", ".join(self.real.lit(w) for w in weights) + "};")
+
+    def weighted(self, act: str, rule: str) -> str:
+        return act if np.all(self.rb.weights == 1.0) else f"{act} * {self.P}WEIGHTS[{rule}]"
+
+    def dense_rules(self) -> list[str]:
+        """The loop over all rules; memberships of all inputs in one array `mu`."""
+        rb, t, P, lit = self.rb, self.real.name, self.P, self.real.lit
+        offsets = np.cumsum([0] + [v.n_terms for v in rb.inputs])
+        one, zero = int(offsets[-1]), int(offsets[-1]) + 1
+        conj = rb.connective == Connective.AND
+        only_wild = np.all(rb.antecedents < 0, axis=1)
+        flat = np.where(rb.antecedents >= 0, rb.antecedents + offsets[:-1],
+                        np.where((conj | only_wild)[:, None], one, zero))
+        plain = bool(np.all(conj) and not np.any(rb.negated) and np.all(rb.hedges == Hedge.NONE))
+        self.out(f"/* Per rule and input: index into mu (all terms, then 1 and 0 for an absent "
+                 f"clause). */",
+                 f"static const unsigned short {P}ANTECEDENTS[{P}N_RULES][{P}N_RB_INPUTS] = "
+                 f"{_int_table(flat)};")
+        if not plain:
+            hedges = np.where(rb.antecedents >= 0, rb.hedges, 0)
+            negated = np.where(rb.antecedents >= 0, rb.negated, False)
+            self.out(f"static const unsigned char {P}HEDGES[{P}N_RULES][{P}N_RB_INPUTS] = "
+                     f"{_int_table(hedges)};",
+                     f"static const unsigned char {P}NEGATED[{P}N_RULES][{P}N_RB_INPUTS] = "
+                     f"{_int_table(negated)};",
+                     f"static const unsigned char {P}IS_OR[{P}N_RULES] = "
+                     "{" + ", ".join(str(int(c and not w)) for c, w
+                                     in zip(~conj, only_wild)) + "};")
+        code = [f"{t} mu[{one + 2}];"]
+        code += [f"{self.p}memberships_{i}(x[{i}], mu + {offsets[i]});"
+                 for i in range(len(rb.inputs))]
+        code += [f"mu[{one}] = {lit(1)}; mu[{zero}] = {lit(0)};",
+                 f"for (r = 0; r < {P}N_RULES; ++r) {{"]
+        clauses = []
+        for i in range(len(rb.inputs)):
+            g = f"mu[{P}ANTECEDENTS[r][{i}]]"
+            if not plain:
+                code.append(f"    {t} g{i} = {self.p}clause({g}, {P}HEDGES[r][{i}], "
+                            f"{P}NEGATED[r][{i}]);")
+                g = f"g{i}"
+            clauses.append(g)
+        if plain:
+            act = clauses[0]
+            for g in clauses[1:]:
+                act = self.combine(act, g, True)
+        else:
+            a, o = clauses[0], clauses[0]
+            for g in clauses[1:]:
+                a, o = self.combine(a, g, True), self.combine(o, g, False)
+            act = f"({P}IS_OR[r] ? {o} : {a})"
+        code.append(f"    {t} act = {self.weighted(act, 'r')};")
+        code += ["    " + s for s in self.accumulate("act", "r")]
+        code.append("}")
+        return code
+
+    def clause_helper(self) -> None:
+        t, p, f, lit = self.real.name, self.p, self.real.fn, self.real.lit
+        self.out(f"/* Hedge (none, very, somewhat, extremely) then NOT, as in the model. */",
+                 f"static inline {t} {p}clause({t} mu, unsigned char hedge, unsigned char not_) {{",
+                 f"    {t} g = hedge == 1 ? mu * mu : (hedge == 2 ? {f('sqrt')}(mu) : "
+                 f"(hedge == 3 ? mu * mu * mu : mu));",
+                 f"    return not_ ? {lit(1)} - g : g;",
+                 "}")
+
+    def sparse_tables(self) -> None:
+        """Per input: break points and, per segment, the two active terms' linear pieces."""
+        engine = CompiledRuleBase(self.rb)
+        t, p, P, lit = self.real.name, self.p, self.P, self.real.lit
+        for i, part in enumerate(engine.partitions):
+            nb = len(part.breaks)
+            rows = [[r[0], 1.0 / r[2] if np.isfinite(r[2]) else 0.0, r[4],
+                     r[1], 1.0 / r[3] if np.isfinite(r[3]) else 0.0, r[5]] for r in part.table]
+            terms = part.table[:, 6:8].astype(int)
+            var = self.rb.inputs[i]
+            self.out(f"/* {var.name}: terms " + ", ".join(var.names) + f"; breaks and per "
+                     f"segment (anchor, 1/width, offset) x 2 with the two term ids. */",
+                     f"static const {t} {P}BREAKS_{i}[{nb}] = "
+                     "{" + ", ".join(lit(b) for b in part.breaks) + "};",
+                     f"static const {t} {P}PIECES_{i}[{nb + 1}][6] = {_table(self.real, rows)};",
+                     f"static const unsigned char {P}ACTIVE_{i}[{nb + 1}][2] = "
+                     f"{_int_table(terms)};",
+                     f"static inline void {p}active_{i}({t} x, {t} m[2], unsigned char id[2]) {{",
+                     f"    /* Outside the outer break points every term is constant: clamp. */",
+                     f"    {t} xc = {p}clamp(x, {P}BREAKS_{i}[0], {P}BREAKS_{i}[{nb - 1}]);",
+                     f"    int k = 0, b;",
+                     f"    const {t} *q;",
+                     f"    if (x != x) {{ m[0] = m[1] = {lit(0)}; "
+                     f"id[0] = id[1] = {var.n_terms}; return; }}",
+                     f"    for (b = 0; b < {nb}; ++b) k += xc >= {P}BREAKS_{i}[b];",
+                     f"    q = {P}PIECES_{i}[k];",
+                     f"    m[0] = (xc - q[0]) * q[1] + q[2];",
+                     f"    m[1] = (xc - q[3]) * q[4] + q[5];",
+                     f"    id[0] = {P}ACTIVE_{i}[k][0]; id[1] = {P}ACTIVE_{i}[k][1];",
+                     "}")
+        self.out(f"/* Per cell (tuple of term ids, n_terms = none): its rules, padded with "
+                 f"N_RULES. */",
+                 f"static const unsigned short {P}CELLS[{engine.lookup.shape[0]}]"
+                 f"[{engine.lookup.shape[1]}] = {_int_table(engine.lookup)};")
+        self.engine = engine
+
+    def sparse_rules(self) -> list[str]:
+        rb, t, P = self.rb, self.real.name, self.P
+        n_in = len(rb.inputs)
+        radix = self.engine.radix
+        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
+        depth = self.engine.lookup.shape[1]
+        code = [f"{t} m[{n_in}][2];", f"unsigned char id[{n_in}][2];"]
+        code += [f"{self.p}active_{i}(x[{i}], m[{i}], id[{i}]);" for i in range(n_in)]
+        code.append(f"for (r = 0; r < {1 << n_in}; ++r) {{   /* the 2**I active term tuples */")
+        bits = [f"(r >> {n_in - 1 - i}) & 1" for i in range(n_in)]
+        cell = " + ".join(f"id[{i}][{bits[i]}] * {int(place[i])}" for i in range(n_in))
+        act = f"m[0][{bits[0]}]"
+        for i in range(1, n_in):
+            act = self.combine(act, f"m[{i}][{bits[i]}]", True)
+        code += [f"    int cell = {cell};", f"    {t} act = {act};", "    int d;",
+                 f"    for (d = 0; d < {depth}; ++d) {{",
+                 f"        int rule = {P}CELLS[cell][d];",
+                 f"        {t} a = {self.weighted('act', 'rule')};"]
+        code += ["        " + s for s in self.accumulate("a", "rule")]
+        code += ["    }", "}"]
+        return code
+
+    def defuzzify(self, o: int, var) -> list[str]:
+        lit, t = self.real.lit, self.real.name
+        method = self.rb.inference.defuzzifier
+        alpha = f"alpha{o}"
+        if _uses_peaks(var, method):
+            peaks = var.peaks()
+            num = " + ".join(f"{alpha}[{j}] * {lit(v)}" for j, v in enumerate(peaks))
+            den = " + ".join(f"{alpha}[{j}]" for j in range(var.n_terms))
+            code = [f"{{ {t} num = {num};", f"  {t} den = {den};"]
+            value = "num" if method == Defuzzifier.WEIGHTED_SUM else "num / den"
+            return code + [f"  y[{o}] = den > 0 ? {value} : {lit(var.default)}; }}"]
+        emitter = CentroidEmitter(self.real, self.p, self.rb.inference)
+        code = [f"{{ {t} area = {lit(0)}, moment = {lit(0)};"]
+        code += ["  " + s for s in emitter.emit(area_segments(var), alpha)]
+        return code + [f"  y[{o}] = area > 0 ? moment / area : {lit(var.default)}; }}"]
+
+    def rulebase_function(self) -> None:
+        rb, t, p, lit = self.rb, self.real.name, self.p, self.real.lit
+        if self.sparse:
+            self.sparse_tables()
+        else:
+            if np.any(rb.hedges != Hedge.NONE) or np.any(rb.negated) or \
+                    np.any(rb.connective != Connective.AND):
+                self.clause_helper()
+            self.membership_functions()
+        self.consequent_table(extra_row=self.sparse)
+        body = self.sparse_rules() if self.sparse else self.dense_rules()
+        self.out("",
+                 f"/* The bare rule base: x[N_RB_INPUTS] (scaled inputs) -> y[N_RB_OUTPUTS]. "
+                 f"*/",
+                 f"static inline void {p}rulebase(const {t} x[{self.P}N_RB_INPUTS], "
+                 f"{t} y[{self.P}N_RB_OUTPUTS]) {{",
+                 "    int r;")
+        for o, var in enumerate(rb.outputs):
+            self.out(f"    {t} alpha{o}[{var.n_terms + 1}] = {{{lit(0)}}};")
+        self.out(*("    " + s for s in body))
+        for o, var in enumerate(rb.outputs):
+            self.out(*("    " + s for s in self.defuzzify(o, var)))
+        self.out("}", "")
+
+    # -- signal chain -------------------------------------------------------------------------
+
+    def symbol(self, name: str) -> str:
+        if name in self.model.params:
+            return f"{self.P}PARAM_{c_identifier(name)}"
+        return f"v_{c_identifier(name)}"
+
+    def state_struct(self) -> None:
+        t = self.real.name
+        fields = []
+        for s in self.model.steps:
+            if s.op != Op.ASSIGN:
+                ident = c_identifier(s.name)
+                fields += [f"    {t} memory_{ident};   /* last finite value */",
+                           f"    unsigned char seen_{ident};   /* a finite value was stored */"]
+        for o in self.model.outputs:
+            state = "1/u(k-1)" if o.kind == OutputKind.RECIPROCAL_INCREMENT else "u(k-1)"
+            fields.append(f"    {t} out_{c_identifier(o.name)};   /* {state} */")
+        if not fields:
+            fields = ["    unsigned char unused;"]
+        self.out("typedef struct {", *fields, f"}} {self.p}state;", "")
+
+    def init_function(self) -> None:
+        lit = self.real.lit
+        self.out(f"static inline void {self.p}init({self.p}state *s) {{")
+        for s in self.model.steps:
+            if s.op != Op.ASSIGN:
+                ident = c_identifier(s.name)
+                self.out(f"    s->memory_{ident} = {lit(0)};", f"    s->seen_{ident} = 0;")
+        if not self.model.steps and not self.model.outputs:
+            self.out("    s->unused = 0;")
+        for o in self.model.outputs:
+            init = 1.0 / o.init if o.kind == OutputKind.RECIPROCAL_INCREMENT else o.init
+            self.out(f"    s->out_{c_identifier(o.name)} = {lit(init)};")
+        self.out("}", "")
+
+    def step_statements(self, printer: ExprPrinter) -> list[str]:
+        t, lit = self.real.name, self.real.lit
+        code = []
+        for s in self.model.steps:
+            v, arg = self.symbol(s.name), printer(s.expr)
+            ident = c_identifier(s.name)
+            mem, seen = f"s->memory_{ident}", f"s->seen_{ident}"
+            if s.op == Op.ASSIGN:
+                code.append(f"const {t} {v} = {arg};")
+                continue
+            code += [f"{t} {v};", "{", f"    const {t} arg = {arg};"]
+            if s.op == Op.DELTA:
+                code.append(f"    {v} = {seen} ? arg - {mem} : (arg != arg ? arg : {lit(0)});")
+                keep = "arg"
+            elif s.op == Op.PREV:
+                code.append(f"    {v} = {seen} ? {mem} : arg;")
+                keep = "arg"
+            else:
+                a, b = s.coeffs
+                code.append(f"    {v} = {seen} ? {lit(a)} * {mem} + {lit(b)} * arg : arg;")
+                keep = v
+            code += [f"    if (isfinite({keep})) {{ {mem} = {keep}; {seen} = 1; }}", "}"]
+        return code
+
+    def output_statements(self, printer: ExprPrinter) -> list[str]:
+        lit, p = self.real.lit, self.p
+        code = []
+        for k, o in enumerate(self.model.outputs):
+            state, value = f"s->out_{c_identifier(o.name)}", printer(o.expr)
+            code += ["{", f"    const {self.real.name} value = {value};"]
+            if o.kind == OutputKind.DIRECT:
+                code += [f"    if (isfinite(value)) {state} = "
+                         f"{p}clamp(value, {lit(o.lo)}, {lit(o.hi)});",
+                         f"    out[{k}] = {state};"]
+            else:
+                lo, hi = o.lo, o.hi
+                if o.kind == OutputKind.RECIPROCAL_INCREMENT:
+                    lo, hi = (1.0 / o.hi if o.hi != 0 else np.inf,
+                              1.0 / o.lo if o.lo != 0 else np.inf)
+                code.append(f"    {state} = {p}clamp({state} + (isfinite(value) ? value : "
+                            f"{lit(0)}), {lit(lo)}, {lit(hi)});")
+                result = state if o.kind == OutputKind.INCREMENT else f"{lit(1)} / {state}"
+                code.append(f"    out[{k}] = {result};")
+            code += [f"    {self.symbol(o.name)} = out[{k}];", "}"]
+        return code
+
+    def step_function(self) -> None:
+        t, P, m = self.real.name, self.P, self.model
+        printer = ExprPrinter(self.real, self.symbol, self.p)
+        body = [f"const {t} {self.symbol(sig.name)} = in[{k}];"
+                for k, sig in enumerate(m.signals)]
+        body += self.step_statements(printer)
+        body += [f"{t} x[{P}N_RB_INPUTS], y[{P}N_RB_OUTPUTS];"]
+        body += [f"{t} {self.symbol(o.name)};" for o in m.outputs]
+        body += [f"x[{i}] = {self.symbol(v.name)};" for i, v in enumerate(self.rb.inputs)]
+        body += [f"{self.p}rulebase(x, y);"]
+        body += [f"const {t} {self.symbol(v.name)} = y[{o}];"
+                 for o, v in enumerate(self.rb.outputs)]
+        body += self.output_statements(printer)
+        body += [f"(void){self.symbol(o.name)};" for o in m.outputs]
+        self.out(f"/* One sample of the whole chain: raw inputs in[N_SIGNALS] -> out[N_OUTPUTS]. "
+                 f"*/",
+                 f"static inline void {self.p}step({self.p}state *s, "
+                 f"const {t} in[{P}N_SIGNALS], {t} out[{P}N_OUTPUTS]) {{",
+                 *("    " + line for line in body), "}", "")
+
+    # -- the whole header ---------------------------------------------------------------------
+
+    def comment(self, numeric: str) -> None:
+        m, rb = self.model, self.rb
+        src = m.source_path or "(built in memory)"
+        self.out("/*",
+                 f" * {self.name}.h - generated by fuzzyc from {src}",
+                 f" * source hash (sha256, first 16 hex): {m.source_hash}",
+                 f" * {m.title}" if m.title else " *",
+                 f" * numeric: {numeric} ({self.real.name} arithmetic)",
+                 f" * inference: {rb.inference.describe()}",
+                 f" * rules: {rb.n_rules}; activations: "
+                 + ("at most 2**I rules of the active term tuples (cell table)" if self.sparse
+                    else "all rules per call"),
+                 " * inputs of the chain: " + ", ".join(f"{s.name} [{s.lo:g}, {s.hi:g}]"
+                                                        for s in m.signals),
+                 " * outputs of the chain: " + ", ".join(f"{o.name} [{o.lo:g}, {o.hi:g}]"
+                                                         for o in m.outputs),
+                 " *",
+                 " * Functions are static inline in this one header so it is self-contained",
+                 " * (no .c file to add to a firmware build), the compiler can specialise and",
+                 " * inline them into the control loop, and two controllers never clash at link",
+                 " * time. No heap, no recursion, no writable globals, loop bounds are constants.",
+                 " * Link with -lm only if the terms use exp/pow/sqrt (gaussian, bell, sigmoid,",
+                 " * somewhat) or the expressions do.",
+                 " *",
+                 " * Defined for every input: a NaN input gives every term of its variable",
+                 " * membership 0, so rules needing it do not fire and an output where nothing",
+                 " * fires gives its declared default; +-inf gives the shapes' limits. In the",
+                 " * chain, memories keep their last finite value and an output whose value is",
+                 " * not finite holds its state (an increment counts as 0), so out[] is finite.",
+                 " */")
+
+    def header(self, numeric: str) -> str:
+        m, rb, P = self.model, self.rb, self.P
+        guard = f"FUZZYC_{self.name.upper()}_H"
+        self.comment(numeric)
+        self.out(f"#ifndef {guard}", f"#define {guard}", "", "#include <math.h>", "",
+                 f"#define {P}N_SIGNALS {max(1, len(m.signals))}",
+                 f"#define {P}N_OUTPUTS {max(1, len(m.outputs))}",
+                 f"#define {P}N_RB_INPUTS {len(rb.inputs)}",
+                 f"#define {P}N_RB_OUTPUTS {len(rb.outputs)}",
+                 f"#define {P}N_RULES {rb.n_rules}", "")
+        for k, s in enumerate(m.signals):
+            self.out(f"#define {P}IN_{c_identifier(s.name).upper()} {k}")
+        for k, o in enumerate(m.outputs):
+            self.out(f"#define {P}OUT_{c_identifier(o.name).upper()} {k}")
+        self.out("")
+        for prm in m.params.values():
+            self.out(f"static const {self.real.name} {P}PARAM_{c_identifier(prm.name)} = "
+                     f"{self.real.lit(prm.value)};")
+        self.out("")
+        self.helpers()
+        self.rulebase_function()
+        self.state_struct()
+        self.init_function()
+        self.step_function()
+        self.out(f"#endif /* {guard} */", "")
+        return "\n".join(self.lines)
+
+
+def generate_header(model: Model, numeric: str = "float") -> str:
+    """The text of the C99 header for `model` (numeric: float | double)."""
+    if numeric not in REAL_TYPES:
+        raise _fail(f"numeric `{numeric}` is not emitted; choose one of "
+                    + ", ".join(REAL_TYPES))
+    if not model.rulebase.inputs or not model.rulebase.outputs:
+        raise _fail("the C back end needs a rule base with inputs and outputs")
+    return HeaderWriter(model, REAL_TYPES[numeric]).header(numeric)

@@ -1,0 +1,143 @@
+"""Exact centroid of piecewise-linear output terms, as straight-line C.
+
+At generation time [lo, hi] is cut at every term break point and at every crossing of two term
+edges, so inside a segment each term that is positive there is one line s*u + q.  The aggregated
+membership M(u) = AGG_j IMP(alpha_j, s_j u + q_j) then only bends where a line meets a level
+(MIN implication: s_j u + q_j = alpha_k) or, for PRODUCT implication with MAX, where two scaled
+lines cross.  Those few candidate points are computed from the levels at run time, clamped into
+the segment and sorted by a fixed compare-exchange network; M is linear between consecutive
+points, so the trapezoid sums of area and first moment are exact (the engine's closed form).
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from itertools import combinations
+
+import numpy as np
+
+from ..model import Aggregation, Implication, Inference, TermKind, Variable
+
+
+@dataclass
+class Line:
+    term: int
+    slope: float
+    intercept: float
+
+
+@dataclass
+class Segment:
+    x0: float
+    x1: float
+    lines: list[Line]
+
+
+def _piece(a: float, b: float, c: float, d: float, mid: float) -> tuple[float, float] | None:
+    """The line of a trapezoid at `mid` (not a break point), or None where it is 0."""
+    if mid <= a or mid >= d:
+        return None
+    if np.isfinite(a) and mid < b:
+        return 1.0 / (b - a), -a / (b - a)
+    if np.isfinite(d) and mid > c:
+        return -1.0 / (d - c), d / (d - c)
+    return 0.0, 1.0
+
+
+def _lines(params: np.ndarray, terms: list[int], x0: float, x1: float) -> list[Line]:
+    mid = 0.5 * (x0 + x1)
+    out = []
+    for t in terms:
+        piece = _piece(*params[t], mid)
+        if piece is not None:
+            out.append(Line(t, *piece))
+    return out
+
+
+def area_segments(var: Variable) -> list[Segment]:
+    """The segments of [lo, hi] with the lines of the trapezoid terms positive in each."""
+    lo, hi = float(var.lo), float(var.hi)
+    params = np.asarray(var.params, dtype=float)
+    terms = [t for t in range(var.n_terms) if var.kinds[t] == TermKind.TRAPEZOID]
+    cuts = {lo, hi} | {float(v) for t in terms for v in params[t] if lo < v < hi}
+    bounds = sorted(cuts)
+    for x0, x1 in zip(bounds[:-1], bounds[1:]):
+        for l1, l2 in combinations(_lines(params, terms, x0, x1), 2):
+            if l1.slope != l2.slope:
+                u = (l2.intercept - l1.intercept) / (l1.slope - l2.slope)
+                if x0 < u < x1:
+                    cuts.add(u)
+    bounds = sorted(cuts)
+    segments = [Segment(x0, x1, _lines(params, terms, x0, x1))
+                for x0, x1 in zip(bounds[:-1], bounds[1:])]
+    return [s for s in segments if s.lines]
+
+
+def supported(inference: Inference) -> bool:
+    """Whether the levels alpha_j (one per term) determine M: MAX aggregation or PRODUCT
+    implication.  SUM of MIN-clipped rules needs every rule as its own item (not emitted)."""
+    return inference.aggregation == Aggregation.MAX or \
+        inference.implication == Implication.PRODUCT
+
+
+class CentroidEmitter:
+    """C statements accumulating area and moment of one output's M, levels in `alpha`."""
+
+    def __init__(self, real, prefix: str, inference: Inference):
+        self.real, self.p, self.inf = real, prefix, inference
+
+    def _value(self, line: Line, u: str, alpha: str) -> str:
+        lit = self.real.lit
+        mu = lit(line.intercept) if line.slope == 0.0 else \
+            f"({lit(line.slope)} * {u} + {lit(line.intercept)})"
+        level = f"{alpha}[{line.term}]"
+        if self.inf.implication == Implication.MIN:
+            return f"{self.p}lesser({level}, {mu})"
+        return f"({level} * {mu})"
+
+    def _membership(self, seg: Segment, u: str, alpha: str) -> str:
+        values = [self._value(line, u, alpha) for line in seg.lines]
+        out = values[0]
+        for v in values[1:]:
+            out = f"{self.p}greater({out}, {v})" if self.inf.aggregation == Aggregation.MAX \
+                else f"({out} + {v})"
+        return out
+
+    def _candidates(self, seg: Segment, alpha: str) -> list[str]:
+        lit = self.real.lit
+        if self.inf.aggregation == Aggregation.SUM:      # PRODUCT and SUM: linear in segment
+            return []
+        if self.inf.implication == Implication.MIN:
+            return [f"({alpha}[{k.term}] - {lit(j.intercept)}) * {lit(1.0 / j.slope)}"
+                    for j in seg.lines if j.slope != 0.0 for k in seg.lines]
+        out = []
+        for j, k in combinations(seg.lines, 2):
+            if j.slope == 0.0 and k.slope == 0.0:
+                continue
+            aj, ak = f"{alpha}[{j.term}]", f"{alpha}[{k.term}]"
+            num = f"({ak} * {lit(k.intercept)} - {aj} * {lit(j.intercept)})"
+            den = f"({aj} * {lit(j.slope)} - {ak} * {lit(k.slope)})"
+            out.append(f"{self.p}ratio_or({num}, {den}, {lit(seg.x0)})")
+        return out
+
+    def emit(self, segments: list[Segment], alpha: str) -> list[str]:
+        """Statements adding each segment's area and moment to `area` and `moment`."""
+        lit = self.real.lit
+        code = []
+        for seg in segments:
+            cands = self._candidates(seg, alpha)
+            n = len(cands) + 2
+            code.append(f"{{ /* [{seg.x0:.9g}, {seg.x1:.9g}] */")
+            code.append(f"    {self.real.name} u[{n}], f[{n}];")
+            code.append(f"    u[0] = {lit(seg.x0)}; u[{n - 1}] = {lit(seg.x1)};")
+            for i, c in enumerate(cands, start=1):
+                code.append(f"    u[{i}] = {self.p}clamp({c}, {lit(seg.x0)}, {lit(seg.x1)});")
+            for i in range(len(cands)):              # bubble network: fixed, data-independent
+                for j in range(1, len(cands) - i):
+                    code.append(f"    {self.p}order(&u[{j}], &u[{j + 1}]);")
+            for i in range(n):
+                code.append(f"    f[{i}] = {self._membership(seg, f'u[{i}]', alpha)};")
+            for i in range(n - 1):
+                code.append(f"    {self.p}piece(u[{i}], u[{i + 1}], f[{i}], f[{i + 1}], "
+                            f"&area, &moment);")
+            code.append("}")
+        return code

@@ -1,0 +1,144 @@
+"""The generated C behind the Python `Controller` interface, so loops and the verifier can run
+the exact code that ships.
+
+`CController(model, numeric)` writes the header, compiles it with a small batch shim into a
+shared library (gcc -shared -fPIC, cached under a key of the header text and the flags) and
+loads it with ctypes.  A step of the whole batch is one C call; the loop over the batch is in C.
+The header is generated once, at construction: later changes to the model (learning) need a new
+CController.
+"""
+from __future__ import annotations
+
+import ctypes
+import hashlib
+import os
+import subprocess
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from ..errors import Diagnostic, FuzzycError
+from ..model import Model
+from .c import c_identifier, generate_header
+
+STRICT_FLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion",
+                "-Wshadow", "-Werror")
+
+SHIM = """\
+#include "{name}.h"
+/* Batch entry points for ctypes: doubles in and out, one call per step of the whole batch. */
+int fz_state_size(void) {{ return (int)sizeof({name}_state); }}
+void fz_init({name}_state *s, int n) {{
+    int b;
+    for (b = 0; b < n; ++b) {name}_init(&s[b]);
+}}
+void fz_step({name}_state *s, int n, const double *in, double *out) {{
+    int b, k;
+    for (b = 0; b < n; ++b) {{
+        {real} x[{P}N_SIGNALS], y[{P}N_OUTPUTS];
+        for (k = 0; k < {n_in}; ++k) x[k] = ({real})in[b * {n_in} + k];
+        {name}_step(&s[b], x, y);
+        for (k = 0; k < {n_out}; ++k) out[b * {n_out} + k] = (double)y[k];
+    }}
+}}
+void fz_rulebase(int n, const double *in, double *out) {{
+    int b, k;
+    for (b = 0; b < n; ++b) {{
+        {real} x[{P}N_RB_INPUTS], y[{P}N_RB_OUTPUTS];
+        for (k = 0; k < {P}N_RB_INPUTS; ++k) x[k] = ({real})in[b * {P}N_RB_INPUTS + k];
+        {name}_rulebase(x, y);
+        for (k = 0; k < {P}N_RB_OUTPUTS; ++k) out[b * {P}N_RB_OUTPUTS + k] = (double)y[k];
+    }}
+}}
+"""
+
+REAL_OF = {"float": "float", "double": "double"}
+
+
+def cache_dir() -> Path:
+    root = os.environ.get("FUZZYC_CACHE") or os.path.join(tempfile.gettempdir(),
+                                                          f"fuzzyc-c-cache-{os.getuid()}")
+    path = Path(root)
+    path.mkdir(parents=True, exist_ok=True)
+    return path
+
+
+def compile_shared(sources: dict[str, str], main: str, flags: tuple[str, ...] = ()) -> Path:
+    """Compile `main` (a key of sources) with its sibling files into a cached shared library."""
+    key = hashlib.sha256(repr((sorted(sources.items()), main, STRICT_FLAGS, flags))
+                         .encode()).hexdigest()[:20]
+    target = cache_dir() / f"fz_{key}.so"
+    if target.exists():
+        return target
+    with tempfile.TemporaryDirectory(dir=cache_dir()) as work:
+        for fname, text in sources.items():
+            Path(work, fname).write_text(text)
+        tmp_lib = Path(work, "lib.so")
+        cmd = ["gcc", *STRICT_FLAGS, *flags, "-shared", "-fPIC", "-o", str(tmp_lib),
+               str(Path(work, main)), "-lm"]
+        result = subprocess.run(cmd, capture_output=True, text=True)
+        if result.returncode != 0:
+            raise FuzzycError([Diagnostic(None, "the C compiler rejected the generated code:\n"
+                                                + result.stderr)])
+        os.replace(tmp_lib, target)   # atomic: a concurrent reader sees all or nothing
+    return target
+
+
+class CController:
+    """Same interface as `fuzzyc.controller.Controller`, running the generated C."""
+
+    def __init__(self, model: Model, batch: int = 1, numeric: str = "float"):
+        self.model = model
+        self.numeric = numeric
+        self.input_names = [s.name for s in model.signals]
+        self.output_names = [o.name for o in model.outputs]
+        self.header = generate_header(model, numeric)
+        name = c_identifier(model.name)
+        shim = SHIM.format(name=name, P=name.upper() + "_", real=REAL_OF[numeric],
+                           n_in=len(model.signals), n_out=len(model.outputs))
+        path = compile_shared({f"{name}.h": self.header, "shim.c": shim}, "shim.c")
+        self._lib = ctypes.CDLL(str(path))
+        dptr = ctypes.POINTER(ctypes.c_double)
+        self._lib.fz_step.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr]
+        self._lib.fz_rulebase.argtypes = [ctypes.c_int, dptr, dptr]
+        self._lib.fz_init.argtypes = [ctypes.c_void_p, ctypes.c_int]
+        self._state_size = self._lib.fz_state_size()
+        self.signals: dict[str, np.ndarray] = {}
+        self.reset(batch)
+
+    def reset(self, batch: int | None = None) -> None:
+        if batch is not None:
+            self.batch = int(batch)
+        self._states = ctypes.create_string_buffer(max(1, self.batch) * self._state_size)
+        self._lib.fz_init(self._states, self.batch)
+        self.signals = {}
+
+    @staticmethod
+    def _ptr(a: np.ndarray):
+        return a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
+
+    def step(self, inputs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        missing = [n for n in self.input_names if n not in inputs]
+        if missing:
+            raise KeyError(f"no value for input(s): {', '.join(missing)}")
+        n = self.batch
+        x = np.ascontiguousarray(np.stack(
+            [np.broadcast_to(np.asarray(inputs[k], dtype=float), (n,)) for k in self.input_names],
+            axis=1))
+        y = np.empty((n, len(self.output_names)))
+        self._lib.fz_step(self._states, n, self._ptr(x), self._ptr(y))
+        outputs = {k: y[:, o].copy() for o, k in enumerate(self.output_names)}
+        # Only the chain's ends are visible from C (the intermediate signals are locals).
+        self.signals = {**{k: x[:, i].copy() for i, k in enumerate(self.input_names)}, **outputs}
+        return outputs
+
+    def evaluate(self, x: np.ndarray) -> np.ndarray:
+        """The bare rule base: x (N, I) -> y (N, O), like `fuzzyc.engine.evaluate`."""
+        rb = self.model.rulebase
+        x = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=float)))
+        if x.shape[1] != len(rb.inputs):
+            raise ValueError(f"expected {len(rb.inputs)} input columns, got {x.shape[1]}")
+        y = np.empty((x.shape[0], len(rb.outputs)))
+        self._lib.fz_rulebase(x.shape[0], self._ptr(x), self._ptr(y))
+        return y
