@@ -14,7 +14,7 @@ CORPUS = Path(__file__).parent / "format_corpus"
 
 # file -> the diagnostics expected, as (line:col, words of the message)
 EXPECTED = {
-    "bad_syntax.fll": [("11:35", "ends too early")],
+    "bad_syntax.fll": [("12:35", "ends too early")],
     "bad_unsupported.fll": [("4:14", "term shape `Spike` is not supported"),
                             ("9:16", "defuzzifier `LargestOfMaximum` is not supported"),
                             ("12:16", "conjunction `HamacherProduct` is not supported"),
@@ -61,7 +61,25 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
      "WeightedAverage needs Constant terms"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Linear 0 1\n",
      "`Linear` is not supported"),
-    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  colour: red\n", "unknown key `colour`"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
+               "OutputVariable: y\n  range: 0 1\n  aggregation: Maximum\n"
+               "  defuzzifier: Centroid\n  term: b Triangle 0 0.5 1\n"
+               "RuleBlock:\n  conjunction: none\n  implication: Minimum\n"
+               "  rule: if x is a and x is a then y is b\n", "appears twice"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
+               "InputVariable: w\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
+               "OutputVariable: y\n  range: 0 1\n  aggregation: Maximum\n"
+               "  defuzzifier: Centroid\n  term: b Triangle 0 0.5 1\n"
+               "RuleBlock:\n  conjunction: none\n"
+               "  rule: if x is a and w is any then y is b\n", "hedge `any`"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
+               "InputVariable: w\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
+               "OutputVariable: y\n  range: 0 1\n  aggregation: Maximum\n"
+               "  defuzzifier: Centroid\n  term: b Triangle 0 0.5 1\n"
+               "RuleBlock:\n  conjunction: none\n  implication: Minimum\n"
+               "  rule: if x is a and w is a then y is b\n", "rule block has `conjunction: none`"),
+    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  colour: red\n",
+     "unknown key `colour`"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "OutputVariable: y\n  range: 0 1\n  term: b Triangle 0 0.5 1\n"
                "RuleBlock:\n  rule: if x is a then y is b\n  rule: if x is not (a) then y is b\n",

@@ -20,8 +20,8 @@ from lark import Token, Tree
 from lark.exceptions import UnexpectedInput
 
 from ..errors import Reporter
-from ..model import (Aggregation, Defuzzifier, Implication, Inference, Model, SNorm, SourceLoc,
-                     TermKind, TNorm)
+from ..model import (Aggregation, Connective, Defuzzifier, Implication, Inference, Model,
+                     SNorm, SourceLoc, TermKind, TNorm)
 from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
 from .export import (all_singletons, left_out, num, peaks_instead, refuse, rule_sentence,
                      unsayable_hedges)
@@ -196,6 +196,13 @@ class _FclReader:
 
     def _inference(self) -> None:
         inf = Inference()
+        used = {Connective(int(r.connective)) for r in self.got.rules if len(r.clauses) > 1}
+        needed = {"AND": Connective.AND in used, "OR": Connective.OR in used, "ACT": True,
+                  "ACCU": True, "METHOD": True}
+        for key, field, table in (*OPERATORS.values(), ("METHOD", "defuzzifier", METHODS)):
+            if key not in self.chosen and needed[key]:
+                default = next(k for k, v in table.items() if v == getattr(inf, field))
+                self.got.notes.append(f"{key} not given: {default} assumed")
         for key, field, table in OPERATORS.values():
             if key in self.chosen:
                 value, loc = self.chosen[key]
@@ -219,7 +226,8 @@ class _FclReader:
         for var in self.got.outputs.values():
             for term in var.terms:
                 if term.kind != TermKind.SINGLETON:
-                    self.rep.error(term.loc, f"COGS needs singleton terms; `{term.name}` is not one")
+                    self.rep.error(term.loc, f"COGS needs singleton terms; `{term.name}` "
+                                             "is not one")
 
 
 def _points_to_trapezoid(points: list[tuple[float, float]]):
@@ -270,7 +278,8 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
         notes.append(f"ACCU SUM (unbounded) is {JFUZZYLOGIC}")
     if method == "MM":
         notes.append(f"METHOD MM is {JFUZZYLOGIC}")
-    comments = [f"(* {text.replace('*)', '* )')} *)" for text in (model.title, *model.notes) if text]
+    comments = [f"(* {text.replace('*)', '* )')} *)"
+                for text in (model.title, *model.notes) if text]
     lines = [*comments, f"FUNCTION_BLOCK {model.name}", ""]
     for section, variables in (("VAR_INPUT", rb.inputs), ("VAR_OUTPUT", outputs)):
         lines += [section, *(f"  {v.name} : REAL;" for v in variables), "END_VAR", ""]

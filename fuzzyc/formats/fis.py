@@ -17,8 +17,8 @@ import re
 
 from ..builder import _Rule
 from ..errors import Reporter
-from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
-                     SNorm, SourceLoc, TermKind, TNorm)
+from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, SNorm,
+                     SourceLoc, TermKind, TNorm)
 from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
 
 SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")

@@ -24,7 +24,7 @@ import numpy as np
 from lark.exceptions import UnexpectedInput
 
 from ..errors import Reporter
-from ..model import (Aggregation, Defuzzifier, Hedge, Implication, Inference, Model,
+from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
 from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
 from .export import (all_singletons, left_out, num, peaks_instead, refuse, rule_sentence,
@@ -265,6 +265,8 @@ class _FllReader:
                                         + " and ".join(table))
                 else:
                     setattr(inf, field, table[value])
+            else:
+                self._unset_operator_used(kind)
         if not self.got.outputs:
             self.got.inference = inf
             return
@@ -295,6 +297,19 @@ class _FllReader:
             self.rep.error(loc, f"defuzzifier `{defuzz}` is not supported: the model has "
                                 "Centroid, Bisector, MeanOfMaximum, WeightedAverage, WeightedSum")
         self.got.inference = inf
+
+    def _unset_operator_used(self, kind: str) -> None:
+        """fuzzylite fails on a rule that needs an operator given as `none`: so do we."""
+        connective = {"conjunction": Connective.AND, "disjunction": Connective.OR}.get(kind)
+        for rule in self.got.rules:
+            if connective is not None and rule.connective == connective and len(rule.clauses) > 1:
+                self.rep.error(rule.loc, f"this rule needs a {kind}, but its rule block has "
+                                         f"`{kind}: none`")
+                return
+        if kind == "implication" and self.settings.get("defuzzifier", {}).keys() & INTEGRAL.keys():
+            self.rep.error(next(iter(self.settings["defuzzifier"].values())),
+                           f"{next(iter(self.settings['defuzzifier']))} needs an implication, "
+                           "but the rule block has `implication: none`")
 
     def _require_constants(self, defuzz: str) -> None:
         for var in self.got.outputs.values():
@@ -411,7 +426,8 @@ def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):
 def _fll_variable(section: str, var, problems: list[str], is_input: bool,
                   extra: list[str] = ()) -> list[str]:
     lines = [f"{section}: {var.name}", "  enabled: true",
-             f"  range: {num(var.lo)} {num(var.hi)}", "  lock-range: false", *("  " + e for e in extra)]
+             f"  range: {num(var.lo)} {num(var.hi)}", "  lock-range: false",
+             *("  " + e for e in extra)]
     for name, kind, p in zip(var.names, var.kinds, var.params):
         term = _fll_term(TermKind(int(kind)), p, is_input)
         if term is None:

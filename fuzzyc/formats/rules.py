@@ -130,11 +130,15 @@ def _clause(name: Token, words: list[Token], negated: bool, got: Collected, loc_
     rep = got.rep
     var = got.inputs.get(name.value)
     if var is None:
-        known = list(got.inputs)
-        where = "an output: rules read inputs" if name.value in got.outputs else suggest(name.value, known)
+        where = ("an output: rules read inputs" if name.value in got.outputs
+                 else suggest(name.value, list(got.inputs)))
         rep.error(loc_of(name), f"no input variable `{name}`: {where}")
         return None
     *hedge_words, term = words
+    if not hedge_words and term.value.lower() == "any" and "any" not in var.term_names():
+        rep.error(loc_of(term), "hedge `any` (a clause that is always true) is not supported: "
+                                "leave the clause out")
+        return None
     hedge = Hedge.NONE
     if hedge_words:
         word = hedge_words[-1] if len(hedge_words) == 1 else None
@@ -160,7 +164,8 @@ def _conclusion(name: Token, words: list[Token], got: Collected, loc_of: LocOf) 
     rep = got.rep
     var = got.outputs.get(name.value)
     if var is None:
-        rep.error(loc_of(name), f"no output variable `{name}`: {suggest(name.value, list(got.outputs))}")
+        rep.error(loc_of(name), f"no output variable `{name}`: "
+                                f"{suggest(name.value, list(got.outputs))}")
         return None
     if len(words) > 1:
         rep.error(loc_of(words[0]), "a hedge on a conclusion is not supported: the model's "
