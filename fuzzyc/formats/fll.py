@@ -75,6 +75,7 @@ class _FllReader:
         self.section: str | None = None
         self.var: VarSpec | None = None
         self.settings: dict[str, dict] = {}   # kind -> {value: first line} for agreement checks
+        self.rule_lines: list[_Line] = []
 
     def loc(self, line: _Line, col: int) -> SourceLoc:
         return self.rep.loc(line.number, col)
@@ -83,6 +84,8 @@ class _FllReader:
         for number, raw in enumerate(text.splitlines(), start=1):
             if raw.split("#", 1)[0].strip():
                 self._line(_Line(number, raw))
+        for line in self.rule_lines:   # after every variable, wherever the rule blocks stand
+            self._parse_rule(line)
         self._inference()
         return self.got.model(self.path, text)
 
@@ -276,6 +279,7 @@ class _FllReader:
         defuzz, loc = choice.get("defuzzifier", ("Centroid", fallback))
         if defuzz in INTEGRAL:
             inf.defuzzifier = INTEGRAL[defuzz]
+            self._forbid_constants(defuzz)
             if aggregation not in AGGREGATIONS:
                 self.rep.error(agg_loc, f"aggregation `{aggregation}` with {defuzz} is "
                                                "not supported: use Maximum or UnboundedSum")
@@ -311,6 +315,14 @@ class _FllReader:
                            f"{next(iter(self.settings['defuzzifier']))} needs an implication, "
                            "but the rule block has `implication: none`")
 
+    def _forbid_constants(self, defuzz: str) -> None:
+        for var in self.got.outputs.values():
+            for term in var.terms:
+                if term.kind == TermKind.SINGLETON:
+                    self.rep.error(term.loc, f"a Constant term under {defuzz} is a membership "
+                                             "constant over the whole range in fuzzylite, a "
+                                             "singleton in the model: use WeightedAverage")
+
     def _require_constants(self, defuzz: str) -> None:
         for var in self.got.outputs.values():
             for term in var.terms:
@@ -320,6 +332,9 @@ class _FllReader:
 
     # ------------------------------------------------------------------ rules
     def _rule(self, line: _Line) -> None:
+        self.rule_lines.append(line)
+
+    def _parse_rule(self, line: _Line) -> None:
         text = line.value
         start = len(text) - len(text.lstrip())
         offset = line.value_col + start
