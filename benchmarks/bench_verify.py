@@ -1,0 +1,126 @@
+"""Verifier speed.
+
+1. The exact checks (coverage proof, consistency, completeness, continuity, monotone tables)
+   for the three paper rule bases: median of repeated runs, against the dense-grid coverage
+   search (20,000 engine evaluations) as the baseline in the same run.
+2. The closed-loop search for WEDM properties on the finish cut: 200 hypothesis examples of
+   300 s at 40 ms run as one batch, against one loop (batch 1) times 200 as the baseline.
+Writes benchmarks/results/verify.md (atomically).
+
+    python3 benchmarks/bench_verify.py [--quick]
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import pathlib
+import platform
+import sys
+import time
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
+
+from common import markdown_table, median_seconds, write_result  # noqa: E402
+
+PAPERS = {"wedm_three_region": ("e1", "e2", "ce2"), "wedm_corner": ("feedrate", "thickness", "angle"),
+          "milling_neurofuzzy": ("e", "cf")}
+
+
+def _aliases() -> None:
+    try:
+        import fuzzyc.plants  # noqa: F401
+    except ImportError:
+        sys.path.insert(0, str(ROOT / "tests"))
+        import conftest  # noqa: F401  (the aliasing lives there)
+
+
+def exact_checks(rb, inputs) -> None:
+    from fuzzyc.verify import coverage, tables
+    level = 0.25 if len(inputs) == 2 else 0.5
+    coverage.prove_covers(rb, list(inputs), level)
+    tables.consistent(rb)
+    tables.complete(rb, None)
+    tables.continuous(rb, None)
+    for name in inputs:
+        tables.monotone(rb, rb.outputs[0].name, name, "increasing", [])
+
+
+def bench_exact(repeats: int) -> str:
+    from fuzzyc.parser import load
+    from fuzzyc.verify import search
+    rows = []
+    for name, inputs in PAPERS.items():
+        rb = load(ROOT / "rulebases" / f"{name}.fz").rulebase
+        level = 0.25 if len(inputs) == 2 else 0.5
+        t_exact = median_seconds(lambda: exact_checks(rb, inputs), repeats)
+        t_grid = median_seconds(lambda: search.covers(rb, list(inputs), level, 20000), repeats)
+        rows.append([name, rb.n_rules, f"{t_exact * 1e3:.1f} ms", "yes" if t_exact < 5 else "NO",
+                     f"{t_grid * 1e3:.1f} ms", f"{t_grid / t_exact:.2f}"])
+    return markdown_table(["rule base", "rules", "all exact checks (median)", "< 5 s",
+                           "grid coverage search, 20k points (baseline)", "baseline / exact"],
+                          rows)
+
+
+LOOP_TEXT = """
+  verify {
+    closed_loop wedm_finish for DURATION s {
+      vary plant.height in [20, 50]
+      vary plant.tension in [600, 1000]
+      always ruptures < 1
+      always spark_freq < Yr1 + 4
+    }
+  }
+}
+"""
+
+
+def bench_closed_loop(examples: int, duration: float) -> str:
+    from fuzzyc.parser import parse
+    from fuzzyc.verify import Options, verify_model
+    path = ROOT / "rulebases" / "wedm_three_region.fz"
+    text = path.read_text().rstrip()[:-1] + LOOP_TEXT.replace("DURATION", f"{duration:g}")
+    model = parse(text, str(path))
+    model = dataclasses.replace(model, properties=model.properties[-1:])
+
+    def search(n, shrink_rounds):
+        start = time.perf_counter()
+        results = verify_model(model, Options(max_examples=n, seed=0,
+                                              shrink_rounds=shrink_rounds))
+        return time.perf_counter() - start, results
+
+    single, _ = search(1, shrink_rounds=0)      # the baseline: one loop, nothing else
+    batched, results = search(examples, shrink_rounds=4)
+    verdicts = "; ".join(f"{r.prop.text}: {r.summary()}" for r in results)
+    rows = [[examples, f"{duration:g} s", f"{batched:.1f} s", "yes" if batched < 60 else "NO",
+             f"{single:.1f} s", f"{single * examples:.0f} s",
+             f"{single * examples / batched:.1f}"]]
+    return (markdown_table(["examples", "simulated", "batched search incl. shrinking",
+                            "< 60 s", "one loop (batch 1, no shrinking)", "200 loops one by one (est.)",
+                            "speed-up"], rows)
+            + f"\nVerdicts: {verdicts}\n")
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--quick", action="store_true", help="fewer repeats, shorter loops")
+    args = parser.parse_args()
+    _aliases()
+    repeats = 3 if args.quick else 7
+    examples, duration = (50, 60.0) if args.quick else (200, 300.0)
+    text = (f"# Verifier speed\n\n{platform.python_implementation()} "
+            f"{platform.python_version()}, {platform.machine()}; "
+            f"`python3 benchmarks/bench_verify.py{' --quick' if args.quick else ''}`\n\n"
+            f"## Exact checks on the paper rule bases\n\n"
+            f"Coverage proof, consistency, completeness, continuity and a monotone-table check "
+            f"per input, median of {repeats} runs.\n\n{bench_exact(repeats)}\n"
+            f"## Closed-loop search, WEDM finish cut\n\n"
+            f"Hypothesis draws plant height (with steps) and tension; all examples run as one "
+            f"batch; failures are shrunk in batched rounds.\n\n"
+            f"{bench_closed_loop(examples, duration)}")
+    write_result(ROOT / "benchmarks" / "results" / "verify.md", text)
+    print(text)
+
+
+if __name__ == "__main__":
+    main()
