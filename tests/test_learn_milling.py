@@ -73,8 +73,7 @@ def test_pocket_is_faster_than_the_constant_feed_at_the_same_force_limit(learned
     controller.set_consequent_values("du", result.weights)
     adaptive = run_cycle(controller, milling, params, Learner(controller.model), False,
                          pocket.duration, pocket.period)
-    feed = milling.max_constant_feed(params, 330.0)  # 300 N + 10 %
-    assert pocket.baseline["params"]["feed"] == pytest.approx(feed, abs=0.1)
+    feed = pocket.baseline["params"]["feed"]   # largest within 330 N (tests/test_milling.py)
     constant = milling.run_constant_feed(params, np.array([feed]), pocket.duration * 2)
     assert adaptive.finished
     assert constant["peak_force"][0] <= 330.0

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from fuzzyc.plants import milling
+from fuzzyc.plants import milling, scenario
 
 SQRT_1_KR2 = np.sqrt(1 + 0.6 ** 2)    # |F_t + F_r| per tooth = F_t * sqrt(1 + kr^2)
 
@@ -75,3 +75,10 @@ def test_workpiece_spec_is_checked():
         milling.workpiece_from_spec({"pieces": [[10.0, 6.0]]})
     with pytest.raises(ValueError):
         milling.Workpiece([-1.0], [6.0], [6.0])
+
+
+@pytest.mark.parametrize("name", ["milling_step", "milling_pocket"])
+def test_scenario_baseline_is_the_largest_feed_within_330_N(name):
+    sc = scenario.load(name)
+    feed = milling.max_constant_feed(sc.plant_params(), 330.0)
+    assert sc.baseline["params"]["feed"] == pytest.approx(feed, abs=0.1)
