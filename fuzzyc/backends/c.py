@@ -42,6 +42,11 @@ def _int_table(rows) -> str:
     return "{" + ", ".join("{" + ", ".join(str(int(v)) for v in row) + "}" for row in rows) + "}"
 
 
+def _index_type(largest: int) -> str:
+    """The smallest unsigned C type holding 0..largest (small tables for small targets)."""
+    return "unsigned char" if largest <= 255 else "unsigned short"
+
+
 def _uses_peaks(var, method: Defuzzifier) -> bool:
     return method in PEAK_BASED or bool(np.all(var.kinds == TermKind.SINGLETON))
 
@@ -225,7 +230,7 @@ class HeaderWriter:
         plain = bool(np.all(conj) and not np.any(rb.negated) and np.all(rb.hedges == Hedge.NONE))
         self.out(f"/* Per rule and input: index into mu (all terms, then 1 and 0 for an absent "
                  f"clause). */",
-                 f"static const unsigned short {P}ANTECEDENTS[{P}N_RULES][{P}N_RB_INPUTS] = "
+                 f"static const {_index_type(zero)} {P}ANTECEDENTS[{P}N_RULES][{P}N_RB_INPUTS] = "
                  f"{_int_table(flat)};")
         if not plain:
             hedges = np.where(rb.antecedents >= 0, rb.hedges, 0)
@@ -277,13 +282,22 @@ class HeaderWriter:
         """Per input: break points and, per segment, the two active terms' linear pieces."""
         engine = CompiledRuleBase(self.rb)
         t, p, P, lit = self.real.name, self.p, self.P, self.real.lit
+        self.partition_of: list[int] = []   # inputs with equal partitions share one function
+        seen: dict[bytes, int] = {}
         for i, part in enumerate(engine.partitions):
+            key = part.breaks.tobytes() + part.table.tobytes()
+            self.partition_of.append(seen.setdefault(key, i))
+            if seen[key] != i:
+                continue
             nb = len(part.breaks)
             rows = [[r[0], 1.0 / r[2] if np.isfinite(r[2]) else 0.0, r[4],
                      r[1], 1.0 / r[3] if np.isfinite(r[3]) else 0.0, r[5]] for r in part.table]
             terms = part.table[:, 6:8].astype(int)
             var = self.rb.inputs[i]
-            self.out(f"/* {var.name}: terms " + ", ".join(var.names) + f"; breaks and per "
+            users = [v.name for k, v in enumerate(self.rb.inputs)
+                     if engine.partitions[k].breaks.tobytes() + engine.partitions[k].table.tobytes()
+                     == key]
+            self.out(f"/* {', '.join(users)}: terms " + ", ".join(var.names) + f"; breaks and per "
                      f"segment (anchor, 1/width, offset) x 2 with the two term ids. */",
                      f"static const {t} {P}BREAKS_{i}[{nb}] = "
                      "{" + ", ".join(lit(b) for b in part.breaks) + "};",
@@ -305,7 +319,7 @@ class HeaderWriter:
                      "}")
         self.out(f"/* Per cell (tuple of term ids, n_terms = none): its rules, padded with "
                  f"N_RULES. */",
-                 f"static const unsigned short {P}CELLS[{engine.lookup.shape[0]}]"
+                 f"static const {_index_type(self.rb.n_rules)} {P}CELLS[{engine.lookup.shape[0]}]"
                  f"[{engine.lookup.shape[1]}] = {_int_table(engine.lookup)};")
         self.engine = engine
 
@@ -316,7 +330,8 @@ class HeaderWriter:
         place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
         depth = self.engine.lookup.shape[1]
         code = [f"{t} m[{n_in}][2];", f"unsigned char id[{n_in}][2];"]
-        code += [f"{self.p}active_{i}(x[{i}], m[{i}], id[{i}]);" for i in range(n_in)]
+        code += [f"{self.p}active_{self.partition_of[i]}(x[{i}], m[{i}], id[{i}]);"
+                 for i in range(n_in)]
         code.append(f"for (r = 0; r < {1 << n_in}; ++r) {{   /* the 2**I active term tuples */")
         bits = [f"(r >> {n_in - 1 - i}) & 1" for i in range(n_in)]
         cell = " + ".join(f"id[{i}][{bits[i]}] * {int(place[i])}" for i in range(n_in))
@@ -515,7 +530,9 @@ class HeaderWriter:
                  f"#define {P}N_OUTPUTS {max(1, len(m.outputs))}",
                  f"#define {P}N_RB_INPUTS {len(rb.inputs)}",
                  f"#define {P}N_RB_OUTPUTS {len(rb.outputs)}",
-                 f"#define {P}N_RULES {rb.n_rules}", "")
+                 f"#define {P}N_RULES {rb.n_rules}", "",
+                 f"typedef {self.real.name} {self.p}real;   /* the type of in[], out[], x[], y[] */",
+                 "")
         for k, s in enumerate(m.signals):
             self.out(f"#define {P}IN_{c_identifier(s.name).upper()} {k}")
         for k, o in enumerate(m.outputs):

@@ -12,6 +12,7 @@ from __future__ import annotations
 import ctypes
 import hashlib
 import os
+import platform
 import subprocess
 import tempfile
 from pathlib import Path
@@ -142,3 +143,40 @@ class CController:
         y = np.empty((x.shape[0], len(rb.outputs)))
         self._lib.fz_rulebase(x.shape[0], self._ptr(x), self._ptr(y))
         return y
+
+
+MEASURE = """\
+#include "{header}"
+/* Out-of-line instances of the header's entry points, so size and stack can be measured. */
+{body}
+"""
+
+
+def footprint(header_name: str, header: str, entry_points: list[str],
+              flags: tuple[str, ...] = ("-O2",)) -> tuple[int, int]:
+    """(code + constant data bytes, worst-case stack bytes) of the header's entry points.
+
+    `entry_points` are full C definitions calling the header.  Code and constants are `size`'s
+    text (rodata included); stack is the sum over every function gcc reports with
+    -fstack-usage, an upper bound for any call chain among them.
+    """
+    with tempfile.TemporaryDirectory(dir=cache_dir()) as work:
+        Path(work, header_name).write_text(header)
+        Path(work, "measure.c").write_text(MEASURE.format(header=header_name,
+                                                          body="\n".join(entry_points)))
+        obj = Path(work, "measure.o")
+        # No unwind tables (a firmware build has none; they would count as code here) and, on
+        # x86-64, no red zone, which -fstack-usage would not count.
+        red_zone = ["-mno-red-zone"] if platform.machine() in ("x86_64", "AMD64") else []
+        cmd = ["gcc", *STRICT_FLAGS, *flags, "-fno-asynchronous-unwind-tables", *red_zone,
+               "-fstack-usage", "-c", "-o", str(obj),
+               str(Path(work, "measure.c"))]
+        result = subprocess.run(cmd, capture_output=True, text=True, cwd=work)
+        if result.returncode != 0:
+            raise FuzzycError([Diagnostic(None, "the C compiler rejected the generated code:\n"
+                                                + result.stderr)])
+        size = subprocess.run(["size", str(obj)], capture_output=True, text=True, check=True)
+        text_bytes = int(size.stdout.splitlines()[1].split()[0])
+        stack = sum(int(line.split("\t")[1])
+                    for line in Path(work, "measure.su").read_text().splitlines() if line)
+    return text_bytes, stack

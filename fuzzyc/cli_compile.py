@@ -1,0 +1,57 @@
+"""`fuzzyc compile FILE --target c|lut -o DIR`: the C header (whole chain) or a lookup table."""
+from __future__ import annotations
+
+from pathlib import Path
+
+from .atomic import write_text
+
+NUMERIC = ("float", "double")
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser(
+        "compile", help="generate C: a self-contained header (--target c) or a lookup table",
+        description="Writes DIR/NAME.h (target c) or DIR/NAME_lut.h (target lut) and prints "
+                    "its code + constant data size and stack use as compiled by gcc -O2.")
+    p.add_argument("file", metavar="FILE")
+    p.add_argument("--target", choices=("c", "lut"), default="c")
+    p.add_argument("-o", "--output", metavar="DIR", default=".")
+    p.add_argument("--numeric", choices=NUMERIC, default="float",
+                   help="real type of the generated code (target c)")
+    p.add_argument("--resolution", type=int, default=33,
+                   help="grid points per input (target lut)")
+    p.set_defaults(run=run)
+
+
+def _entry_points(name: str, target: str) -> list[str]:
+    if target == "lut":
+        return [f"void measure_lut(const float *x, float *y) {{ {name}_lut(x, y); }}"]
+    # What a firmware calls: init and step (the bare rule base is inlined inside step).
+    return [f"void measure_init({name}_state *s) {{ {name}_init(s); }}",
+            f"void measure_step({name}_state *s, const {name}_real *in, {name}_real *out) "
+            f"{{ {name}_step(s, in, out); }}"]
+
+
+def run(args) -> int:
+    from .backends.c import c_identifier, generate_header
+    from .backends.cload import footprint
+    from .formats import load_any
+    model = load_any(args.file)
+    name = c_identifier(model.name)
+    if args.target == "lut":
+        from .backends.lut import LookupTable, generate_lut_header
+        table = LookupTable(model.rulebase, args.resolution)
+        error = table.measure_error()
+        for var, e in zip(model.rulebase.outputs, error):
+            print(f"lookup table max error {var.name}: {e:.4g} "
+                  f"({e / (var.hi - var.lo):.3e} of its range)")
+        header_name, text = f"{name}_lut.h", generate_lut_header(model, table, error)
+    else:
+        header_name, text = f"{name}.h", generate_header(model, args.numeric)
+    path = Path(args.output) / header_name
+    write_text(path, text)
+    print(f"wrote {path}")
+    for level in ("-O2", "-Os"):
+        code, stack = footprint(header_name, text, _entry_points(name, args.target), (level,))
+        print(f"  gcc {level}: {code} bytes code + constant data, {stack} bytes stack")
+    return 0
