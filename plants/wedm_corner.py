@@ -78,7 +78,7 @@ def parse_moves(program: str) -> np.ndarray:
 
 
 @dataclass
-class Path:
+class ToolPath:
     """A polyline cut at constant steady feed: segment lengths and the part's corners."""
     lengths: np.ndarray          # (M,) mm
     corner_at: np.ndarray        # (C,) path position of each corner vertex, mm
@@ -89,7 +89,7 @@ class Path:
         return float(self.lengths.sum())
 
 
-def path_from_moves(moves: np.ndarray, lead_in: int = 1) -> Path:
+def path_from_moves(moves: np.ndarray, lead_in: int = 1) -> ToolPath:
     """Corners between consecutive moves; the first `lead_in` moves reach the part, so the
     junction after them is the entry point, not a corner of the part."""
     lengths = np.hypot(moves[:, 0], moves[:, 1])
@@ -97,10 +97,10 @@ def path_from_moves(moves: np.ndarray, lead_in: int = 1) -> Path:
     turn = np.angle(np.exp(1j * (heading[1:] - heading[:-1])))      # wrapped to (-pi, pi]
     angle = 180.0 - np.degrees(np.abs(turn))
     at = np.cumsum(lengths)[:-1]
-    return Path(lengths, at[lead_in:], angle[lead_in:])
+    return ToolPath(lengths, at[lead_in:], angle[lead_in:])
 
 
-def test_path() -> Path:
+def test_path() -> ToolPath:
     return path_from_moves(parse_moves(TEST_PROGRAM))
 
 
@@ -119,7 +119,10 @@ def lag_factor(feed, thickness, guide_gap):
     return np.asarray(feed, float) * (guide_gap / 2 + np.asarray(thickness, float) / 8)
 
 
-def fit_table2(guide_gaps: np.ndarray = np.linspace(0.5, 60.0, 240)) -> CornerFit:
+GUIDE_GAPS = np.linspace(0.5, 60.0, 240)   # mm, the H values searched
+
+
+def fit_table2(guide_gaps: np.ndarray = GUIDE_GAPS) -> CornerFit:
     """Least squares per angle column; H by a grid search over one shared value."""
     best = None
     for gap in guide_gaps:   # a 1-D search over the one nonlinear parameter
@@ -141,7 +144,7 @@ FIT = fit_table2()
 class CornerParams:
     feed: float | np.ndarray = 160.0          # steady cutting feed, mm^2/min
     thickness: float | np.ndarray = 50.0      # mm
-    path: Path = field(default_factory=test_path)
+    path: ToolPath = field(default_factory=test_path)
     fit: CornerFit = FIT
     zone: float = KERF                        # reduction acts within this distance of a vertex
 
@@ -240,7 +243,7 @@ def _advance(params: CornerParams, s: np.ndarray, keep: np.ndarray, dt: float) -
                       path.length)
 
 
-def _nearest_corner(path: Path, s: np.ndarray) -> np.ndarray:
+def _nearest_corner(path: ToolPath, s: np.ndarray) -> np.ndarray:
     right = np.clip(np.searchsorted(path.corner_at, s), 0, len(path.corner_at) - 1)
     left = np.clip(right - 1, 0, len(path.corner_at) - 1)
     closer_left = np.abs(path.corner_at[left] - s) < np.abs(path.corner_at[right] - s)
