@@ -70,8 +70,9 @@ class Learner:
         """One sample: this sample's PI terms (N,); with `learn`, the winning weight changes."""
         e = np.asarray(signals[self.error], float)
         cf = np.asarray(signals[self.change], float)
+        pi = 0.5 * (e ** 2 + self.rho * cf ** 2)            # eq. 6.22, this sample's term
         if not learn:
-            return 0.5 * (e ** 2 + self.rho * cf ** 2)
+            return pi
         x = np.zeros((e.shape[0], len(self.model.rulebase.inputs)))
         x[:, self.inputs[0]], x[:, self.inputs[1]] = e, cf
         winner = np.argmax(activations(self.model.rulebase, x), axis=1)
@@ -82,7 +83,7 @@ class Learner:
         learnable = self.var.learnable
         self.weights = np.where(learnable, np.clip(self.weights + votes, self.var.lo, self.var.hi),
                                 self.weights)
-        return 0.5 * (e ** 2 + self.rho * cf ** 2)
+        return pi
 
 
 @dataclass
