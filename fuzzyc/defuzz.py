@@ -19,6 +19,7 @@ from itertools import product
 
 import numpy as np
 
+from .centroid import ClosedFormCentroid
 from .membership import term_values, trapezoid
 from .model import Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable
 
@@ -64,8 +65,11 @@ class OutputDefuzzifier:
         self.use_peaks = method in PEAK_BASED or bool(np.all(kinds == TermKind.SINGLETON))
         self.sampled = not self.use_peaks and bool(
             np.any((kinds != TermKind.TRAPEZOID) & (kinds != TermKind.SINGLETON)))
+        self.closed_form = None
         if not self.use_peaks:
             self._prepare_area(var)
+            if method == Defuzzifier.CENTROID:
+                self.closed_form = ClosedFormCentroid.build(var, inference)
 
     # -- preparation of the area-based case -------------------------------------------------
 
@@ -107,6 +111,8 @@ class OutputDefuzzifier:
         """A rough count of floats per sample, so the engine can size its chunks."""
         if self.use_peaks:
             return 8 * n_candidates
+        if self.closed_form is not None:
+            return self.closed_form.work_per_sample()
         n_items = self.var.n_terms if self._static_items() else n_candidates
         n_points = GRID_POINTS if self.sampled else len(self.static_points) + 8 * n_items ** 2
         return 4 * n_points * n_items
@@ -115,26 +121,37 @@ class OutputDefuzzifier:
         return self.inference.aggregation == Aggregation.MAX or \
             self.inference.implication == Implication.PRODUCT
 
-    def __call__(self, act: np.ndarray, J: np.ndarray) -> np.ndarray:
-        var, inf = self.var, self.inference
-        method = inf.defuzzifier
+    def strength_aggregation(self) -> Aggregation | None:
+        """How the terms' strengths alpha are aggregated over the rules, or None when this
+        output needs every rule on its own (the SUM of MIN-clipped terms)."""
         if self.use_peaks:
-            agg = Aggregation.SUM if method in (Defuzzifier.WEIGHTED_AVERAGE,
-                                                Defuzzifier.WEIGHTED_SUM) else inf.aggregation
-            alpha = term_strengths(act, J, var.n_terms, agg)
+            return Aggregation.SUM if self.inference.defuzzifier in (
+                Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM) \
+                else self.inference.aggregation
+        return self.inference.aggregation if self._static_items() else None
+
+    def from_strengths(self, alpha: np.ndarray) -> np.ndarray:
+        """The crisp output from the terms' strengths alpha (N, T) (see strength_aggregation)."""
+        var, method = self.var, self.inference.defuzzifier
+        if self.use_peaks:
             num, den = alpha @ self.peaks, alpha.sum(axis=1)
             if method == Defuzzifier.WEIGHTED_SUM:
                 return np.where(den > 0, num, var.default)
             return _safe_ratio(num, den, var.default)
-        if self._static_items():
-            # max_r IMP(act_r, mu_j) = IMP(max_r act_r, mu_j); sum_r act_r mu_j = (sum act_r) mu_j
-            levels = term_strengths(act, J, var.n_terms, inf.aggregation)
-            ids = np.arange(var.n_terms)
-        else:   # SUM of MIN-clipped terms: every candidate rule is its own item
-            levels = np.where(J >= 0, act, 0.0)
-            ids = np.broadcast_to(J, act.shape)
-        x, f = self._sample(levels, ids)
+        if self.closed_form is not None:
+            return self.closed_form(alpha)
+        # max_r IMP(act_r, mu_j) = IMP(max_r act_r, mu_j); sum_r act_r mu_j = (sum act_r) mu_j
+        x, f = self._sample(alpha, np.arange(var.n_terms))
         return _area_defuzzify(method, x, f, var.default)
+
+    def __call__(self, act: np.ndarray, J: np.ndarray) -> np.ndarray:
+        aggregation = self.strength_aggregation()
+        if aggregation is not None:
+            return self.from_strengths(term_strengths(act, J, self.var.n_terms, aggregation))
+        # SUM of MIN-clipped terms: every candidate rule is its own item
+        levels = np.where(J >= 0, act, 0.0)
+        x, f = self._sample(levels, np.broadcast_to(J, act.shape))
+        return _area_defuzzify(self.inference.defuzzifier, x, f, self.var.default)
 
     def _sample(self, levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Points (N, P) sorted, and M at them."""

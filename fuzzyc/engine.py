@@ -17,6 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .defuzz import OutputDefuzzifier
+from .grid import GridStrengths
 from .membership import HEDGE_EXPONENT, LocalPartition, memberships
 from .model import Connective, Hedge, RuleBase, SNorm, TNorm
 
@@ -77,9 +78,11 @@ class CompiledRuleBase:
         self.partitions = self._sparse_partitions(rb) if allow_sparse else None
         self.sparse = self.partitions is not None
         n_candidates = rb.n_rules
+        self.grid = None
         if self.sparse:
             self._build_lookup(rb)
             n_candidates = self.lookup.shape[1] << len(rb.inputs)
+            self.grid = self._grid(rb)
         work = max([d.work_per_sample(n_candidates) for d in self.defuzzifiers]
                    + [4 * n_candidates * max(1, len(rb.inputs))])
         self.chunk_limit = max(1, CHUNK_FLOATS // work)
@@ -94,6 +97,15 @@ class CompiledRuleBase:
             return None
         parts = [LocalPartition.build(v) for v in rb.inputs]
         return None if any(p is None for p in parts) else parts
+
+    def _grid(self, rb: RuleBase) -> GridStrengths | None:
+        """The grid fast path, when every output can be defuzzified from term strengths
+        aggregated the same way."""
+        aggregations = {d.strength_aggregation() for d in self.defuzzifiers}
+        if len(aggregations) != 1 or None in aggregations or \
+                not GridStrengths.fits(rb, self.partitions, self.lookup.shape[1]):
+            return None
+        return GridStrengths(rb, self.partitions, self.lookup, self.radix, aggregations.pop())
 
     def _build_lookup(self, rb: RuleBase) -> None:
         """lookup[cell] = the rules whose antecedent is that term tuple, padded with rule R."""
@@ -129,8 +141,13 @@ class CompiledRuleBase:
         return (mu if self.unit_weights else mu * self.weights[rid]), rid
 
     def evaluate_chunk(self, x: np.ndarray) -> np.ndarray:
-        act, rid = self.candidates(x)
         y = np.empty((x.shape[0], len(self.defuzzifiers)))
+        if self.grid is not None:
+            alpha = self.grid(x)
+            for o, defuzzify in enumerate(self.defuzzifiers):
+                y[:, o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T)
+            return y
+        act, rid = self.candidates(x)
         for o, defuzzify in enumerate(self.defuzzifiers):
             J = self.rb.consequents[:, o] if rid is None else self.consequents[rid, o]
             y[:, o] = defuzzify(act, J)

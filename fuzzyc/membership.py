@@ -98,6 +98,9 @@ class LocalPartition:
     table: np.ndarray     # (B + 1, 8): anchor, width, offset, term id of the two slots
     n_terms: int
 
+    def __post_init__(self):
+        self.columns = np.ascontiguousarray(self.table[:, :6].T)  # anchor, width, offset
+
     @classmethod
     def build(cls, var: Variable) -> "LocalPartition | None":
         """The partition of `var`, or None if the fast path does not apply to its terms."""
@@ -132,21 +135,28 @@ class LocalPartition:
                     offset[k, s] = 1.0
         return cls(breaks, np.hstack([anchor, width, offset, terms]), n_terms)
 
-    def active(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """x (N,) -> (term ids (N, 2), memberships (N, 2)); NaN x -> dummy ids, 0."""
+    def locate(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """x (N,) -> (segment (N,), memberships of the segment's two slots (2, N)).
+
+        NaN x -> segment 0 with memberships 0.  Slot-major so numpy's loops run over N."""
         # Outside the outermost break points every term is constant, so clipping changes no
         # membership and keeps infinities out of the arithmetic.
         xc = np.clip(x, self.breaks[0], self.breaks[-1])
         seg = np.searchsorted(self.breaks, xc, side="right")
-        nan = np.isnan(x)
-        has_nan = nan.any()
+        has_nan = np.isnan(xc.sum())      # one pass; an inf - inf false alarm only costs time
         if has_nan:
+            nan = np.isnan(xc)
             xc = np.where(nan, self.breaks[0], xc)
             seg = np.where(nan, 0, seg)
-        row = self.table.take(seg, axis=0)
-        mu = (xc[:, None] - row[:, 0:2]) / row[:, 2:4] + row[:, 4:6]
-        terms = row[:, 6:8].astype(np.intp)
+        row = self.columns.take(seg, axis=1)
+        mu = (xc - row[0:2]) / row[2:4] + row[4:6]
         if has_nan:
-            mu[nan] = 0.0
-            terms[nan] = self.n_terms
-        return terms, mu
+            mu[:, nan] = 0.0
+        return seg, mu
+
+    def active(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """x (N,) -> (term ids (N, 2), memberships (N, 2)); NaN x -> dummy ids, 0."""
+        seg, mu = self.locate(x)
+        terms = self.table[seg, 6:8].astype(np.intp)
+        terms[np.isnan(x)] = self.n_terms
+        return terms, mu.T

@@ -1,0 +1,114 @@
+"""Exact centroid in closed form, without sorting break points per sample.
+
+Two cases where the aggregated membership M(u) is a fixed combination of fixed shapes, each cut
+or scaled by one level that depends on the sample:
+- MAX aggregation of MIN-clipped terms, when at most two terms are positive at any u:
+  max_j g_j = sum_j g_j - sum_{j<k overlapping} min(g_j, g_k) (inclusion-exclusion; at a point
+  where only one term is positive the pair terms vanish), with g_j = min(alpha_j, mu_j) and
+  min(g_j, g_k) = min(min(alpha_j, alpha_k), min(mu_j, mu_k)).  min(mu_j, mu_k) is a fixed
+  polyline, so every piece is "a fixed polyline clipped at a level h".
+- SUM aggregation of PRODUCT-scaled terms: M = sum_j alpha_j mu_j, linear in alpha.
+Integral and first moment of a polyline clipped at h: on each segment, min(h, line) is linear on
+both sides of the point where the line crosses h, so two trapezoids are exact.
+Everything else (and singleton or smooth output terms) keeps the general path in `defuzz`.
+"""
+from __future__ import annotations
+
+from itertools import combinations
+
+import numpy as np
+
+from .membership import LocalPartition, trapezoid
+from .model import Aggregation, Implication, Inference, TermKind, Variable
+
+
+def _polyline(var: Variable, terms: tuple[int, ...]) -> tuple[np.ndarray, np.ndarray]:
+    """Vertices (u, min over `terms` of mu) of that function on [lo, hi]: the terms' break
+    points and the crossings of their edges (where the minimum switches term)."""
+    lo, hi = float(var.lo), float(var.hi)
+    p = np.asarray(var.params, dtype=float)[list(terms)]
+    knots = [lo, hi] + [v for v in p.ravel() if lo < v < hi]
+    edges = [(a, b, 1.0) for a, b, _, _ in p if np.isfinite(a)] + \
+        [(d, c, 1.0) for _, _, c, d in p if np.isfinite(d)]   # lines through (foot, 0), (top, 1)
+    for (a1, b1, _), (a2, b2, _) in combinations(edges, 2):
+        s1, s2 = 1.0 / (b1 - a1), 1.0 / (b2 - a2)
+        if s1 != s2:                           # s1 (u - a1) = s2 (u - a2)
+            knots.append((s1 * a1 - s2 * a2) / (s1 - s2))
+    u = np.unique(np.clip([k for k in knots if np.isfinite(k)], lo, hi))
+    y = trapezoid(u[:, None], p[:, 0], p[:, 1], p[:, 2], p[:, 3]).min(axis=1)
+    return u, y
+
+
+def _clipped_integrals(h, x0, x1, y0, y1) -> tuple[np.ndarray, np.ndarray]:
+    """Area and first moment of min(h, line from (x0, y0) to (x1, y1)), elementwise."""
+    dy = y1 - y0
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(dy != 0.0, (h - y0) / np.where(dy != 0.0, dy, 1.0), 0.0)
+    t = np.clip(t, 0.0, 1.0)
+    xm = x0 + t * (x1 - x0)
+    f0, fm, f1 = np.minimum(h, y0), np.minimum(h, y0 + t * dy), np.minimum(h, y1)
+    da, db = xm - x0, x1 - xm
+    area = 0.5 * (da * (f0 + fm) + db * (fm + f1))
+    moment = (da * (f0 * (2.0 * x0 + xm) + fm * (x0 + 2.0 * xm))
+              + db * (fm * (2.0 * xm + x1) + f1 * (xm + 2.0 * x1))) / 6.0
+    return area, moment
+
+
+class ClosedFormCentroid:
+    """The exact centroid of one output from its term strengths alpha (N, T)."""
+
+    def __init__(self, var: Variable, clip_pairs: list[tuple[int, int]] | None):
+        self.default = float(var.default)
+        self.clip = clip_pairs is not None
+        shapes = [(j,) for j in range(var.n_terms)] + (clip_pairs or [])
+        self.pairs = np.array(clip_pairs or [], dtype=np.intp).reshape(-1, 2)
+        segments = []          # (shape, sign, x0, x1, y0, y1) of every piece with some area
+        for s, terms in enumerate(shapes):
+            u, y = _polyline(var, terms)
+            sign = 1.0 if len(terms) == 1 else -1.0
+            segments += [(s, sign, u[k], u[k + 1], y[k], y[k + 1]) for k in range(len(u) - 1)
+                         if u[k + 1] > u[k] and max(y[k], y[k + 1]) > 0.0]
+        seg = np.array(segments, dtype=float).reshape(-1, 6)
+        self.shape = seg[:, 0].astype(np.intp)
+        self.sign = seg[:, 1]
+        self.x0, self.x1, self.y0, self.y1 = (seg[:, k, None] for k in range(2, 6))
+        if not self.clip:      # area and moment of each whole term, scaled by alpha later
+            area, moment = _clipped_integrals(np.inf, self.x0, self.x1, self.y0, self.y1)
+            self.term_area = np.bincount(self.shape, area[:, 0], var.n_terms)
+            self.term_moment = np.bincount(self.shape, moment[:, 0], var.n_terms)
+
+    @classmethod
+    def build(cls, var: Variable, inference: Inference) -> "ClosedFormCentroid | None":
+        """The closed form for this output, or None where it does not apply."""
+        a, b, c, d = np.asarray(var.params, dtype=float).T
+        vertical = np.any(np.isfinite(a) & (a >= b)) or np.any(np.isfinite(d) & (c >= d))
+        if var.n_terms == 0 or np.any(var.kinds != TermKind.TRAPEZOID) or vertical:
+            return None
+        if inference.aggregation == Aggregation.SUM and \
+                inference.implication == Implication.PRODUCT:
+            return cls(var, None)
+        if inference.aggregation == Aggregation.MAX and \
+                inference.implication == Implication.MIN and LocalPartition.build(var) is not None:
+            pairs = [(j, k) for j, k in combinations(range(var.n_terms), 2)
+                     if np.any(_polyline(var, (j, k))[1] > 0.0)]
+            return cls(var, pairs)
+        return None
+
+    def work_per_sample(self) -> int:
+        return 16 * len(self.shape)
+
+    def __call__(self, alpha: np.ndarray) -> np.ndarray:
+        if not self.clip:
+            area = (alpha * self.term_area).sum(axis=1)
+            moment = (alpha * self.term_moment).sum(axis=1)
+        else:
+            levels = alpha.T                                             # (T, N)
+            if len(self.pairs):
+                levels = np.concatenate([levels, np.minimum(levels[self.pairs[:, 0]],
+                                                            levels[self.pairs[:, 1]])])
+            h = levels.take(self.shape, axis=0)                          # (S, N)
+            a, m = _clipped_integrals(h, self.x0, self.x1, self.y0, self.y1)
+            # sums in a fixed order (not BLAS), so a sample's result is independent of N
+            area, moment = (self.sign[:, None] * a).sum(axis=0), (self.sign[:, None] * m).sum(axis=0)
+        ok = area > 0
+        return np.where(ok, moment / np.where(ok, area, 1.0), self.default)
