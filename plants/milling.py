@@ -132,24 +132,30 @@ def initial_state(params: MillingParams, batch: int, rng: np.random.Generator | 
 
 def peak_force(params: MillingParams, x_centre: np.ndarray, feed_per_tooth: np.ndarray
                ) -> np.ndarray:
-    """Peak resultant force over one revolution (eqs. 6.3-6.12), batched over (N,)."""
+    """Peak resultant force over one revolution (eqs. 6.3-6.12), batched over (N,).
+
+    ks, kr, runout and runout_phase may be scalars or (N,) arrays (one per loop).
+    """
     m, R = params.teeth, params.radius
     angles = 2 * np.pi * np.arange(params.angle_samples) / params.angle_samples
     tooth = np.arange(m)
     theta = np.mod(angles[:, None] + 2 * np.pi * tooth[None, :] / m, 2 * np.pi)   # (A, m)
-    radii = R + params.runout * np.cos(2 * np.pi * tooth / m - params.runout_phase)
+    runout, phase = (np.atleast_1d(np.asarray(v, float))[:, None]
+                     for v in (params.runout, params.runout_phase))
+    radii = R + runout * np.cos(2 * np.pi * tooth / m - phase)                     # (N or 1, m)
     k = np.arange(1, m + 1)
-    # r_i - r_{i-k} for every tooth i and look-back k: (m, m)
-    dr = radii[:, None] - radii[(tooth[:, None] - k[None, :]) % m]
+    # r_i - r_{i-k} for every tooth i and look-back k: (N or 1, m, m)
+    dr = radii[..., :, None] - radii[..., (tooth[:, None] - k[None, :]) % m]
     sin_t = np.sin(theta)
     ft = feed_per_tooth[:, None, None, None]
-    h = np.maximum(0.0, np.min(k * ft * sin_t[None, :, :, None] + dr[None, None], axis=-1))
+    h = np.maximum(0.0, np.min(k * ft * sin_t[None, :, :, None] + dr[:, None], axis=-1))
     tip_x = x_centre[:, None, None] + R * sin_t[None]                               # (N, A, m)
     b, a_r = params.workpiece.at(tip_x)
     cos_t = np.cos(theta)
     engaged = (theta <= np.pi)[None] & (cos_t[None] >= 1.0 - a_r / R) & (b > 0)
-    Ft = params.ks * b * h * engaged
-    Fr = params.kr * Ft
+    ks, kr = (np.atleast_1d(np.asarray(v, float))[:, None, None] for v in (params.ks, params.kr))
+    Ft = ks * b * h * engaged
+    Fr = kr * Ft
     FX = np.sum(Ft * cos_t + Fr * sin_t, axis=-1)
     FY = np.sum(-Ft * sin_t + Fr * cos_t, axis=-1)
     return np.max(np.hypot(FX, FY), axis=-1)
@@ -252,7 +258,9 @@ def max_constant_feed(params: MillingParams, force_limit: float, feed_range=(1.0
 
     The baseline a CAD/CAM programmer would pick given the force limit. At a constant feed the
     force at a tool position is the steady one, so the whole path is checked at once (tool
-    centre every `spacing` mm) and the feed found by bisection (peak force rises with feed).
+    centre every `spacing` mm) and the feed found by bracketing it (peak force rises with
+    feed): the Illinois variant of regula falsi, a few evaluations as the force is nearly
+    linear in the feed, and the returned feed always keeps the force within the limit.
     """
     x = np.arange(-params.radius, params.workpiece.end + params.radius, spacing)
     revs_per_min = params.spindle_rpm * params.teeth
@@ -261,11 +269,22 @@ def max_constant_feed(params: MillingParams, force_limit: float, feed_range=(1.0
         return float(peak_force(params, x, np.full(x.shape, feed / revs_per_min)).max())
 
     lo, hi = feed_range
-    if worst(lo) > force_limit:
+    f_lo, f_hi = worst(lo) - force_limit, worst(hi) - force_limit
+    if f_lo > 0:
         raise ValueError(f"even {lo} mm/min exceeds the force limit {force_limit} N")
-    if worst(hi) <= force_limit:
+    if f_hi <= 0:
         return hi
+    side = 0
     while hi - lo > tolerance:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if worst(mid) <= force_limit else (lo, mid)
+        mid = float(np.clip(lo - f_lo * (hi - lo) / (f_hi - f_lo), lo + tolerance / 4,
+                            hi - tolerance / 4))
+        f_mid = worst(mid) - force_limit
+        if f_mid <= 0:
+            lo, f_lo = mid, f_mid
+            f_hi = f_hi / 2 if side == -1 else f_hi     # Illinois: halve the stuck end
+            side = -1
+        else:
+            hi, f_hi = mid, f_mid
+            f_lo = f_lo / 2 if side == 1 else f_lo
+            side = 1
     return lo

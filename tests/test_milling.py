@@ -39,6 +39,16 @@ def test_small_radial_depth_limits_the_engagement_angle():
     assert force[0] == pytest.approx(450 * np.sin(np.pi / 3) * SQRT_1_KR2, rel=1e-9)
 
 
+def test_params_per_loop_match_scalar_runs():
+    # a batch with (N,) ks, kr, runout gives each loop the force of its own scalar run
+    ks, kr, runout = np.array([1200.0, 1800.0]), np.array([0.5, 0.7]), np.array([0.0, 0.008])
+    batch = milling.MillingParams(ks=ks, kr=kr, runout=runout)
+    x, ft = np.array([10.0, 10.0]), np.array([0.03, 0.03])
+    each = [milling.peak_force(milling.MillingParams(ks=ks[i], kr=kr[i], runout=runout[i]),
+                               x[i:i + 1], ft[i:i + 1])[0] for i in range(2)]
+    np.testing.assert_allclose(milling.peak_force(batch, x, ft), each, rtol=1e-12)
+
+
 def test_no_force_in_air_and_depth_follows_the_tool_tip():
     p = milling.MillingParams(runout=0.0)          # step cut: air until 2 mm, b=6, then b=12
     x = np.array([-5.0, 10.0, 30.0, 60.0])         # tool centres
