@@ -35,7 +35,7 @@ def test_eval_csv_batch(tmp_path, capsys):
     lines = capsys.readouterr().out.strip().splitlines()
     assert lines[0] == "e1,e2,ce2,du1,du2"
     rows = [[float(v) for v in line.split(",")] for line in lines[1:]]
-    assert [r[3:] for r in rows] == pytest.approx([[1, 1], [0.75, 0.75], [0.75, 0.5]])
+    assert [r[3:] for r in rows] == [pytest.approx(v) for v in ([1, 1], [0.75, 0.75], [0.75, 0.5])]
 
 
 @pytest.mark.parametrize("args,words", [
