@@ -19,13 +19,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "compile to C, simulate against plant models, learn, verify, convert.")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMAND_MODULES:
-        try:  # TRANSITIONAL while the subcommands land; made strict before release
-            module = importlib.import_module(f"fuzzyc.{name}")
-        except ModuleNotFoundError as exc:
-            if exc.name != f"fuzzyc.{name}":
-                raise
-            continue
-        module.add_parser(subparsers)
+        importlib.import_module(f"fuzzyc.{name}").add_parser(subparsers)
     return parser
 
 
