@@ -39,19 +39,48 @@ def _polyline(var: Variable, terms: tuple[int, ...]) -> tuple[np.ndarray, np.nda
     return u, y
 
 
-def _clipped_integrals(h, x0, x1, y0, y1) -> tuple[np.ndarray, np.ndarray]:
-    """Area and first moment of min(h, line from (x0, y0) to (x1, y1)), elementwise."""
-    dy = y1 - y0
-    with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(dy != 0.0, (h - y0) / np.where(dy != 0.0, dy, 1.0), 0.0)
-    t = np.clip(t, 0.0, 1.0)
-    xm = x0 + t * (x1 - x0)
-    f0, fm, f1 = np.minimum(h, y0), np.minimum(h, y0 + t * dy), np.minimum(h, y1)
-    da, db = xm - x0, x1 - xm
-    area = 0.5 * (da * (f0 + fm) + db * (fm + f1))
-    moment = (da * (f0 * (2.0 * x0 + xm) + fm * (x0 + 2.0 * xm))
-              + db * (fm * (2.0 * xm + x1) + f1 * (xm + 2.0 * x1))) / 6.0
-    return area, moment
+class Segments:
+    """Pieces (x0, y0)-(x1, y1) of polylines, each with a sign; the signed area and first
+    moment of min(h, piece) for a level h per piece and sample, in closed form.
+
+    With ylo, yhi the piece's lower and upper end, b = min(h, ylo) and g = clip(h - ylo, 0,
+    yhi - ylo): min(h, y) = b + min(g, y - ylo), and the part above ylo is a triangle cut at g,
+    whose run is w = g dx / (yhi - ylo).  Integrating (u dx, u u du):
+      area   = b dx + g (dx - w / 2)
+      moment = b C + g (C - w (e + s w / 6)),  C = (x1^2 - x0^2) / 2,
+    e = x0 / 2, s = +1 for a rising piece, e = x1 / 2, s = -1 for a falling one.
+    """
+
+    def __init__(self, pieces: np.ndarray):
+        """pieces (S, 6): level index, sign, x0, x1, y0, y1."""
+        self.level = pieces[:, 0].astype(np.intp)
+        sign, x0, x1, y0, y1 = (pieces[:, k] for k in range(1, 6))
+        rising = y1 >= y0
+        self.ylo = np.minimum(y0, y1)[:, None]
+        self.rise = np.abs(y1 - y0)[:, None]
+        dx = x1 - x0
+        run = np.divide(dx, self.rise[:, 0], out=np.zeros_like(dx), where=self.rise[:, 0] > 0)
+        c = 0.5 * (x1 * x1 - x0 * x0)
+        e = 0.5 * np.where(rising, x0, x1)
+        # the sign folded into the constants: every result below is already signed
+        self.run = run[:, None]
+        self.dx, self.half = (sign * dx)[:, None], (0.5 * sign)[:, None]
+        self.c, self.e = (sign * c)[:, None], (sign * e)[:, None]
+        self.q = (sign * np.where(rising, 1.0, -1.0) / 6.0)[:, None]
+
+    def __len__(self) -> int:
+        return len(self.level)
+
+    def integrals(self, levels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """levels (L, N) -> (area (N,), moment (N,)): sums over the pieces, fixed order."""
+        h = levels.take(self.level, axis=0)                              # (S, N)
+        b = np.minimum(h, self.ylo)
+        g = np.clip(h - self.ylo, 0.0, self.rise)
+        w = g * self.run
+        area = b * self.dx + g * (self.dx - w * self.half)
+        moment = b * self.c + g * (self.c - w * (self.e + self.q * w))
+        # column sums in a fixed order (not BLAS), so a sample's result is independent of N
+        return area.sum(axis=0), moment.sum(axis=0)
 
 
 class ClosedFormCentroid:
@@ -68,14 +97,11 @@ class ClosedFormCentroid:
             sign = 1.0 if len(terms) == 1 else -1.0
             segments += [(s, sign, u[k], u[k + 1], y[k], y[k + 1]) for k in range(len(u) - 1)
                          if u[k + 1] > u[k] and max(y[k], y[k + 1]) > 0.0]
-        seg = np.array(segments, dtype=float).reshape(-1, 6)
-        self.shape = seg[:, 0].astype(np.intp)
-        self.sign = seg[:, 1]
-        self.x0, self.x1, self.y0, self.y1 = (seg[:, k, None] for k in range(2, 6))
+        self.segments = Segments(np.array(segments, dtype=float).reshape(-1, 6))
         if not self.clip:      # area and moment of each whole term, scaled by alpha later
-            area, moment = _clipped_integrals(np.inf, self.x0, self.x1, self.y0, self.y1)
-            self.term_area = np.bincount(self.shape, area[:, 0], var.n_terms)
-            self.term_moment = np.bincount(self.shape, moment[:, 0], var.n_terms)
+            # "sample" t: term t at an infinite level (not clipped), the others at 0
+            levels = np.where(np.eye(var.n_terms) > 0, np.inf, 0.0)
+            self.term_area, self.term_moment = self.segments.integrals(levels)
 
     @classmethod
     def build(cls, var: Variable, inference: Inference) -> "ClosedFormCentroid | None":
@@ -95,7 +121,7 @@ class ClosedFormCentroid:
         return None
 
     def work_per_sample(self) -> int:
-        return 16 * len(self.shape)
+        return 16 * len(self.segments)
 
     def __call__(self, alpha: np.ndarray) -> np.ndarray:
         if not self.clip:
@@ -106,9 +132,6 @@ class ClosedFormCentroid:
             if len(self.pairs):
                 levels = np.concatenate([levels, np.minimum(levels[self.pairs[:, 0]],
                                                             levels[self.pairs[:, 1]])])
-            h = levels.take(self.shape, axis=0)                          # (S, N)
-            a, m = _clipped_integrals(h, self.x0, self.x1, self.y0, self.y1)
-            # sums in a fixed order (not BLAS), so a sample's result is independent of N
-            area, moment = (self.sign[:, None] * a).sum(axis=0), (self.sign[:, None] * m).sum(axis=0)
+            area, moment = self.segments.integrals(levels)
         ok = area > 0
         return np.where(ok, moment / np.where(ok, area, 1.0), self.default)
