@@ -25,6 +25,12 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     if bad:
         return [[Evidence("closed-loop", Status.UNDECIDED, f"`vary {bad[0]}`: only plant "
                           f"parameters (plant.NAME) can vary")] for _ in checks]
+    if options.backend == "c":
+        try:
+            from fuzzyc.backends.cload import CController  # noqa: F401
+        except ImportError as exc:
+            return [[Evidence("closed-loop", Status.UNDECIDED, f"--backend c: the C back end "
+                              f"cannot be loaded ({exc})")] for _ in checks]
     loop = _Loop(model, scen, a["duration"], options.backend, options.seed)
     cases = _draw_cases(loop, a["vary"], options.max_examples, options.seed)
     time, signals = loop.run(cases)
@@ -52,7 +58,8 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
         if options.report_dir:
             from .report import plot_trace
             name = re.sub(r"[^A-Za-z0-9]+", "_", f"{model.name}_{c.text}").strip("_")[:80]
-            shown = temporal.names_in(c) + [o.name for o in model.outputs]
+            shown = temporal.names_in(c) + [o.name for o in model.outputs] + sorted(
+                {s[0] for s in [case.get("step")] if s})
             trace["plot"] = str(plot_trace(trace, shown, f"{model.name}: {c.text}",
                                            os.path.join(options.report_dir, name + ".png")))
         results.append([Evidence("closed-loop", Status.VIOLATED, detail, cases=len(cases),
@@ -179,10 +186,14 @@ def _shrink(loop: _Loop, checks: list[Property], cases: dict[int, dict],
     for i, case in cases.items():
         time, signals = runs[i]
         _, when = temporal.evaluate(checks[i], time, signals, loop.params)
+        # keep what the check reads, the controller's outputs and the plant's inputs
+        kept = set(temporal.names_in(checks[i])) | set(loop.plant_inputs) | {
+            o.name for o in loop.model.outputs}
         out[i] = (case, {"case": {k: v for k, v in case.items() if k != "step"},
                          "step": case.get("step"),
                          "violated_at": None if np.isnan(when[0]) else float(when[0]),
-                         "t": time, "signals": {k: v[:, 0] for k, v in signals.items()}})
+                         "t": time, "signals": {k: v[:, 0] for k, v in signals.items()
+                                                if k in kept}})
     return out
 
 

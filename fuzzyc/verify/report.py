@@ -40,6 +40,9 @@ def format_result(r: Result) -> str:
 
 def trace_summary(trace: dict) -> str:
     parts = [f"{k}={v:g}" for k, v in trace.get("case", {}).items()]
+    if trace.get("step"):
+        name, at, value = trace["step"]
+        parts.append(f"{name} steps to {value:g} at t={at:g} s")
     if trace.get("plot"):
         parts.append(f"plot {trace['plot']}")
     if "violated_at" in trace:
@@ -57,12 +60,20 @@ def format_text(results: list[Result]) -> str:
     return f"{body}\n{tail}"
 
 
+def _plain(value):
+    """numpy arrays and scalars inside nested dicts/lists -> JSON-ready Python values."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, (np.ndarray, np.generic)):
+        return value.tolist()
+    return value
+
+
 def _evidence_json(e) -> dict:
-    trace = None
-    if e.trace:
-        trace = {k: (v.tolist() if isinstance(v, np.ndarray) else v) for k, v in e.trace.items()}
     return {"method": e.method, "status": e.status.value, "detail": e.detail, "cases": e.cases,
-            "cells": e.cells, "point": e.point, "trace": trace}
+            "cells": e.cells, "point": e.point, "trace": _plain(e.trace)}
 
 
 def to_json(results: list[Result]) -> dict:
@@ -99,7 +110,7 @@ def to_junit(results: list[Result]) -> str:
 def write_reports(results: list[Result], folder: str | os.PathLike) -> list[Path]:
     folder = Path(folder)
     json_path, junit_path = folder / "verify.json", folder / "verify.junit.xml"
-    write_text(json_path, json.dumps(to_json(results), indent=1, default=float))
+    write_text(json_path, json.dumps(to_json(results), indent=1))
     write_text(junit_path, to_junit(results))
     return [json_path, junit_path]
 
