@@ -166,9 +166,10 @@ _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 def trained_text(model: Model, weights: np.ndarray, output: str = "du") -> str:
     """The model's source with the learnable table's numbers replaced by `weights`.
 
-    Everything else (comments, layout, other statements) is kept. The k-th number in the
-    table body is the k-th learnable term (the builder creates them in cell order); the result
-    is parsed again and must give back exactly these weights.
+    Everything else (comments, layout, other statements) is kept; numbers in comments inside
+    the table are left alone. The k-th number in the table body is the k-th learnable term
+    (the builder creates them in cell order); the numbers are right-aligned to one width so the
+    rows stay columns, and the result is parsed again and must give back these weights.
     """
     from .parser import parse
 
@@ -178,8 +179,14 @@ def trained_text(model: Model, weights: np.ndarray, output: str = "du") -> str:
         raise ValueError(f"{model.source_path}: no `table {output} ... learnable {{...}}` found")
     var = model.rulebase.outputs[model.rulebase.output_index(output)]
     written = [f"{w:.6g}" for w in np.asarray(weights, float)[var.learnable]]
+    width = max(len(w) for w in written)
+    lines = [line.partition("#") for line in match.group("body").split("\n")]
+    if sum(len(_NUMBER.findall(code)) for code, _, _ in lines) != len(written):
+        raise ValueError(f"{model.source_path}: the `{output}` table does not hold one number "
+                         f"per learnable term ({len(written)})")
     values = iter(written)
-    body = _NUMBER.sub(lambda _: next(values), match.group("body"))
+    body = "\n".join(_NUMBER.sub(lambda _: next(values).rjust(width), code) + sep + comment
+                     for code, sep, comment in lines)
     new_text = text[:match.start("body")] + body + text[match.end("body"):]
     check = parse(new_text, model.source_path or "<trained>")
     got = check.rulebase.outputs[check.rulebase.output_index(output)]

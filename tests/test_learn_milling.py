@@ -91,3 +91,13 @@ def test_trained_file_keeps_the_text_and_reads_back(learned):
     again = parse(text, "trained.fz")
     got = again.rulebase.outputs[0].params[:, 0]
     np.testing.assert_allclose(got, result.weights, rtol=1e-5, atol=1e-5)
+
+
+def test_trained_text_leaves_numbers_in_comments_alone():
+    source = RULES.read_text().replace("    0 0 0 0 0 0 0\n", "    0 0 0 0 0 0 0   # 7 cells\n", 1)
+    model = parse(source, "commented.fz")
+    weights = np.linspace(-12.5, 40.0, 49)
+    text = trained_text(model, weights)
+    assert "# 7 cells" in text
+    got = parse(text, "trained.fz").rulebase.outputs[0].params[:, 0]
+    np.testing.assert_allclose(got, weights, rtol=1e-5)
