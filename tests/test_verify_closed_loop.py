@@ -94,3 +94,13 @@ def test_unknown_signal_is_undecided_not_a_pass(toy_plant, scenario):
                            Options(max_examples=2))
     assert results[0].status == Status.UNDECIDED
     assert "spark_freq" in results[0].evidence[0].detail
+
+
+def test_c_backend_gives_the_same_verdicts(toy_plant, scenario):
+    pytest.importorskip("fuzzyc.backends.cload")
+    options = dict(max_examples=6, seed=2, shrink_rounds=1)
+    for vmax in ("2 mm/s", "-2 mm/s"):
+        numpy_side = verify_model(_model(scenario, vmax=vmax), Options(**options))
+        c_side = verify_model(_model(scenario, vmax=vmax), Options(backend="c", **options))
+        assert [r.status for r in c_side] == [r.status for r in numpy_side]
+        assert [r.evidence[0].detail for r in c_side] == [r.evidence[0].detail for r in numpy_side]
