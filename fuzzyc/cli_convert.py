@@ -6,6 +6,7 @@ a rule base the target format cannot say at all, or a bad input file, exits with
 from __future__ import annotations
 
 import sys
+from pathlib import Path
 
 
 def add_parser(subparsers) -> None:
@@ -43,5 +44,4 @@ def run(args) -> int:
 
 
 def _suffix(path: str) -> str:
-    from pathlib import Path
     return Path(path).suffix.lower()
