@@ -18,9 +18,12 @@ The physics, per pulse cycle of the iso-pulse generator:
   time lag of breakdown; the EDM-sinking thesis, seeds/002, reads the gap through it too).
 - Shorts close in as the gap closes: p_s = 1/(1 + exp((g - g_short)/w_short)).
 - Arcs come from debris that the off-time did not clear: p_a = 1 - exp(-k_arc c exp(-t_off /
-  tau_deion)); the debris concentration c in the gap relaxes, with the flushing time constant,
-  to the debris made per gap volume and flushed away: c* = debris_gain v_table g_ref /
-  (flushing g) (dc/dt = (c* - c)/tau_flush): the slow first-order process dynamics.
+  tau_deion)), where a longer, more energetic discharge leaves more plasma and gas to clear:
+  tau_deion = deion_per_on_time * t_on; the debris concentration c in the gap relaxes, with the flushing time constant,
+  to what is made and flushed away: c* = debris_gain v_table (H / 30 mm) (g_ref / g) /
+  sqrt(flushing / bar) (dc/dt = (c* - c)/tau_flush), the slow first-order process dynamics.
+  Debris made per second is v H kerf; the flushing flow through the gap is proportional to the
+  gap and to sqrt(pressure) (Bernoulli) and has to carry it along the whole height.
 - Removal per discharge, Liao & Yu eq. 5-7: volume = V_D K eta (t_on^2 (1-r') + A_on^2 r'/2)
   / u0 with the triangular current of slope K (iso-energy generator), r' the arc share of the
   discharges. Hence the table can advance at v_e = Fq * volume / (kerf * H): H F = gamma Fq.
@@ -77,7 +80,7 @@ class WedmGapParams:
     open_voltage: float = 110.0     # V, the ignition circuit (Yan & Liao)
     arc_on_time: float = 0.2        # us; assumption: arcs are cut short by the generator
     u0: float = 10.0                # J/mm^3; assumption: heat to melt tool steel
-    efficiency: float = 0.02        # assumption: share of discharge energy that removes metal
+    efficiency: float = 0.04        # assumption: share of discharge energy that removes metal
     kerf: float = 0.29              # mm; assumption: 0.25 mm wire + 2 x 20 um side gap
     td_ref: float = 4.0             # us at g_ref; assumption (ignition delays of a few us)
     g_ref: float = 10.0             # um
@@ -85,8 +88,8 @@ class WedmGapParams:
     g_short: float = 5.0            # um; assumption
     w_short: float = 2.0            # um; assumption
     k_arc: float = 10.0             # assumption: arc sensitivity to debris
-    tau_deion: float = 12.0         # us; assumption: de-ionisation time of water at 2 bar
-    debris_gain: float = 1.0        # bar/(mm/min); assumption: c* = gain v g_ref/(flushing g)
+    deion_per_on_time: float = 24.0     # assumption: de-ionisation time / on-time (12 us at 0.5)
+    debris_gain: float = 0.7        # assumption: scale of c* (see the docstring)
     tau_flush: float = 3.0          # s; assumption: debris residence time in a 30 mm kerf
     v_retract: float = 2.0          # mm/min; assumption: the servo's back-off speed
     tau_wire: float = 0.5           # s; assumption: wire heating (precursor 50 ms - 2 s)
@@ -118,7 +121,7 @@ def initial_state(params: WedmGapParams, batch: int, rng=None) -> dict[str, np.n
 def pulse_statistics(p: WedmGapParams, gap, debris, t_off, on_time):
     """Per-pulse probabilities and timing at a gap state: (p_s, p_a, t_d, T) in us."""
     p_s = 1.0 / (1.0 + np.exp((gap - p.g_short) / p.w_short))
-    p_a = 1.0 - np.exp(-p.k_arc * debris * np.exp(-t_off / p.tau_deion))
+    p_a = 1.0 - np.exp(-p.k_arc * debris * np.exp(-t_off / (p.deion_per_on_time * on_time)))
     t_d = p.td_ref * np.exp(np.minimum((gap - p.g_ref) / p.g_scale, 30.0))
     cycle = on_time + t_off + (1 - p_s) * (1 - p_a) * t_d
     return p_s, p_a, t_d, cycle
@@ -161,8 +164,8 @@ def step(params: WedmGapParams, state: dict, inputs: dict, t: float, dt: float, 
     for _ in range(SUBSTEPS):     # sub-steps in time, each vectorised over the batch
         r = rates(p, gap, debris, feed, t_off, on_time, height)
         gap = np.maximum(gap + h * (r["v_erosion"] - r["v_table"]) * 1000.0 / 60.0, 0.0)
-        target = (p.debris_gain * np.maximum(r["v_table"], 0.0) * p.g_ref
-                  / (p.flushing * np.maximum(gap, 0.1 * p.g_ref)))
+        target = (p.debris_gain * np.maximum(r["v_table"], 0.0) * (height / 30.0) * p.g_ref
+                  / (np.sqrt(p.flushing) * np.maximum(gap, 0.1 * p.g_ref)))
         debris = debris + (h / p.tau_flush) * (target - debris)
         acc["fq"] = acc["fq"] + r["fq"] / SUBSTEPS
         acc["pulses"] = acc["pulses"] + r["pulses"] / SUBSTEPS

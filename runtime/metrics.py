@@ -10,6 +10,7 @@ Definitions (stated once, used by the summaries, the demo table and the tests):
   (the feed-chattering figure: sum |u(k) - u(k-1)| / samples).
 - steady_change: max - min of u over the last `tail` fraction (the paper's |delta f| on feed).
 - event_count: rising edges of a 0/1 event signal.
+- moving_average: the trailing mean over k samples (the first k-1 average what exists).
 """
 from __future__ import annotations
 
@@ -56,3 +57,13 @@ def event_count(flag: np.ndarray) -> np.ndarray:
     on = np.asarray(flag) > 0.5
     rising = on[1:] & ~on[:-1]
     return rising.sum(axis=0) + on[0]
+
+
+def moving_average(y: np.ndarray, k: int) -> np.ndarray:
+    if k <= 1:
+        return y
+    c = np.cumsum(np.asarray(y, dtype=float), axis=0)
+    out = c.copy()
+    out[k:] = c[k:] - c[:-k]
+    counts = np.minimum(np.arange(1, len(y) + 1), k).reshape((-1,) + (1,) * (y.ndim - 1))
+    return out / counts

@@ -101,7 +101,10 @@ def _target(scenario, trace: Trace, spec: dict):
 
 
 def summarize(scenario, trace: Trace) -> dict[str, dict[str, float]]:
-    """metric label -> {mean, min, max} over the batch (one loop: all three equal)."""
+    """metric label -> {mean, min, max, unit} over the batch (one loop: all three equal).
+
+    A metric spec may say `smooth: SECONDS` (trailing moving average of signal and target
+    first: a 40-ms count is noisy) and `after: SECONDS` (judge only from then on)."""
     out: dict[str, dict[str, float]] = {}
     for i, spec in enumerate(scenario.metrics):
         kind, signal = spec.get("name"), spec.get("signal")
@@ -110,11 +113,14 @@ def summarize(scenario, trace: Trace) -> dict[str, dict[str, float]]:
                                  f"unknown metric `{kind}`; known: {' '.join(sorted(METRICS))}")
         if signal not in trace:
             raise scenario.error(f"metrics.{i}.signal", f"no recorded signal `{signal}`")
-        after = float(spec.get("after", 0.0))
-        keep = trace.time >= after
-        target = _target(scenario, trace, spec)
+        y, target = trace[signal], _target(scenario, trace, spec)
+        if spec.get("smooth"):
+            y = M.moving_average(y, int(round(float(spec["smooth"]) / trace.period)))
+            if isinstance(target, np.ndarray):
+                target = M.moving_average(target, int(round(float(spec["smooth"]) / trace.period)))
+        keep = trace.time >= float(spec.get("after", 0.0))
         target = target[keep] if isinstance(target, np.ndarray) else target
-        values = METRICS[kind](trace.time[keep], trace[signal][keep], target, spec)
+        values = METRICS[kind](trace.time[keep], y[keep], target, spec)
         label = spec.get("label") or f"{kind}({signal})"
         out[label] = {"mean": float(np.nanmean(values)) if np.isfinite(values).any() else
                       float("nan"),

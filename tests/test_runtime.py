@@ -111,3 +111,9 @@ def test_metrics_on_a_hand_made_signal():
     assert metrics.chattering(y, tail=0.5) == pytest.approx([0.025, 0.0])
     flags = np.array([[0], [1], [1], [0], [1], [0]])
     assert metrics.event_count(flags) == [2]
+
+
+def test_moving_average_is_trailing_and_starts_with_what_exists():
+    y = np.array([[2.0], [4.0], [6.0], [8.0]])
+    # k = 2: 2/1, (2+4)/2, (4+6)/2, (6+8)/2
+    assert metrics.moving_average(y, 2)[:, 0] == pytest.approx([2.0, 3.0, 5.0, 7.0])

