@@ -97,9 +97,9 @@ def test_corner_controller_on_rough_cuts_costs_under_10_percent_time():
     assert np.all(error_ratio < 0.8)          # the errors fall by more than a fifth
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason="physics + Table 2: the feed-independent edge error "
-                   "(about 110 um at 30 deg even at 40 mm^2/min) keeps the path's corner error "
-                   "near 67-75 % of normal machining at <= 10 % more time "
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="physics + Table 2: the feed-independent edge error (about 110 um "
+                   "at 30 deg even at 40 mm^2/min) keeps the path's corner error near 67-75 % of normal machining at <= 10 % more time "
                    "(see plants/wedm_corner.py)")
 def test_paper_headline_50_percent_error_at_10_percent_time():
     error_ratio, time_ratio = path_ratios(corner_reductions())

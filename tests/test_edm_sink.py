@@ -73,9 +73,9 @@ def test_pi_baseline_holds_the_set_point_with_noise(pi_noisy):
     assert pi_noisy["shorts"] == 0
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError, reason="rulebases/edm_sink_gap.fz: ce = delta of the 1 ms "
-                   "voltage sees mostly noise and the asymmetric singletons (NB=-1, PB=0.5) "
-                   "rectify it: the mean sits ~6 V above the set point and the gap hunts ~2x "
+@pytest.mark.xfail(strict=True, raises=AssertionError,
+                   reason="rulebases/edm_sink_gap.fz: ce = delta of the 1 ms voltage sees "
+                   "mostly noise and the asymmetric singletons (NB=-1, PB=0.5) rectify it: the mean sits ~6 V above the set point and the gap hunts ~2x "
                    "more than under PI. See PROPOSED below for a design that meets both.")
 def test_shipped_fuzzy_servo_holds_50V_and_is_as_stable_as_pi(pi_noisy):
     fuzzy = run()
