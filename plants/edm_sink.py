@@ -24,7 +24,7 @@ k = C / 30 V so erosion stops at a short (0 V) and at an open gap (100 V).
 
 Noise on the measured voltage (thesis: 50 Hz mains, its 100 Hz harmonic, spark interference):
 assumption: 5 V at 50 Hz, 2 V at 100 Hz (random phases per batch element), white spark noise of
-8 V standard deviation per sample.
+8 V standard deviation per sample (drawn from the rng `step` is given; none without one).
 
 Input `velocity` (mm/s, > 0 advances the electrode and closes the gap). Outputs:
 `measured_voltage` (noisy, V), `mean_voltage` (noise-free V(g)), `gap` (um), `velocity_actual`
