@@ -17,7 +17,7 @@ from .errors import Reporter, suggest
 from .model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                     Op, Output, OutputKind, Param, Property, RuleBase, Signal, SNorm, SourceLoc,
                     Step, TermKind, TNorm, Variable)
-from .syntax import Clause, Condition, Expr, Name, Num, Stmt, TermDef
+from .syntax import Clause, Expr, Name, Num, Stmt, TermDef
 
 INF = math.inf
 
@@ -62,7 +62,8 @@ class _LinguisticVar:
 
 
 @dataclass
-class _Rule:
+class RuleSpec:
+    """One rule by names, as a front end collects it, before it becomes rows of the matrices."""
     clauses: dict[str, tuple[int, bool, Hedge]]   # input name -> (term, negated, hedge)
     connective: Connective
     conclusions: dict[str, int]                   # output name -> term index
@@ -81,7 +82,7 @@ class Builder:
         self.step_by_name: dict[str, Step] = {}
         self.units: dict[str, units.Unit | None] = {}
         self.vars: dict[str, _LinguisticVar] = {}
-        self.rules: list[_Rule] = []
+        self.rules: list[RuleSpec] = []
         self.outputs: list[Output] = []
         self.properties: list[Property] = []
         self.notes: list[str] = []
@@ -448,7 +449,7 @@ class Builder:
                 conclusions[var.name] = term
         weight = self._weight(s.data["weight"])
         if ok and weight is not None:
-            self.rules.append(_Rule(rule_clauses, connective, conclusions, weight, s.loc, label))
+            self.rules.append(RuleSpec(rule_clauses, connective, conclusions, weight, s.loc, label))
 
     def _weight(self, num: Num | None) -> float | None:
         if num is None:
@@ -503,7 +504,7 @@ class Builder:
                 clauses = dict(guard)
                 clauses[row_var.name] = (ri, False, Hedge.NONE)
                 clauses[col_var.name] = (ci, False, Hedge.NONE)
-                self.rules.append(_Rule(clauses, Connective.AND, {out.name: term}, 1.0,
+                self.rules.append(RuleSpec(clauses, Connective.AND, {out.name: term}, 1.0,
                                         cell.loc, origin))
 
     def _table_shape(self, s: Stmt, cells, n_rows: int, n_cols: int) -> bool:
@@ -557,7 +558,7 @@ class Builder:
                 conclusions[var.name] = term
             weight = self._weight(row["weight"])
             if ok and weight is not None:
-                self.rules.append(_Rule(clauses, Connective.AND, conclusions, weight,
+                self.rules.append(RuleSpec(clauses, Connective.AND, conclusions, weight,
                                         row["label"].loc, context))
 
     # ------------------------------------------------------------------ outputs
@@ -849,37 +850,43 @@ class Builder:
         for v in self.vars.values():
             if not v.terms and not (not v.is_input and any(v.name in r.conclusions for r in self.rules)):
                 self.error(v.loc, f"`{v.name}` has no terms: add `terms {v.name} : ...`")
-        merged = _merge_rules(self.rules)
-        in_index = {v.name: i for i, v in enumerate(inputs)}
-        out_index = {v.name: i for i, v in enumerate(outputs)}
-        n, ni, no = len(merged), len(inputs), len(outputs)
-        ante = np.full((n, ni), -1, dtype=np.int64)
-        negated = np.zeros((n, ni), dtype=bool)
-        hedges = np.zeros((n, ni), dtype=np.int64)
-        cons = np.full((n, no), -1, dtype=np.int64)
-        for r, rule in enumerate(merged):
-            for name, (term, neg, hedge) in rule.clauses.items():
-                ante[r, in_index[name]] = term
-                negated[r, in_index[name]] = neg
-                hedges[r, in_index[name]] = int(hedge)
-            for name, term in rule.conclusions.items():
-                cons[r, out_index[name]] = term
-        return RuleBase(
-            inputs=[_variable(v) for v in inputs], outputs=[_variable(v) for v in outputs],
-            antecedents=ante, consequents=cons,
-            weights=np.array([r.weight for r in merged], dtype=float),
-            negated=negated, hedges=hedges,
-            connective=np.array([int(r.connective) for r in merged], dtype=np.int64),
-            inference=self.inference, rule_locs=[r.loc for r in merged],
-            origins=[r.origin for r in merged])
+            if not v.is_input and v.lo is not None and not v.lo <= v.default <= v.hi:
+                self.error(v.loc, f"the default {v.default:g} of `{v.name}` is outside its range "
+                                  f"[{v.lo:g}, {v.hi:g}]")
+        return assemble_rulebase([_variable(v) for v in inputs], [_variable(v) for v in outputs],
+                                 merge_rules(self.rules), self.inference)
 
 
-def _merge_rules(rules: list[_Rule]) -> list[_Rule]:
+def assemble_rulebase(inputs: list[Variable], outputs: list[Variable], rules: list[RuleSpec],
+                      inference: Inference) -> RuleBase:
+    """The rule matrices of the IR from rules written by name (shared by every front end)."""
+    in_index = {v.name: i for i, v in enumerate(inputs)}
+    out_index = {v.name: i for i, v in enumerate(outputs)}
+    n = len(rules)
+    ante = np.full((n, len(inputs)), -1, dtype=np.int64)
+    negated = np.zeros((n, len(inputs)), dtype=bool)
+    hedges = np.zeros((n, len(inputs)), dtype=np.int64)
+    cons = np.full((n, len(outputs)), -1, dtype=np.int64)
+    for r, rule in enumerate(rules):
+        for name, (term, neg, hedge) in rule.clauses.items():
+            ante[r, in_index[name]] = term
+            negated[r, in_index[name]] = neg
+            hedges[r, in_index[name]] = int(hedge)
+        for name, term in rule.conclusions.items():
+            cons[r, out_index[name]] = term
+    return RuleBase(
+        inputs=inputs, outputs=outputs, antecedents=ante, consequents=cons,
+        weights=np.array([r.weight for r in rules], dtype=float), negated=negated, hedges=hedges,
+        connective=np.array([int(r.connective) for r in rules], dtype=np.int64),
+        inference=inference, rule_locs=[r.loc for r in rules], origins=[r.origin for r in rules])
+
+
+def merge_rules(rules: list[RuleSpec]) -> list[RuleSpec]:
     """Rules with the same premise and weight concluding on different outputs become one rule
     with several conclusions (the papers print one table per output for one set of premises).
     A premise that concludes twice on the same output stays two rules: that is a consistency
     question for the verifier, not something to hide here."""
-    merged: list[_Rule] = []
+    merged: list[RuleSpec] = []
     by_premise: dict = {}
     for rule in rules:
         key = (tuple(sorted(rule.clauses.items())), rule.connective, rule.weight)
@@ -888,7 +895,7 @@ def _merge_rules(rules: list[_Rule]) -> list[_Rule]:
             target.conclusions.update(rule.conclusions)
             target.origin += "; " + rule.origin
             continue
-        copy = _Rule(dict(rule.clauses), rule.connective, dict(rule.conclusions), rule.weight,
+        copy = RuleSpec(dict(rule.clauses), rule.connective, dict(rule.conclusions), rule.weight,
                      rule.loc, rule.origin)
         merged.append(copy)
         by_premise.setdefault(key, copy)

@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fuzzyc.builder import _Rule
+from fuzzyc.builder import RuleSpec
 from fuzzyc.errors import Reporter
 from fuzzyc.formats import read_fcl, read_fll, write_fcl, write_fll, write_fz
 from fuzzyc.formats.common import Collected, TermSpec, VarSpec
@@ -86,7 +86,7 @@ def rule_base(draw, fmt: str):
         # one clause has no connective: every front end reads it as `and`
         connective = draw(st.sampled_from(list(Connective))) if len(clauses) > 1 \
             else Connective.AND
-        got.rules.append(_Rule(clauses, connective, conclusions,
+        got.rules.append(RuleSpec(clauses, connective, conclusions,
                                draw(st.sampled_from([1.0, 0.5, 0.25])), None, "random"))
     return got.model("<random>", "")
 

@@ -10,9 +10,9 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy
 
-from ..builder import _merge_rules, _Rule
+from ..builder import RuleSpec, assemble_rulebase, merge_rules
 from ..errors import Reporter, suggest
-from ..model import (Inference, Model, Output, OutputKind, RuleBase, Signal, SourceLoc, TermKind,
+from ..model import (Inference, Model, Output, OutputKind, Signal, SourceLoc, TermKind,
                      Variable)
 
 INF = math.inf
@@ -80,7 +80,7 @@ class Collected:
     title: str = ""
     inputs: dict[str, VarSpec] = field(default_factory=dict)
     outputs: dict[str, VarSpec] = field(default_factory=dict)
-    rules: list[_Rule] = field(default_factory=list)
+    rules: list[RuleSpec] = field(default_factory=list)
     inference: Inference = field(default_factory=Inference)
     notes: list[str] = field(default_factory=list)
 
@@ -113,7 +113,7 @@ class Collected:
         self.rep.raise_if_any()
         inputs = [_variable(v, is_input=True) for v in self.inputs.values()]
         outputs = [_variable(v, is_input=False) for v in self.outputs.values()]
-        rb = _rulebase(inputs, outputs, _merge_rules(self.rules), self.inference)
+        rb = assemble_rulebase(inputs, outputs, merge_rules(self.rules), self.inference)
         return Model(
             name=self.name, rulebase=rb, title=self.title or f"imported from {path}",
             signals=[Signal(v.name, v.lo, v.hi, loc=v.loc) for v in inputs],
@@ -131,26 +131,3 @@ def _variable(v: VarSpec, is_input: bool) -> Variable:
         params=np.array([t.params for t in v.terms], dtype=float).reshape(n, 4),
         default=float(v.default), learnable=None if is_input else np.zeros(n, dtype=bool),
         loc=v.loc, term_locs=[t.loc for t in v.terms])
-
-
-def _rulebase(inputs: list[Variable], outputs: list[Variable], rules: list[_Rule],
-              inference: Inference) -> RuleBase:
-    in_index = {v.name: i for i, v in enumerate(inputs)}
-    out_index = {v.name: i for i, v in enumerate(outputs)}
-    n = len(rules)
-    ante = np.full((n, len(inputs)), -1, dtype=np.int64)
-    negated = np.zeros((n, len(inputs)), dtype=bool)
-    hedges = np.zeros((n, len(inputs)), dtype=np.int64)
-    cons = np.full((n, len(outputs)), -1, dtype=np.int64)
-    for r, rule in enumerate(rules):
-        for name, (term, neg, hedge) in rule.clauses.items():
-            ante[r, in_index[name]] = term
-            negated[r, in_index[name]] = neg
-            hedges[r, in_index[name]] = int(hedge)
-        for name, term in rule.conclusions.items():
-            cons[r, out_index[name]] = term
-    return RuleBase(
-        inputs=inputs, outputs=outputs, antecedents=ante, consequents=cons,
-        weights=np.array([r.weight for r in rules], dtype=float), negated=negated, hedges=hedges,
-        connective=np.array([int(r.connective) for r in rules], dtype=np.int64),
-        inference=inference, rule_locs=[r.loc for r in rules], origins=[r.origin for r in rules])

@@ -15,7 +15,7 @@ from __future__ import annotations
 import math
 import re
 
-from ..builder import _Rule
+from ..builder import RuleSpec
 from ..errors import Reporter
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, SNorm,
                      SourceLoc, TermKind, TNorm)
@@ -204,7 +204,7 @@ class _FisReader:
         if not clauses or not conclusions:
             self.rep.error(loc, "a rule needs at least one input and one output index")
             return
-        self.got.rules.append(_Rule(clauses, Connective.AND if connective == 1 else Connective.OR,
+        self.got.rules.append(RuleSpec(clauses, Connective.AND if connective == 1 else Connective.OR,
                                     conclusions, weight, loc, f"{self.path}:{number}"))
 
     def _in_range(self, var: VarSpec, index: int, loc: SourceLoc) -> bool:

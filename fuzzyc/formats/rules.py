@@ -1,4 +1,4 @@
-"""Rules of FCL and FLL (the same `if ... then ... with w` shape): lark tree -> builder `_Rule`.
+"""Rules of FCL and FLL (the same `if ... then ... with w` shape): lark tree -> builder `RuleSpec`.
 
 The model has one connective per rule, one clause per input, hedges before `not`: anything else
 (mixed and/or, `not` around a compound condition, a hedge the model lacks) is reported.
@@ -12,7 +12,7 @@ from importlib import resources
 from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
-from ..builder import _Rule
+from ..builder import RuleSpec
 from ..errors import Reporter, suggest
 from ..model import Connective, Hedge, SourceLoc
 from .common import Collected
@@ -50,7 +50,7 @@ def _expected(names) -> str:
 
 
 def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, Hedge],
-                   origin: str, loc: SourceLoc) -> _Rule | None:
+                   origin: str, loc: SourceLoc) -> RuleSpec | None:
     """A `rule_text` tree as a rule of the model, or None after reporting why it cannot be."""
     rep = got.rep
     condition, *rest = tree.children
@@ -95,7 +95,7 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
     if not rule_clauses and ok:
         rep.error(loc, "a rule needs at least one clause")
         ok = False
-    return _Rule(rule_clauses, connective, conclusions, weight, loc, origin) if ok else None
+    return RuleSpec(rule_clauses, connective, conclusions, weight, loc, origin) if ok else None
 
 
 def _flatten(cond: Tree, rep: Reporter, loc: SourceLoc):
