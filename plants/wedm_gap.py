@@ -93,7 +93,8 @@ class WedmGapParams:
     tau_flush: float = 3.0          # s; assumption: debris residence time in a 30 mm kerf
     v_retract: float = 2.0          # mm/min; assumption: the servo's back-off speed
     tau_wire: float = 0.5           # s; assumption: wire heating (precursor 50 ms - 2 s)
-    q_rupture_per_speed: float = 0.35   # W/mm per m/min at 800 gf; assumption
+    q_rupture_per_speed: float = 0.22   # W/mm per m/min at 800 gf; assumption: breaks at
+                                        # ~1.3 x Yr1 (39 kHz) in the finish cut of test 1
     arc_rupture_ratio: float = 0.5  # Yan & Liao: "abnormal ratio rises to 50 % or more"
     arc_rupture_time: float = 60.0  # s, Yan & Liao: "60 seconds or longer"
     gap0: float = 9.0               # um, initial gap (a scenario's starting condition)
