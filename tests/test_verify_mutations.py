@@ -36,7 +36,10 @@ def _delete(rb, r):
 @pytest.mark.parametrize("name", ["wedm_three_region", "wedm_corner", "milling_neurofuzzy",
                                   "edm_sink_gap"])
 def test_shipped_rule_bases_raise_no_false_alarm(name):
-    results = verify_model(_model(name), Options(**FAST))
+    # the closed loops of the files run as items of `pytest rulebases/`
+    model = _model(name)
+    model.properties = [p for p in model.properties if p.kind != "closed_loop"]
+    results = verify_model(model, Options(**FAST))
     assert results and not [format_result(r) for r in results if r.is_failure]
     # every table-level and coverage property of the shipped files is proved exactly
     exact = [r for r in results if r.prop.kind in ("covers", "consistent", "complete")]

@@ -19,7 +19,8 @@ from .result import Evidence, Status
 def check(model: Model, prop: Property, checks: list[Property], options) -> list[list[Evidence]]:
     from fuzzyc.plants import scenario as scenarios
     a = prop.args
-    overrides = {k: str(v) for k, v in a["set"].items()}
+    learning = {k.split(".", 1)[1]: v for k, v in a["set"].items() if k.startswith("learn.")}
+    overrides = {k: str(v) for k, v in a["set"].items() if not k.startswith("learn.")}
     scen = scenarios.load(a["scenario"], overrides)
     bad = [k for k in a["vary"] if not k.startswith("plant.")]
     if bad:
@@ -32,6 +33,7 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
             return [[Evidence("closed-loop", Status.UNDECIDED, f"--backend c: the C back end "
                               f"cannot be loaded ({exc})")] for _ in checks]
     loop = _Loop(model, scen, a["duration"], options.backend, options.seed)
+    learned = loop.learn(**learning) if learning else ""
     cases = _draw_cases(loop, a["vary"], options.max_examples, options.seed)
     time, signals = loop.run(cases)
     try:
@@ -48,13 +50,13 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     for i, (c, (violated, _)) in enumerate(zip(checks, verdicts)):
         if i not in shrunk:
             results.append([Evidence("closed-loop", Status.HELD, f"{len(cases)} loops of "
-                                     f"{a['duration']:g} s on scenario {scen.name}",
+                                     f"{a['duration']:g} s on scenario {scen.name}{learned}",
                                      cases=len(cases))])
             continue
         case, trace = shrunk[i]
         detail = (f"{int(violated.sum())} of {len(cases)} loops break it; shrunk case: "
                   + (", ".join(f"{k}={v:.6g}" for k, v in case.items() if k != "step")
-                     or "nominal plant") + _step_text(case))
+                     or "nominal plant") + _step_text(case) + learned)
         if options.report_dir:
             from .report import plot_trace
             name = re.sub(r"[^A-Za-z0-9]+", "_", f"{model.name}_{c.text}").strip("_")[:80]
@@ -96,6 +98,19 @@ class _Loop:
         for out in model.outputs:
             out.init = float((spec.get("initial") or {}).get(out.name, out.init))
         return model
+
+    def learn(self, cycles: float, eta: float = 0.25, rho: float = 6.0) -> str:
+        """`set learn.cycles = N` (and learn.eta, learn.rho): train the file's learnable weights
+        on N cycles of the nominal scenario (fuzzyc.learn, batch 1) before the search, so the
+        loops check the learned controller."""
+        from fuzzyc.controller import Controller
+        from fuzzyc.learn import learn
+        controller = Controller(self._controller_model(), 1)
+        result = learn(controller, self.module, self.scen.plant_params(), int(cycles),
+                       self.scen.duration, self.scen.period, eta=float(eta), rho=float(rho))
+        self.model = controller.model
+        return (f"; after {int(cycles)} learning cycles (PI {result.pi[0]:.4g} -> "
+                f"{result.pi[-1]:.4g})")
 
     def nominal_value(self, key: str) -> float:
         return float(getattr(self.nominal, key.split(".", 1)[1]))
