@@ -45,40 +45,43 @@ class Segments:
 
     With ylo, yhi the piece's lower and upper end, b = min(h, ylo) and g = clip(h - ylo, 0,
     yhi - ylo): min(h, y) = b + min(g, y - ylo), and the part above ylo is a triangle cut at g,
-    whose run is w = g dx / (yhi - ylo).  Integrating (u dx, u u du):
+    whose run is w = g dx / (yhi - ylo).  Integrating (u du, u^2 du):
       area   = b dx + g (dx - w / 2)
       moment = b C + g (C - w (e + s w / 6)),  C = (x1^2 - x0^2) / 2,
-    e = x0 / 2, s = +1 for a rising piece, e = x1 / 2, s = -1 for a falling one.
+    e = x0 / 2, s = +1 for a rising piece, e = x1 / 2, s = -1 for a falling one.  Both are
+    polynomials in g whose coefficients add up over pieces with the same (level, ylo, yhi), so
+    such pieces (the two edges of a triangle, say) are evaluated as one.
     """
 
     def __init__(self, pieces: np.ndarray):
         """pieces (S, 6): level index, sign, x0, x1, y0, y1."""
-        self.level = pieces[:, 0].astype(np.intp)
-        sign, x0, x1, y0, y1 = (pieces[:, k] for k in range(1, 6))
-        rising = y1 >= y0
-        self.ylo = np.minimum(y0, y1)[:, None]
-        self.rise = np.abs(y1 - y0)[:, None]
+        level, sign, x0, x1, y0, y1 = pieces.T
+        ylo, rise = np.minimum(y0, y1), np.abs(y1 - y0)
         dx = x1 - x0
-        run = np.divide(dx, self.rise[:, 0], out=np.zeros_like(dx), where=self.rise[:, 0] > 0)
-        c = 0.5 * (x1 * x1 - x0 * x0)
-        e = 0.5 * np.where(rising, x0, x1)
-        # the sign folded into the constants: every result below is already signed
-        self.run = run[:, None]
-        self.dx, self.half = (sign * dx)[:, None], (0.5 * sign)[:, None]
-        self.c, self.e = (sign * c)[:, None], (sign * e)[:, None]
-        self.q = (sign * np.where(rising, 1.0, -1.0) / 6.0)[:, None]
+        run = np.divide(dx, rise, out=np.zeros_like(dx), where=rise > 0)
+        e = 0.5 * np.where(y1 >= y0, x0, x1)
+        q = np.where(y1 >= y0, 1.0, -1.0) / 6.0
+        # signed coefficients: area = b DX + g (DX - g H), moment = b C + g (C - g (E + g Q))
+        coeffs = sign[:, None] * np.stack([dx, 0.5 * run, 0.5 * (x1 * x1 - x0 * x0),
+                                           run * e, q * run * run], axis=1)
+        keys, group = np.unique(np.stack([level, ylo, rise], axis=1), axis=0,
+                                return_inverse=True)
+        summed = np.zeros((len(keys), 5))
+        np.add.at(summed, group.ravel(), coeffs)
+        self.level = keys[:, 0].astype(np.intp)
+        self.ylo, self.rise = keys[:, 1, None], keys[:, 2, None]
+        self.dx, self.h, self.c, self.e, self.q = (summed[:, k, None] for k in range(5))
 
     def __len__(self) -> int:
         return len(self.level)
 
     def integrals(self, levels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """levels (L, N) -> (area (N,), moment (N,)): sums over the pieces, fixed order."""
-        h = levels.take(self.level, axis=0)                              # (S, N)
+        h = levels.take(self.level, axis=0)                              # (G, N)
         b = np.minimum(h, self.ylo)
         g = np.clip(h - self.ylo, 0.0, self.rise)
-        w = g * self.run
-        area = b * self.dx + g * (self.dx - w * self.half)
-        moment = b * self.c + g * (self.c - w * (self.e + self.q * w))
+        area = b * self.dx + g * (self.dx - g * self.h)
+        moment = b * self.c + g * (self.c - g * (self.e + g * self.q))
         # column sums in a fixed order (not BLAS), so a sample's result is independent of N
         return area.sum(axis=0), moment.sum(axis=0)
 

@@ -84,6 +84,6 @@ class GridStrengths:
         index *= n
         index += np.arange(n)
         alpha = np.zeros(self.width * n)
-        values = np.broadcast_to(act[None], (len(self.slices),) + act.shape).reshape(-1)
-        self.scatter.at(alpha, index.reshape(-1), values)
+        for rows in index.reshape(len(self.slices), -1):       # one scatter per output
+            self.scatter.at(alpha, rows, act.reshape(-1))
         return alpha.reshape(self.width, n)

@@ -15,6 +15,7 @@ import numpy as np
 from .model import TermKind, Variable
 
 HEDGE_EXPONENT = np.array([1.0, 2.0, 0.5, 3.0])  # indexed by Hedge: NONE VERY SOMEWHAT EXTREMELY
+LINEAR_SEARCH_BREAKS = 16
 
 
 def trapezoid(x, a, b, c, d) -> np.ndarray:
@@ -142,7 +143,10 @@ class LocalPartition:
         # Outside the outermost break points every term is constant, so clipping changes no
         # membership and keeps infinities out of the arithmetic.
         xc = np.clip(x, self.breaks[0], self.breaks[-1])
-        seg = np.searchsorted(self.breaks, xc, side="right")
+        if len(self.breaks) <= LINEAR_SEARCH_BREAKS:   # counting beats a binary search here
+            seg = (xc >= self.breaks[:, None]).sum(axis=0)
+        else:
+            seg = np.searchsorted(self.breaks, xc, side="right")
         has_nan = np.isnan(xc.sum())      # one pass; an inf - inf false alarm only costs time
         if has_nan:
             nan = np.isnan(xc)
