@@ -69,9 +69,25 @@ def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
                        list(getattr(module, "OUTPUTS", ())), seed=seed)
     observers = [scenario.make(f"observers.{i}", spec)
                  for i, spec in enumerate(scenario.data.get("observers") or [])]
-    own_params = getattr(controller, "params", {})
-    followed = [name for name in scenario.schedules if name in own_params]
-    return [*schedules, plant, *observers, ControllerBlock(controller, followed)]
+    return [*schedules, plant, *observers,
+            ControllerBlock(controller, _followed_params(scenario, controller))]
+
+
+def _followed_params(scenario, controller) -> list[str]:
+    """The controller params that follow a schedule. A controller without a `params` dict
+    (the C back end compiles them in) can only run schedules that keep the compiled value."""
+    model = getattr(controller, "model", None)
+    names = [n for n in scenario.schedules if model is not None and n in model.params]
+    if hasattr(controller, "params"):
+        return names
+    for name in names:
+        values = {v for _, v in scenario.schedules[name]}
+        if values != {model.params[name].value}:
+            raise scenario.error(f"schedules.{name}",
+                                 f"this back end compiles `{name}` in as "
+                                 f"{model.params[name].value:g}; a schedule that changes it "
+                                 f"needs --backend numpy")
+    return []
 
 
 def simulate(scenario, batch: int = 1, baseline: bool = False, backend: str = "numpy",

@@ -138,3 +138,33 @@ def test_setpoint_summary_is_reported(setpoint):
     scenario, trace = setpoint
     summary = summarize(scenario, trace)
     assert summary["wire ruptures"]["mean"] == 0
+
+
+def test_c_backend_runs_the_same_closed_loop():
+    # the artefact that goes to the machine, in the loop: the generated C (double) against
+    # the numpy engine on 20 s of test 1, same plant noise
+    pytest.importorskip("fuzzyc.backends.cload")
+    import shutil
+    if shutil.which("gcc") is None:
+        pytest.skip("no C compiler")
+    scenario = load("wedm_finish", {"duration": "20"})
+    numpy_trace = simulate(scenario)
+    c_trace = simulate(scenario, backend="c")
+    assert c_trace["feed"][:, 0] == pytest.approx(numpy_trace["feed"][:, 0], rel=1e-4)
+    assert c_trace["t_off"][:, 0] == pytest.approx(numpy_trace["t_off"][:, 0], rel=1e-4)
+
+
+def test_c_backend_refuses_a_set_point_schedule_it_cannot_follow():
+    pytest.importorskip("fuzzyc.backends.cload")
+    from fuzzyc.errors import FuzzycError
+    from fuzzyc.runtime.simulate import build, load_controller
+    scenario = load("wedm_setpoint")
+
+    class Compiled:   # a controller without a params dict, like the C back end
+        def __init__(self, model):
+            self.model = model
+            self.input_names, self.output_names = ["spark_freq"], ["feed"]
+
+    model = load_controller(scenario, 1).model
+    with pytest.raises(FuzzycError, match="compiles `Yr2` in"):
+        build(scenario, Compiled(model))
