@@ -1,0 +1,105 @@
+"""The lookup-table back end: exact where the rule base is multilinear per grid cell, its C
+equal to its Python, NaN/inf handling, and the measured error written into the header."""
+from __future__ import annotations
+
+import ctypes
+import pathlib
+
+import numpy as np
+import pytest
+
+from fuzzyc.backends.cload import compile_shared
+from fuzzyc.backends.lut import LookupTable, generate_lut_header
+from fuzzyc.cli import main as cli_main
+from fuzzyc.engine import evaluate
+from fuzzyc.parser import load
+
+from test_c_backend import shipped
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+SHIM = """\
+#include "{name}_lut.h"
+void lut_batch(int n, const double *x, double *y) {{
+    int b, k;
+    for (b = 0; b < n; ++b) {{
+        float xf[{n_in}], yf[{n_out}];
+        for (k = 0; k < {n_in}; ++k) xf[k] = (float)x[b * {n_in} + k];
+        {name}_lut(xf, yf);
+        for (k = 0; k < {n_out}; ++k) y[b * {n_out} + k] = (double)yf[k];
+    }}
+}}
+"""
+
+
+def c_lut(model, table, error):
+    rb = model.rulebase
+    shim = SHIM.format(name=model.name, n_in=len(rb.inputs), n_out=len(rb.outputs))
+    lib = ctypes.CDLL(str(compile_shared(
+        {f"{model.name}_lut.h": generate_lut_header(model, table, error), "shim.c": shim},
+        "shim.c")))
+    dptr = ctypes.POINTER(ctypes.c_double)
+    lib.lut_batch.argtypes = [ctypes.c_int, dptr, dptr]
+
+    def run(x):
+        x = np.ascontiguousarray(x, dtype=float)
+        y = np.empty((len(x), len(rb.outputs)))
+        lib.lut_batch(len(x), x.ctypes.data_as(dptr), y.ctypes.data_as(dptr))
+        return y
+    return run
+
+
+def test_exact_when_the_rule_base_is_bilinear_per_cell():
+    # Milling: 7 uniform triangles per input (break points at k/3), product t-norm, weighted
+    # sum of singletons: y = sum mu_e mu_cf z, bilinear between break points.  With 7 grid
+    # points per input the grid is the break points, so interpolation is exact.
+    rb = shipped("milling_neurofuzzy").rulebase
+    table = LookupTable(rb, 7)
+    x = np.random.default_rng(0).uniform(-1, 1, (20_000, 2))
+    np.testing.assert_allclose(table.evaluate(x), evaluate(rb, x), atol=1e-12)
+    # One grid point off the break points and it is not exact any more.
+    assert np.abs(LookupTable(rb, 8).evaluate(x) - evaluate(rb, x)).max() > 1e-3
+
+
+def test_grid_nodes_are_the_engine():
+    rb = shipped("wedm_three_region").rulebase
+    table = LookupTable(rb, 9)
+    nodes = np.array([[-1.0, -0.75, 0.25], [1.0, 1.0, -1.0], [0.5, 0.0, 0.75]])
+    np.testing.assert_allclose(table.evaluate(nodes), evaluate(rb, nodes), atol=1e-12)
+
+
+def test_measured_error_shrinks_with_resolution():
+    rb = shipped("wedm_three_region").rulebase
+    coarse, fine = LookupTable(rb, 9).measure_error(), LookupTable(rb, 33).measure_error()
+    assert np.all(fine < coarse) and np.all(fine > 0)
+
+
+def test_c_table_equals_python_table_and_edges():
+    model = shipped("wedm_three_region")
+    table = LookupTable(model.rulebase, 17)
+    error = table.measure_error()
+    run = c_lut(model, table, error)
+    rng = np.random.default_rng(1)
+    x = np.concatenate([rng.uniform(-1.2, 1.2, (50_000, 3)),
+                        [[np.inf, -np.inf, 0.3], [np.nan, 0.1, 0.2], [1.0, 1.0, 1.0]]])
+    np.testing.assert_allclose(run(x), table.evaluate(x), atol=1e-5 * 2)
+    # +-inf read the table's edge, NaN gives the declared defaults (0 for du1 and du2).
+    np.testing.assert_allclose(table.evaluate(x[-3:-2]), table.evaluate([[1.0, -1.0, 0.3]]))
+    np.testing.assert_array_equal(table.evaluate(x[-2:-1]), [[0.0, 0.0]])
+
+
+def test_cli_writes_the_measured_error(tmp_path, capsys):
+    path = ROOT / "rulebases" / "edm_sink_gap.fz"
+    assert cli_main(["compile", str(path), "--target", "lut", "--resolution", "21",
+                     "-o", str(tmp_path)]) == 0
+    printed = capsys.readouterr().out
+    text = (tmp_path / "edm_sink_gap_lut.h").read_text()
+    error = LookupTable(load(path).rulebase, 21).measure_error()[0]
+    assert f"dv {error:.3g}" in text and f"{error:.4g}" in printed
+    assert load(path).source_hash in text
+
+
+def test_bad_resolution_is_a_diagnostic():
+    from fuzzyc.errors import FuzzycError
+    with pytest.raises(FuzzycError, match="resolution"):
+        LookupTable(shipped("edm_sink_gap").rulebase, 1)
