@@ -35,7 +35,11 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     loop = _Loop(model, scen, a["duration"], options.backend, options.seed)
     learned = loop.learn(**learning) if learning else ""
     cases = _draw_cases(loop, a["vary"], options.max_examples, options.seed)
-    time, signals = loop.run(cases)
+    try:
+        time, signals = loop.run(cases)
+    except (ValueError, TypeError) as exc:   # e.g. a plant that cannot take a param per loop
+        return [[Evidence("closed-loop", Status.UNDECIDED, f"the loop did not run with "
+                          f"{', '.join(a['vary']) or 'these settings'}: {exc}")] for _ in checks]
     try:
         verdicts = [temporal.evaluate(c, time, signals, loop.params) for c in checks]
     except temporal.UnknownSignal as exc:
