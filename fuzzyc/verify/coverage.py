@@ -14,7 +14,7 @@ import itertools
 import numpy as np
 
 from ..membership import term_values
-from ..model import Connective, PIECEWISE_LINEAR, RuleBase, SNorm, TNorm, TermKind
+from ..model import Connective, RuleBase, SNorm, TNorm, TermKind
 from .levelsets import clause_intervals
 from .result import Evidence, Status
 
