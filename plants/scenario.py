@@ -11,6 +11,7 @@ Format (every key but `plant` optional):
       rulebase: wedm_three_region.fz  # relative to the rulebases folder (or absolute)
       params: {Yr1: 30, GU1: 1.8e-4}  # rule-base params changed before the run
       initial: {feed: 0.3}            # u(-1) of controller outputs
+      expose: [e1, e2]                # internal controller signals to record
     baseline:
       make: wedm_gap.VoltageP         # plants.<module>.<callable>(**params) -> a controller
       params: {...}
@@ -21,8 +22,8 @@ Format (every key but `plant` optional):
     initial: {feed: 0.3}              # signals on the bus before the first period
     schedules:                        # piecewise-constant bus signals: [[t, value], ...]
       Yr2: [[0, 0.40]]
-    metrics:                          # see runtime.metrics; target: a number or a signal
-      - {name: settling_time, signal: abnormal_ratio, target: Yr2, band: 0.03}
+    metrics:                          # see runtime.simulate.METRICS; target: number or signal
+      - {name: settling_time, signal: abnormal_ratio, target: Yr2, band: 0.03, smooth: 2}
     plots: [spark_freq, abnormal_ratio, feed]
 
 `load(name_or_path, overrides)` applies `KEY=VALUE` overrides with dotted keys first
@@ -48,7 +49,7 @@ SCENARIO_DIR = Path(__file__).resolve().parent / "scenarios"
 TOP_KEYS = {"title", "source", "plant", "controller", "baseline", "observers", "duration",
             "period", "initial", "schedules", "metrics", "plots", "notes"}
 SECTION_KEYS = {"plant": {"model", "params", "randomize"},
-                "controller": {"rulebase", "params", "initial"},
+                "controller": {"rulebase", "params", "initial", "expose"},
                 "baseline": {"make", "params", "label"}}
 
 

@@ -70,16 +70,19 @@ class ControllerBlock:
     `fuzzyc.controller.Controller` and the C-backed controller both fit. `param_inputs` names
     controller params that follow a bus signal (a set-point schedule): each period the value
     on the bus is written into `controller.params` before the step. `rename` maps controller
-    output names to bus names (e.g. the baseline's `feed` -> `feed`).
+    output names to bus names. `expose` puts internal signals of the controller (its
+    `.signals` after a step, e.g. the scaled errors e1, e2) on the bus for traces and plots.
     """
     controller: Any
     param_inputs: list[str] = field(default_factory=list)
     rename: dict[str, str] = field(default_factory=dict)
+    expose: list[str] = field(default_factory=list)
     name: str = "controller"
 
     def __post_init__(self) -> None:
         self.input_names = list(self.controller.input_names) + list(self.param_inputs)
-        self.output_names = [self.rename.get(n, n) for n in self.controller.output_names]
+        self.output_names = ([self.rename.get(n, n) for n in self.controller.output_names]
+                             + list(self.expose))
 
     def reset(self, batch: int) -> None:
         self.controller.reset(batch)
@@ -97,8 +100,14 @@ class ControllerBlock:
         for name in self.param_inputs:
             self.controller.params[name] = signals[name]
         inputs = _read(signals, list(self.controller.input_names), self.name)
-        outputs = self.controller.step(inputs)
-        return {self.rename.get(k, k): v for k, v in outputs.items()}
+        outputs = {self.rename.get(k, k): v for k, v in self.controller.step(inputs).items()}
+        internal = getattr(self.controller, "signals", {})
+        missing = [n for n in self.expose if n not in internal]
+        if missing:
+            raise KeyError(f"{self.name}: the controller has no internal signal "
+                           f"{', '.join(missing)}")
+        outputs.update({n: internal[n] for n in self.expose})
+        return outputs
 
 
 @dataclass

@@ -58,8 +58,11 @@ def load_controller(scenario, batch: int, backend: str = "numpy"):
 
 
 def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
-          randomize: bool = False) -> list:
-    """The blocks of one scenario around `controller` (a rule-base controller or a baseline)."""
+          randomize: bool = False, expose: list[str] | tuple = ()) -> list:
+    """The blocks of one scenario around `controller` (a rule-base controller or a baseline).
+
+    expose: internal controller signals to put on the bus (the numpy engine has them all;
+    the C back end only its inputs and outputs)."""
     rng = np.random.default_rng(seed)
     module = scenario.plant_module()
     params = scenario.plant_params(batch, rng, randomize)
@@ -70,7 +73,7 @@ def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
     observers = [scenario.make(f"observers.{i}", spec)
                  for i, spec in enumerate(scenario.data.get("observers") or [])]
     return [*schedules, plant, *observers,
-            ControllerBlock(controller, _followed_params(scenario, controller))]
+            ControllerBlock(controller, _followed_params(scenario, controller), expose=list(expose))]
 
 
 def _followed_params(scenario, controller) -> list[str]:
@@ -100,7 +103,9 @@ def simulate(scenario, batch: int = 1, baseline: bool = False, backend: str = "n
         controller = scenario.make("baseline", scenario.baseline)
     else:
         controller = load_controller(scenario, batch, backend)
-    blocks = build(scenario, controller, batch, seed, randomize)
+    own_signals = backend == "numpy" and not baseline
+    expose = (scenario.controller.get("expose") or []) if own_signals else []
+    blocks = build(scenario, controller, batch, seed, randomize, expose)
     trace = run(blocks, scenario.period, scenario.duration, batch, pace=pace, progress=progress,
                 initial=scenario.data.get("initial"), record=record)
     trace.meta.update(scenario=scenario.name, controller="baseline" if baseline else "fuzzy")

@@ -117,3 +117,20 @@ def test_moving_average_is_trailing_and_starts_with_what_exists():
     y = np.array([[2.0], [4.0], [6.0], [8.0]])
     # k = 2: 2/1, (2+4)/2, (4+6)/2, (6+8)/2
     assert metrics.moving_average(y, 2)[:, 0] == pytest.approx([2.0, 3.0, 5.0, 7.0])
+
+
+def test_controller_internals_are_exposed_by_name(first_order):
+    class WithSignals(Gain):
+        def step(self, inputs):
+            out = super().step(inputs)
+            self.signals = {"error": self.params["ref"] - inputs["y"]}
+            return out
+
+    blocks = [PlantBlock(first_order, 0.2, ["u"], ["y"]),
+              ControllerBlock(WithSignals(4.0, 1.0), expose=["error"])]
+    trace = run(blocks, period=0.01, duration=5.0)
+    # at the end y = 0.8, so the error is 1 - 0.8
+    assert trace["error"][-1, 0] == pytest.approx(0.2, abs=1e-6)
+    with pytest.raises(KeyError, match="no internal signal nosuch"):
+        run([PlantBlock(first_order, 0.2, ["u"], ["y"]),
+             ControllerBlock(WithSignals(4.0, 1.0), expose=["nosuch"])], 0.01, 0.02)
