@@ -28,9 +28,9 @@ def _polyline(var: Variable, terms: tuple[int, ...]) -> tuple[np.ndarray, np.nda
     lo, hi = float(var.lo), float(var.hi)
     p = np.asarray(var.params, dtype=float)[list(terms)]
     knots = [lo, hi] + [v for v in p.ravel() if lo < v < hi]
-    edges = [(a, b, 1.0) for a, b, _, _ in p if np.isfinite(a)] + \
-        [(d, c, 1.0) for _, _, c, d in p if np.isfinite(d)]   # lines through (foot, 0), (top, 1)
-    for (a1, b1, _), (a2, b2, _) in combinations(edges, 2):
+    edges = [(a, b) for a, b, _, _ in p if np.isfinite(a)] + \
+        [(d, c) for _, _, c, d in p if np.isfinite(d)]   # lines through (foot, 0), (top, 1)
+    for (a1, b1), (a2, b2) in combinations(edges, 2):
         s1, s2 = 1.0 / (b1 - a1), 1.0 / (b2 - a2)
         if s1 != s2:                           # s1 (u - a1) = s2 (u - a2)
             knots.append((s1 * a1 - s2 * a2) / (s1 - s2))
@@ -127,6 +127,7 @@ class ClosedFormCentroid:
         return 16 * len(self.segments)
 
     def __call__(self, alpha: np.ndarray) -> np.ndarray:
+        """alpha (N, T) -> the centroid (N,), the default where M has no area."""
         if not self.clip:
             area = (alpha * self.term_area).sum(axis=1)
             moment = (alpha * self.term_moment).sum(axis=1)

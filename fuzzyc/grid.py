@@ -21,7 +21,7 @@ MAX_TABLE_ENTRIES = 1 << 22
 
 
 class GridStrengths:
-    """alpha (N, sum of the outputs' T) for a rule base whose inputs are local partitions."""
+    """The strengths of all outputs' terms for a rule base whose inputs are local partitions."""
 
     def __init__(self, rb: RuleBase, partitions: list[LocalPartition], lookup: np.ndarray,
                  radix: np.ndarray, aggregation: Aggregation):
