@@ -51,11 +51,9 @@ def test_pi_does_not_wind_up_in_saturation():
     assert pi.step({"gap_voltage": np.array([50.0])})["velocity"][0] == 0.0
 
 
-def run(rulebase=None, baseline=False, **plant):
+def run(baseline=False, **plant):
     overrides = {"duration": "1.5", **{f"plant.{k}": str(v) for k, v in plant.items()}}
     sc = scenario.load("edm_sink", overrides)
-    if rulebase is not None:
-        sc.data["controller"]["rulebase"] = str(rulebase)
     trace = simulate(sc, batch=4, baseline=baseline)
     tail = trace.time > 0.5
     return {"mean": trace["mean_voltage"][tail].mean(),
@@ -73,48 +71,12 @@ def test_pi_baseline_holds_the_set_point_with_noise(pi_noisy):
     assert pi_noisy["shorts"] == 0
 
 
-@pytest.mark.xfail(strict=True, raises=AssertionError,
-                   reason="rulebases/edm_sink_gap.fz: ce = delta of the 1 ms voltage sees "
-                   "mostly noise and the asymmetric singletons (NB=-1, PB=0.5) rectify it: the mean sits ~6 V above the set point and the gap hunts ~2x "
-                   "more than under PI. See PROPOSED below for a design that meets both.")
 def test_shipped_fuzzy_servo_holds_50V_and_is_as_stable_as_pi(pi_noisy):
+    """rulebases/edm_sink_gap.fz with noise on: mean gap voltage within 5 V of 50 V, no short,
+    and a gap spread no larger than the PI baseline's (the stability metric above); without the
+    spark noise (mains pick-up still on) it hunts less than PI as well."""
     fuzzy = run()
     assert abs(fuzzy["mean"] - 50.0) <= 5.0
+    assert fuzzy["shorts"] == 0
     assert fuzzy["gap_std"] <= pi_noisy["gap_std"]
-
-
-PROPOSED = """
-controller edm_sink_gap_proposed "gap-error -> velocity command (the thesis's cascade), fuzzy" {
-  period 1 ms
-  param Vset = 50 V
-  param Vmax = 2 mm/s
-  input gap_voltage : V in [0, 120]
-  let e in [-1, 1] = clamp((gap_voltage - Vset) / 20, -1, 1)
-  terms e : uniform NB NS ZO PS PB
-  var dv in [-1, 1] default 0
-  terms dv : singletons NB=-1 NS=-0.1 ZO=0 PS=0.1 PB=0.5
-  inference and = min, implication = min, aggregation = max, defuzzify = center_of_area
-  rule if e is NB then dv is NB
-  rule if e is NS then dv is NS
-  rule if e is ZO then dv is ZO
-  rule if e is PS then dv is PS
-  rule if e is PB then dv is PB
-  output velocity : mm/s in [-2, 2] = dv * Vmax
-}
-"""
-
-
-def test_proposed_fuzzy_servo_holds_50V_with_noise_and_hunts_less_than_pi(tmp_path, pi_noisy):
-    """Symmetric small-signal gain (0.1 * 2 mm/s per 10 V = the PI's Kp), strong retraction
-    only for big errors (shorts), no derivative of the noisy voltage.
-
-    With the spark noise on, its gap spread is about 10 % larger than the PI's (the steeper
-    outer terms amplify the largest noise excursions), so "at least as stable" holds for the
-    hunting without spark noise and for short circuits (none), not for the noisy spread."""
-    rules = tmp_path / "proposed.fz"
-    rules.write_text(PROPOSED)
-    noisy = run(rules)
-    assert abs(noisy["mean"] - 50.0) <= 5.0
-    assert noisy["shorts"] == 0
-    # without spark noise (mains pick-up still on) the fuzzy servo hunts less than PI
-    assert run(rules, spark_noise=0.0)["gap_std"] <= run(baseline=True, spark_noise=0.0)["gap_std"]
+    assert run(spark_noise=0.0)["gap_std"] <= run(baseline=True, spark_noise=0.0)["gap_std"]
