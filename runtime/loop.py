@@ -56,10 +56,10 @@ def run(blocks: Iterable, period: float, duration: float, batch: int = 1, pace: 
         if pace == "wall":
             misses += _wait_for_deadline(wall_start + (k + 1) * period)
         if (k + 1) % decimate == 0:
+            if record is None:   # every array signal, as the bus stands after the first period
+                record = [n for n, v in bus.items() if isinstance(v, np.ndarray)]
             times.append((k + 1) * period)
-            names = record if record is not None else [
-                n for n, v in bus.items() if isinstance(v, np.ndarray)]
-            for name in names:
+            for name in record:
                 rows.setdefault(name, []).append(np.array(bus[name], dtype=float, copy=True))
         if k % 64 == 0:
             bar.update(k)
