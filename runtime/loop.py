@@ -58,6 +58,9 @@ def run(blocks: Iterable, period: float, duration: float, batch: int = 1, pace: 
         if (k + 1) % decimate == 0:
             if record is None:   # every array signal, as the bus stands after the first period
                 record = [n for n, v in bus.items() if isinstance(v, np.ndarray)]
+            unknown = [n for n in record if n not in bus]
+            if unknown:
+                raise KeyError(f"cannot record {', '.join(unknown)}: no block writes it")
             times.append((k + 1) * period)
             for name in record:
                 rows.setdefault(name, []).append(np.array(bus[name], dtype=float, copy=True))
