@@ -59,7 +59,7 @@ def format_summary(title: str, controller: str, summary: dict, trace) -> str:
 def run(args) -> int:
     from fuzzyc.plants.scenario import load
     from fuzzyc.runtime.plots import plot_trace
-    from fuzzyc.runtime.simulate import simulate, summarize
+    from fuzzyc.runtime.simulate import references, simulate, summarize
     overrides = parse_sets(args.sets)
     if args.file:
         overrides["controller.rulebase"] = str(Path(args.file).resolve())
@@ -71,7 +71,7 @@ def run(args) -> int:
     out = Path(args.out)
     trace.to_csv(out / "trace.csv", loops=CSV_LOOPS)
     panels = [name for name in scenario.plots if name in trace] or None
-    plot_trace(trace, out / "trace.png", panels, title=scenario.title)
+    plot_trace(trace, out / "trace.png", panels, references(scenario), title=scenario.title)
     controller = "baseline" if args.baseline else str(scenario.rulebase_path())
     text = format_summary(scenario.title, controller, summary, trace)
     write_text(out / "summary.txt", text)

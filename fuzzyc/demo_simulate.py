@@ -23,12 +23,13 @@ def _cell(value: dict) -> str:
 
 def run_one(scenario, baseline: bool) -> dict:
     from fuzzyc.runtime.plots import plot_trace
-    from fuzzyc.runtime.simulate import simulate, summarize
+    from fuzzyc.runtime.simulate import references, simulate, summarize
     trace = simulate(scenario, baseline=baseline)
     summary = summarize(scenario, trace)
     folder = OUT / scenario.name / ("baseline" if baseline else "fuzzy")
     panels = [n for n in scenario.plots if n in trace] or None
-    plot_trace(trace, folder / "trace.png", panels, title=scenario.title)
+    plot_trace(trace, folder / "trace.png", panels, references(scenario),
+               title=scenario.title)
     write_text(folder / "summary.txt", format_summary(
         scenario.title, "baseline" if baseline else "fuzzy", summary, trace))
     return summary

@@ -121,6 +121,12 @@ def _target(scenario, trace: Trace, spec: dict):
     return 0.0 if target is None else float(target)
 
 
+def references(scenario) -> dict[str, str | float]:
+    """signal -> its target in the metrics (a set-point signal or a number), for plots."""
+    return {m["signal"]: m["target"] for m in scenario.metrics
+            if m.get("signal") and m.get("target") is not None}
+
+
 def summarize(scenario, trace: Trace) -> dict[str, dict[str, float]]:
     """metric label -> {mean, min, max, unit} over the batch (one loop: all three equal).
 
