@@ -126,7 +126,9 @@ class CentroidEmitter:
         for seg in segments:
             cands = self._candidates(seg, alpha)
             n = len(cands) + 2
-            code.append(f"{{ /* [{seg.x0:.9g}, {seg.x1:.9g}] */")
+            # M is 0 on a segment where no term is concluded: skip its arithmetic.
+            fired = " || ".join(f"{alpha}[{line.term}] > 0" for line in seg.lines)
+            code.append(f"if ({fired}) {{ /* [{seg.x0:.9g}, {seg.x1:.9g}] */")
             code.append(f"    {self.real.name} u[{n}], f[{n}];")
             code.append(f"    u[0] = {lit(seg.x0)}; u[{n - 1}] = {lit(seg.x1)};")
             for i, c in enumerate(cands, start=1):
