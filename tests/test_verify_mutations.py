@@ -76,11 +76,11 @@ def test_corner_flipped_cell_breaks_monotone_in_feed():
 def test_edm_flipped_cell_breaks_continuity_between_named_cells():
     model = _model("edm_sink_gap")
     rb = model.rulebase
-    r = _rule(rb, "row e=ZO, col ce=ZO")
-    rb.consequents[r, 0] = rb.outputs[0].index("PB")   # ZO -> PB: two terms above PS / NS
+    r = _rule(rb, "row e=ZO, col ce=Z")
+    rb.consequents[r, 0] = rb.outputs[0].index("PB")   # ZO -> PB: 3 terms above NS (row NS)
     result = _check(model, "continuous dv")
     assert result.is_failure
-    assert all("row e=ZO, col ce=ZO" in c for c in result.evidence[0].cells)
+    assert all("row e=ZO, col ce=Z]" in c for c in result.evidence[0].cells)
 
 
 def test_milling_weight_out_of_range_breaks_the_bound_at_its_cell():
@@ -105,7 +105,7 @@ def test_milling_weight_out_of_range_breaks_the_bound_at_its_cell():
     ("wedm_corner", "complete y", "table rule 2",
      "feedrate is VS and thickness is S and angle is M", 2),
     ("milling_neurofuzzy", "complete", "row e=ZE, col cf=ZE", "e is ZE and cf is ZE", 1),
-    ("edm_sink_gap", "complete", "row e=PB, col ce=NB", "e is PB and ce is NB", 1),
+    ("edm_sink_gap", "complete", "row e=PB, col ce=N", "e is PB and ce is N", 1),
 ])
 def test_deleted_rule_leaves_a_named_cell_uncovered(name, only, origin, cell, n_missing):
     model = _model(name)
@@ -152,11 +152,11 @@ def test_milling_moved_term_lowers_the_product_coverage():
 def test_edm_moved_term_opens_a_gap():
     model = _model("edm_sink_gap")
     ce = model.rulebase.inputs[1]
-    ce.params[ce.index("NS")] = [-0.4, -0.2, -0.2, 0.0]   # was tri(-1, -0.5, 0)
+    ce.params[ce.index("Z")] = [0.2, 0.6, 0.6, 1.0]      # was tri(-1, 0, 1)
     proof = _check(model, "covers e, ce at least 0.5").evidence[0]
     assert proof.status == Status.VIOLATED
-    # NB >= 0.5 up to -0.75, NS now -0.3..-0.1, ZO from -0.25: the gap is (-0.75, -0.3)
-    assert -0.75 < proof.point["ce"] < -0.3
+    # N >= 0.5 up to -0.5, Z now 0.4..0.8, P from 0.5: the gap is (-0.5, 0.4)
+    assert -0.5 < proof.point["ce"] < 0.4
 
 
 # ---------------------------------------------------------------- an output limit removed
@@ -184,11 +184,12 @@ def test_corner_reduction_without_its_limit():
 
 def test_edm_velocity_without_its_limit_and_a_larger_gain():
     model = _model("edm_sink_gap")
-    model.params["Vmax"].value = 5.0
+    model.params["Vmax"].value = 10.0
     out = model.outputs[0]
     out.lo, out.hi = -np.inf, np.inf
     evidence = _check(model, "bounded velocity in [-2, 2]").evidence[0]
-    assert evidence.status == Status.VIOLATED and "= -5 outside" in evidence.detail
+    # dv reaches its NB peak -0.3 (and PB 0.3): velocity = 10 dv = -3 (or 3)
+    assert evidence.status == Status.VIOLATED and "= -3 outside" in evidence.detail
 
 
 def test_milling_feed_without_its_limit_once_weights_are_learned():
