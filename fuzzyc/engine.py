@@ -87,8 +87,12 @@ class CompiledRuleBase:
             self._build_lookup(rb)
             n_candidates = self.lookup.shape[1] << len(rb.inputs)
             self.grid = self._grid(rb)
-        work = max([d.work_per_sample(n_candidates) for d in self.defuzzifiers]
-                   + [4 * n_candidates * max(1, len(rb.inputs))])
+        if self.grid is not None:
+            work = max([d.work_per_sample(self.grid.width) for d in self.defuzzifiers]
+                       + [self.grid.work_per_sample()])
+        else:
+            work = max([d.work_per_sample(n_candidates) for d in self.defuzzifiers]
+                       + [4 * n_candidates * max(1, len(rb.inputs))])
         self.chunk_limit = max(1, CHUNK_FLOATS // work)
 
     @staticmethod
@@ -183,8 +187,10 @@ def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536) -> np.ndarray:
     step = max(1, min(chunk, engine.chunk_limit))
     if x.shape[0] <= step:
         return engine.evaluate_chunk(x)
-    return np.concatenate([engine.evaluate_chunk(x[s:s + step])
-                           for s in range(0, x.shape[0], step)])
+    y = np.empty((x.shape[0], len(rb.outputs)))
+    for s in range(0, x.shape[0], step):
+        y[s:s + step] = engine.evaluate_chunk(x[s:s + step])
+    return y
 
 
 def _input_row(rb: RuleBase, values: dict[str, float]) -> np.ndarray:

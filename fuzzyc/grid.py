@@ -43,6 +43,11 @@ class GridStrengths:
         return cells * (2 ** len(partitions)) * depth * max(1, len(rb.outputs)) \
             <= MAX_TABLE_ENTRIES
 
+    def work_per_sample(self) -> int:
+        """Floats per sample: memberships and segments, activations, scatter indices, alpha."""
+        n_candidates = self.columns.shape[0]
+        return 4 * (8 * len(self.partitions) + 2 * n_candidates + self.width)
+
     def _build(self, rb: RuleBase, lookup: np.ndarray, radix: np.ndarray) -> None:
         n_in = len(self.partitions)
         # term id of input i in slot s of segment k: table column 6 + s (see LocalPartition)
