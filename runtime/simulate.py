@@ -72,8 +72,9 @@ def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
                        list(getattr(module, "OUTPUTS", ())), seed=seed)
     observers = [scenario.make(f"observers.{i}", spec)
                  for i, spec in enumerate(scenario.data.get("observers") or [])]
+    followed = _followed_params(scenario, controller)
     return [*schedules, plant, *observers,
-            ControllerBlock(controller, _followed_params(scenario, controller), expose=list(expose))]
+            ControllerBlock(controller, followed, expose=list(expose))]
 
 
 def _followed_params(scenario, controller) -> list[str]:
