@@ -5,7 +5,7 @@ from pathlib import Path
 
 from .atomic import write_text
 
-NUMERIC = ("float", "double")
+NUMERIC = ("float", "double", "q15", "q31")
 
 
 def add_parser(subparsers) -> None:
@@ -17,13 +17,18 @@ def add_parser(subparsers) -> None:
     p.add_argument("--target", choices=("c", "lut"), default="c")
     p.add_argument("-o", "--output", metavar="DIR", default=".")
     p.add_argument("--numeric", choices=NUMERIC, default="float",
-                   help="real type of the generated code (target c)")
+                   help="arithmetic of the generated code (target c); q15/q31 emit the bare "
+                        "rule base on scaled integers, NAME_q15.h / NAME_q31.h")
     p.add_argument("--resolution", type=int, default=33,
                    help="grid points per input (target lut)")
     p.set_defaults(run=run)
 
 
 def _entry_points(name: str, target: str) -> list[str]:
+    if target in ("q15", "q31"):
+        io = "int16_t" if target == "q15" else "int32_t"
+        return [f"void measure_{target}(const {io} *x, {io} *y) "
+                f"{{ {name}_{target}_rulebase(x, y); }}"]
     if target == "lut":
         return [f"void measure_lut(const float *x, float *y) {{ {name}_lut(x, y); }}"]
     # What a firmware calls: init and step (the bare rule base is inlined inside step).
@@ -46,12 +51,17 @@ def run(args) -> int:
             print(f"lookup table max error {var.name}: {e:.4g} "
                   f"({e / (var.hi - var.lo):.3e} of its range)")
         header_name, text = f"{name}_lut.h", generate_lut_header(model, table, error)
+    elif args.numeric in ("q15", "q31"):
+        from .backends.c_fixed import generate_fixed_header
+        header_name = f"{name}_{args.numeric}.h"
+        text = generate_fixed_header(model, args.numeric)
     else:
         header_name, text = f"{name}.h", generate_header(model, args.numeric)
     path = Path(args.output) / header_name
     write_text(path, text)
     print(f"wrote {path}")
     for level in ("-O2", "-Os"):
-        code, stack = footprint(header_name, text, _entry_points(name, args.target), (level,))
+        kind = args.numeric if args.target == "c" and args.numeric.startswith("q") else args.target
+        code, stack = footprint(header_name, text, _entry_points(name, kind), (level,))
         print(f"  gcc {level}: {code} bytes code + constant data, {stack} bytes stack")
     return 0
