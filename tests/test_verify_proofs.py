@@ -68,3 +68,33 @@ def test_bounded_output_of_center_of_area_is_the_hull_of_its_peaks():
     # the hull [0, 1] is wider than [0, 0.9]; the search finds y = 1 where only H fires
     narrow = _verify("if x is H then y is hi", "bounded y in [0, 0.9]")
     assert narrow.status == Status.VIOLATED and narrow.violation.point["x"] >= 6.0
+
+
+def test_sum_product_corner_table_is_proved_monotone_and_max_min_is_not():
+    # With and = product and aggregation = sum, the memberships of each input sum to 1 and
+    # every cell has one rule, so y is multilinear per cell and the vertex check is a proof.
+    from fuzzyc.model import Aggregation, TNorm
+    from fuzzyc.parser import load
+    from fuzzyc.verify import proof
+    rb = load("rulebases/wedm_corner.fz").rulebase
+    published = proof.prove_monotone(rb, "y", "feedrate", "increasing", [])
+    assert published.status == Status.UNDECIDED
+    rb.inference.and_, rb.inference.aggregation = TNorm.PRODUCT, Aggregation.SUM
+    for name, direction in (("feedrate", "increasing"), ("thickness", "increasing"),
+                            ("angle", "decreasing")):
+        assert proof.prove_monotone(rb, "y", name, direction, []).status == Status.PROVED
+
+
+def test_sum_product_proof_names_the_wedm_critical_region_reversal():
+    # e1 = ZO block, column ce2 = NS: row e2 = PS says ZO (0), row PB says NS (-0.5). At the
+    # vertex (e1 = 0, ce2 = -0.5) the output is the cell's peak, so du1 falls by 0.5 from
+    # e2 = 0.5 to e2 = 1.
+    from fuzzyc.model import Aggregation, TNorm
+    from fuzzyc.parser import load
+    from fuzzyc.verify import proof
+    rb = load("rulebases/wedm_three_region.fz").rulebase
+    rb.inference.and_, rb.inference.aggregation = TNorm.PRODUCT, Aggregation.SUM
+    evidence = proof.prove_monotone(rb, "du1", "e2", "increasing", [("e1", 1, False)])
+    assert evidence.status == Status.VIOLATED
+    assert evidence.point == {"e1": 0.0, "e2": 0.5, "ce2": -0.5}
+    assert "by -0.5 from e2=0.5 to 1" in evidence.detail

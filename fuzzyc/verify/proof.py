@@ -3,12 +3,15 @@
 - Peak-based defuzzifiers (center of area, weighted average) return a convex combination of
   the concluded terms' peaks, or the default where nothing fires: the hull of those values
   bounds the output everywhere. Area-based ones stay in the output's range.
-- Multilinear rule bases (product t-norm, AND, trapezoid terms, no hedges, weighted sum: the
-  neuro-fuzzy controller): on each cell between consecutive break points every membership is
-  linear in its own input, so the output is a multilinear polynomial there. A multilinear
-  polynomial takes its extremes over a box at the box's vertices, and so does its increment
-  along one input; evaluating the engine at the break-point grid therefore decides bounds and
-  monotonicity exactly.
+- Multilinear rule bases (product t-norm, AND, trapezoid terms, no hedges): on each cell
+  between consecutive break points every membership is linear in its own input, so every rule
+  activation, and a weighted sum of them (the neuro-fuzzy controller), is a multilinear
+  polynomial there. A weighted average (or center of area with sum aggregation) is one too
+  when its denominator, the sum of the activations, is the same constant at every vertex of
+  the break-point grid (then it is that constant everywhere: a multilinear function is fixed
+  by its vertex values). A multilinear polynomial takes its extremes over a box at the box's
+  vertices, and so does its increment along one input; evaluating the engine at the
+  break-point grid therefore decides bounds and monotonicity exactly.
 Min/max inference with center of area is piecewise rational with pieces cut by the lines where
 two memberships cross: no proof method here, the search (method 3) decides it.
 """
@@ -17,7 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import engine
-from ..model import Connective, Defuzzifier, RuleBase, TNorm, TermKind
+from ..model import Aggregation, Connective, Defuzzifier, RuleBase, TNorm, TermKind
 from .result import Evidence, Status
 from .space import break_points, hedge_free, restrict, tensor_points
 
@@ -25,11 +28,24 @@ TOL = 1e-9
 AREA_BASED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
 
 
-def multilinear(rb: RuleBase) -> bool:
+def multilinear(rb: RuleBase, o: int) -> str | None:
+    """Why output o is multilinear on every break-point cell, or None if it is not."""
     single_or_and = (rb.connective == Connective.AND) | ((rb.antecedents >= 0).sum(axis=1) <= 1)
-    return (rb.inference.and_ == TNorm.PRODUCT and bool(single_or_and.all())
-            and rb.inference.defuzzifier == Defuzzifier.WEIGHTED_SUM and hedge_free(rb)
-            and all((v.kinds == TermKind.TRAPEZOID).all() for v in rb.inputs))
+    if not (rb.inference.and_ == TNorm.PRODUCT and bool(single_or_and.all()) and hedge_free(rb)
+            and all((v.kinds == TermKind.TRAPEZOID).all() for v in rb.inputs)):
+        return None
+    d = rb.inference.defuzzifier
+    if d == Defuzzifier.WEIGHTED_SUM:
+        return "product t-norm, weighted sum: multilinear per cell"
+    if d == Defuzzifier.WEIGHTED_AVERAGE or (d == Defuzzifier.CENTER_OF_AREA and
+                                              rb.inference.aggregation == Aggregation.SUM):
+        axes = [break_points(v) for v in rb.inputs]
+        act = engine.activations(rb, tensor_points(axes))[:, rb.consequents[:, o] >= 0]
+        total = act.sum(axis=1)
+        if total.min() > 0 and np.ptp(total) <= TOL * total.max():
+            return (f"product t-norm, averaged over activations that sum to "
+                    f"{total.mean():.6g} everywhere: multilinear per cell")
+    return None
 
 
 def _vertex_values(rb: RuleBase, where) -> tuple[list[np.ndarray], np.ndarray]:
@@ -42,10 +58,11 @@ def prove_bounded(rb: RuleBase, output: str, lo: float, hi: float) -> Evidence:
     o = rb.output_index(output)
     var = rb.outputs[o]
     d = rb.inference.defuzzifier
-    if multilinear(rb):
+    linear = multilinear(rb, o)
+    if linear:
         _, values = _vertex_values(rb, [])
         low, high = float(values[..., o].min()), float(values[..., o].max())
-        how = "multilinear per cell: extremes at the break-point grid"
+        how = f"{linear}: extremes at the break-point grid"
     elif d in AREA_BASED:
         low, high = min(var.lo, var.default), max(var.hi, var.default)
         how = "area-based defuzzifier: within the output's range or its default"
@@ -58,7 +75,7 @@ def prove_bounded(rb: RuleBase, output: str, lo: float, hi: float) -> Evidence:
         how = "convex combination of the concluded peaks (or the default)"
     if lo - TOL <= low and high <= hi + TOL:
         return Evidence("proof", Status.PROVED, f"{how}: {output} in [{low:.6g}, {high:.6g}]")
-    if multilinear(rb):
+    if linear:
         return Evidence("proof", Status.VIOLATED, f"{how}: {output} reaches "
                         f"[{low:.6g}, {high:.6g}], outside [{lo:g}, {hi:g}]",
                         point=_extreme_point(rb, o, lo, hi))
@@ -74,14 +91,15 @@ def _extreme_point(rb: RuleBase, o: int, lo: float, hi: float) -> dict[str, floa
 
 
 def prove_monotone(rb: RuleBase, output: str, input_: str, direction: str, where) -> Evidence:
-    if not multilinear(rb):
+    o, k = rb.output_index(output), rb.input_index(input_)
+    linear = multilinear(rb, o)
+    if not linear:
         return Evidence("proof", Status.UNDECIDED, f"no proof method for "
                         f"{rb.inference.describe()} (not multilinear); the search decides")
-    o, k = rb.output_index(output), rb.input_index(input_)
     axes, values = _vertex_values(rb, where)
     step = np.diff(values[..., o], axis=k) * (1 if direction == "increasing" else -1)
     if step.size == 0 or step.min() >= -TOL:
-        return Evidence("proof", Status.PROVED, f"multilinear per cell: every increment along "
+        return Evidence("proof", Status.PROVED, f"{linear}: every increment along "
                         f"{input_} between break points has the right sign")
     idx = np.unravel_index(int(np.argmin(step)), step.shape)
     point = {v.name: float(a[j]) for v, a, j in zip(rb.inputs, axes, idx)}
