@@ -3,7 +3,7 @@ of the WEDM rule base and a batch-1 call of the numpy engine, all in the same ru
 
 The timing loop is inside a C driver (gcc -O2, one translation unit per run): per function,
 the median over REPEATS runs of ITERATIONS calls cycling through 4096 random inputs over the
-rule base's input ranges.  Writes benchmarks/results/c.md atomically.
+rule base's input ranges; the runs go round-robin over all functions.  Writes benchmarks/results/c.md atomically.
 
     python3 benchmarks/bench_c.py
 """
@@ -23,6 +23,8 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from common import markdown_table, median_seconds, write_result  # noqa: E402
 from fuzzyc.backends.c import c_identifier, generate_header  # noqa: E402
+from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header  # noqa: E402
+from fuzzyc.errors import FuzzycError  # noqa: E402
 from fuzzyc.backends.lut import LookupTable, generate_lut_header  # noqa: E402
 from fuzzyc.engine import evaluate  # noqa: E402
 from fuzzyc.model import Defuzzifier  # noqa: E402
@@ -30,8 +32,8 @@ from fuzzyc.parser import load  # noqa: E402
 
 RULEBASES = ["wedm_three_region", "wedm_corner", "milling_neurofuzzy", "edm_sink_gap"]
 LUT_RESOLUTION = 33
-ITERATIONS = 200_000
-REPEATS = 11
+ITERATIONS = 100_000
+REPEATS = 21
 FLAGS = ["-std=c99", "-O2"]
 
 DRIVER_HEAD = """\
@@ -65,23 +67,36 @@ static float *random_points(int n_in, const float *lo, const float *hi) {{
     }}
     return x;
 }}
-static void bench(const char *label, fn_t fn, int n_in, const float *lo, const float *hi) {{
-    float *x = random_points(n_in, lo, hi), y[8];
-    double times[{repeats}];
-    int r, k;
-    for (r = 0; r < {repeats}; ++r) {{
-        double t0 = now_ns();
-        float acc = 0;
-        for (k = 0; k < {iterations}; ++k) {{
-            fn(x + (k & (N_POINTS - 1)) * n_in, y);
-            acc += y[0];
+#define MAX_ENTRIES 64
+typedef struct {{ const char *label; fn_t fn; int n_in; float *x; double times[{repeats}]; }} entry_t;
+static entry_t entries[MAX_ENTRIES];
+static int n_entries;
+
+static void add(const char *label, fn_t fn, int n_in, const float *lo, const float *hi) {{
+    entry_t *e = &entries[n_entries++];
+    e->label = label; e->fn = fn; e->n_in = n_in; e->x = random_points(n_in, lo, hi);
+}}
+/* Round-robin over the functions, so a change of machine load hits all of them alike. */
+static void run_all(void) {{
+    int r, i, k;
+    float y[8];
+    for (r = 0; r < {repeats}; ++r)
+        for (i = 0; i < n_entries; ++i) {{
+            entry_t *e = &entries[i];
+            double t0 = now_ns();
+            float acc = 0;
+            for (k = 0; k < {iterations}; ++k) {{
+                e->fn(e->x + (k & (N_POINTS - 1)) * e->n_in, y);
+                acc += y[0];
+            }}
+            sink = acc;
+            e->times[r] = (now_ns() - t0) / {iterations};
         }}
-        sink = acc;
-        times[r] = (now_ns() - t0) / {iterations};
+    for (i = 0; i < n_entries; ++i) {{
+        qsort(entries[i].times, {repeats}, sizeof(double), by_value);
+        printf("%s\\t%.2f\\n", entries[i].label, entries[i].times[{repeats} / 2]);
+        free(entries[i].x);
     }}
-    qsort(times, {repeats}, sizeof(double), by_value);
-    printf("%s\\t%.2f\\n", label, times[{repeats} / 2]);
-    free(x);
 }}
 """
 
@@ -112,6 +127,22 @@ def entries(model):
             rulebase_entry(variant(model, method.name.lower(), method),
                            f"C float, rule base ({method.name.lower()})")
     n = c_identifier(model.name)
+    try:
+        fixed = generate_fixed_header(model, "q15")
+    except FuzzycError:       # a rule base the fixed-point back end does not emit
+        fixed = None
+    if fixed is not None:
+        full = FORMATS["q15"][1]
+        scale = ", ".join(f"{full / (b - a)!r}f" for a, b in ins)
+        lows = ", ".join(f"{a!r}f" for a, _ in ins)
+        wrap = (f"static void q15_{n}(const float *x, float *y) {{\n"
+                f"    static const float lo[] = {{{lows}}}, scale[] = {{{scale}}};\n"
+                f"    int16_t xq[{len(ins)}], yq[{len(rb.outputs)}]; int k;\n"
+                f"    for (k = 0; k < {len(ins)}; ++k) xq[k] = (int16_t)((x[k] - lo[k]) * scale[k]);\n"
+                f"    {n}_q15_rulebase(xq, yq);\n"
+                f"    y[0] = (float)yq[0];\n}}")
+        out.append(("C q15 rule base (incl. float to q15 input conversion)", f"{n}_q15.h",
+                    fixed, wrap, f"q15_{n}", ins))
     table = LookupTable(rb, LUT_RESOLUTION)
     wrap = f"static void lut_{n}(const float *x, float *y) {{ {n}_lut(x, y); }}"
     out.append((f"C lookup table ({LUT_RESOLUTION} points per input)", f"{n}_lut.h",
@@ -135,15 +166,15 @@ def run_driver(all_entries, work: Path) -> dict[str, float]:
         lo = ", ".join(f"{a!r}f" for a, _ in ranges)
         hi = ", ".join(f"{b!r}f" for _, b in ranges)
         calls.append(f"    {{ const float lo[] = {{{lo}}}, hi[] = {{{hi}}}; "
-                     f"bench(\"{key}\", {fn}, {len(ranges)}, lo, hi); }}")
+                     f"add(\"{key}\", {fn}, {len(ranges)}, lo, hi); }}")
     wedm = [(-1.0, 1.0)] * 3
     for fn in ("hand_wedm_all_rules", "hand_wedm_active_rules"):
         calls.append(f"    {{ const float lo[] = {{-1.0f, -1.0f, -1.0f}}, "
-                     f"hi[] = {{1.0f, 1.0f, 1.0f}}; bench(\"{fn}\", {fn}, {len(wedm)}, lo, hi); }}")
+                     f"hi[] = {{1.0f, 1.0f, 1.0f}}; add(\"{fn}\", {fn}, {len(wedm)}, lo, hi); }}")
     source = (DRIVER_HEAD.format(includes="\n".join(includes), repeats=REPEATS,
                                  iterations=ITERATIONS)
               + "\n".join(wrappers) + "\nint main(void) {\n" + "\n".join(calls)
-              + "\n    return 0;\n}\n")
+              + "\n    run_all();\n    return 0;\n}\n")
     (work / "driver.c").write_text(source)
     exe = work / "driver"
     subprocess.run(["gcc", *FLAGS, "-I", str(work), str(work / "driver.c"),

@@ -1,10 +1,10 @@
 """Exact centroid of piecewise-linear output terms, as straight-line C.
 
-At generation time [lo, hi] is cut at every term break point and at every crossing of two term
-edges, so inside a segment each term that is positive there is one line s*u + q.  The aggregated
-membership M(u) = AGG_j IMP(alpha_j, s_j u + q_j) then only bends where a line meets a level
-(MIN implication: s_j u + q_j = alpha_k) or, for PRODUCT implication with MAX, where two scaled
-lines cross.  Those few candidate points are computed from the levels at run time, clamped into
+At generation time [lo, hi] is cut at every term break point, so inside a segment each term
+that is positive there is one line s*u + q.  The aggregated membership
+M(u) = AGG_j IMP(alpha_j, s_j u + q_j) then only bends where a line meets a level or two lines
+cross (MIN implication: s_j u + q_j = alpha_k, and the fixed crossings of two lines) or, for
+PRODUCT implication with MAX, where two scaled lines cross.  Those few candidate points are computed from the levels at run time, clamped into
 the segment and sorted by a fixed compare-exchange network; M is linear between consecutive
 points, so the trapezoid sums of area and first moment are exact (the engine's closed form).
 """
@@ -30,6 +30,7 @@ class Segment:
     x0: float
     x1: float
     lines: list[Line]
+    crossings: list[float]     # where two of the lines cross inside the segment
 
 
 def _piece(a: float, b: float, c: float, d: float, mid: float) -> tuple[float, float] | None:
@@ -54,22 +55,20 @@ def _lines(params: np.ndarray, terms: list[int], x0: float, x1: float) -> list[L
 
 
 def area_segments(var: Variable) -> list[Segment]:
-    """The segments of [lo, hi] with the lines of the trapezoid terms positive in each."""
+    """The segments of [lo, hi] between term break points, with the lines of the trapezoid
+    terms positive in each and the points inside where two of those lines cross."""
     lo, hi = float(var.lo), float(var.hi)
     params = np.asarray(var.params, dtype=float)
     terms = [t for t in range(var.n_terms) if var.kinds[t] == TermKind.TRAPEZOID]
-    cuts = {lo, hi} | {float(v) for t in terms for v in params[t] if lo < v < hi}
-    bounds = sorted(cuts)
+    bounds = sorted({lo, hi} | {float(v) for t in terms for v in params[t] if lo < v < hi})
+    segments = []
     for x0, x1 in zip(bounds[:-1], bounds[1:]):
-        for l1, l2 in combinations(_lines(params, terms, x0, x1), 2):
-            if l1.slope != l2.slope:
-                u = (l2.intercept - l1.intercept) / (l1.slope - l2.slope)
-                if x0 < u < x1:
-                    cuts.add(u)
-    bounds = sorted(cuts)
-    segments = [Segment(x0, x1, _lines(params, terms, x0, x1))
-                for x0, x1 in zip(bounds[:-1], bounds[1:])]
-    return [s for s in segments if s.lines]
+        lines = _lines(params, terms, x0, x1)
+        crossings = sorted({(l2.intercept - l1.intercept) / (l1.slope - l2.slope)
+                            for l1, l2 in combinations(lines, 2) if l1.slope != l2.slope})
+        if lines:
+            segments.append(Segment(x0, x1, lines, [u for u in crossings if x0 < u < x1]))
+    return segments
 
 
 def supported(inference: Inference) -> bool:
@@ -106,9 +105,10 @@ class CentroidEmitter:
         lit = self.real.lit
         if self.inf.aggregation == Aggregation.SUM:      # PRODUCT and SUM: linear in segment
             return []
-        if self.inf.implication == Implication.MIN:
+        if self.inf.implication == Implication.MIN:   # line meets a level, or two lines cross
             return [f"({alpha}[{k.term}] - {lit(j.intercept)}) * {lit(1.0 / j.slope)}"
-                    for j in seg.lines if j.slope != 0.0 for k in seg.lines]
+                    for j in seg.lines if j.slope != 0.0 for k in seg.lines] + \
+                [lit(u) for u in seg.crossings]
         out = []
         for j, k in combinations(seg.lines, 2):
             if j.slope == 0.0 and k.slope == 0.0:
