@@ -104,3 +104,20 @@ def test_c_backend_gives_the_same_verdicts(toy_plant, scenario):
         c_side = verify_model(_model(scenario, vmax=vmax), Options(backend="c", **options))
         assert [r.status for r in c_side] == [r.status for r in numpy_side]
         assert [r.evidence[0].detail for r in c_side] == [r.evidence[0].detail for r in numpy_side]
+
+
+def test_wedm_sign_error_in_the_error_gain_is_caught_in_closed_loop():
+    # GE2 = -10 instead of 10: e2 > 0 now means "abnormal ratio too high", so the controller
+    # slows the feed when it should speed up and the ratio never climbs from 25 % to Yr2.
+    from fuzzyc.parser import load
+    model = load("rulebases/wedm_three_region.fz")
+    loop = next(p for p in model.properties if p.kind == "closed_loop")
+    check = next(c for c in loop.args["checks"] if c.kind == "eventually")
+    model.properties = [dataclasses.replace(
+        loop, args={**loop.args, "duration": 160.0, "checks": [check]})]
+    correct = verify_model(model, Options(max_examples=4, seed=0, shrink_rounds=0))
+    assert correct[0].status == Status.HELD
+    model.params["GE2"].value = -10.0
+    (result,) = verify_model(model, Options(max_examples=4, seed=0, shrink_rounds=0))
+    assert result.status == Status.VIOLATED and result.finding is None
+    assert "4 of 4 loops break it" in result.violation.detail
