@@ -149,12 +149,21 @@ def rates(p: WedmGapParams, gap, debris, feed, t_off, on_time, height):
             "v_table": v_table, "voltage": voltage, "energy": discharge_energy(p, on_time)}
 
 
+# Inputs are held to what the machine can do (Table 1 ranges); a non-finite command is a fault
+# the machine answers safely: no feed, the longest off-time, its own on-time and height.
+INPUT_LIMITS = {"feed": (0.0, 10.0), "t_off": (1.6, 48.0), "on_time": (0.1, 3.0),
+                "height": (0.5, 500.0)}
+
+
 def _inputs(p: WedmGapParams, inputs: dict, n: int):
-    def get(name, default):
+    safe = {"feed": 0.0, "t_off": 48.0, "on_time": p.on_time, "height": p.height}
+
+    def get(name):
         value = inputs.get(name)
-        return np.broadcast_to(np.asarray(default if value is None else value, float), (n,))
-    return (np.maximum(get("feed", 0.0), 0.0), np.clip(get("t_off", 32.0), 0.1, None),
-            get("on_time", p.on_time), np.maximum(get("height", p.height), 1e-3))
+        x = np.broadcast_to(np.asarray(safe[name] if value is None else value, float), (n,))
+        x = np.where(np.isfinite(x), x, safe[name])
+        return np.clip(x, *INPUT_LIMITS[name])
+    return get("feed"), get("t_off"), get("on_time"), get("height")
 
 
 def step(params: WedmGapParams, state: dict, inputs: dict, t: float, dt: float, rng=None):

@@ -134,3 +134,18 @@ def test_controller_internals_are_exposed_by_name(first_order):
     with pytest.raises(KeyError, match="no internal signal nosuch"):
         run([PlantBlock(first_order, 0.2, ["u"], ["y"]),
              ControllerBlock(WithSignals(4.0, 1.0), expose=["nosuch"])], 0.01, 0.02)
+
+
+def test_progress_bar_when_asked_and_silent_off_a_tty():
+    import io
+    from fuzzyc.runtime.progress import Progress
+    shown = io.StringIO()
+    bar = Progress(100, enabled=True, stream=shown)
+    bar.update(50)
+    bar.close()
+    assert "50.0%" in shown.getvalue() and "100.0%" in shown.getvalue()
+    quiet = io.StringIO()          # a StringIO is not a tty: no bar unless asked
+    bar = Progress(100, stream=quiet)
+    bar.update(50)
+    bar.close()
+    assert quiet.getvalue() == ""

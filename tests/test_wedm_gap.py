@@ -92,3 +92,22 @@ def test_voltage_p_baseline_law():
     # 0.05 * (V - 40) clipped to [0, 3]: 0, 0.5, 3
     assert out["feed"] == pytest.approx([0.0, 0.5, 3.0])
     assert out["t_off"] == pytest.approx([32.0] * 3)
+
+
+def test_outputs_stay_finite_for_any_command():
+    # hypothesis drives feed and off-time with anything, NaN and infinities included
+    from hypothesis import given, settings, strategies as st
+    anything = st.floats(allow_nan=True, allow_infinity=True)
+
+    @settings(max_examples=60, deadline=None)
+    @given(st.lists(st.tuples(anything, anything), min_size=1, max_size=20))
+    def check(commands):
+        p = W.WedmGapParams()
+        rng = np.random.default_rng(0)
+        state = W.initial_state(p, 1)
+        for k, (feed, t_off) in enumerate(commands):
+            state, out = W.step(p, state, {"feed": np.array([feed]), "t_off": np.array([t_off])},
+                                k * DT, DT, rng)
+            assert all(np.all(np.isfinite(v)) for v in out.values())
+            assert all(np.all(np.isfinite(v)) for v in state.values())
+    check()
