@@ -11,9 +11,11 @@ Plants (modules of fuzzyc.plants) are pure and batched:
 
 Blocks (runtime.blocks) have input_names, output_names, reset(batch), step(signals) -> dict:
     PlantBlock(plant_module, params, inputs, outputs, seed=0)
-    ControllerBlock(controller, param_inputs=[], rename={})   wraps fuzzyc.controller.Controller
-        or the C-backed CController (anything with input_names/output_names/reset/step);
-        param_inputs: controller params that follow a bus signal (set-point schedules)
+    ControllerBlock(controller, param_inputs=[], rename={}, expose=[])
+        wraps fuzzyc.controller.Controller or the C-backed CController (anything with
+        input_names/output_names/reset/step); param_inputs: controller params that follow a
+        bus signal (set-point schedules); expose: internal signals (controller.signals) to
+        put on the bus, e.g. e1, e2
     FunctionBlock(fn, input_names, output_names)               fn(**inputs) -> dict
     ScheduleBlock(output, [(t0, v0), (t1, v1), ...])           piecewise-constant signal
   The bus also carries floats `t` (start of the period, s) and `dt` (the period, s).
@@ -29,12 +31,17 @@ Traces (runtime.trace): Trace.time (T,), Trace.signals {name: (T, N)}, trace["na
     .select(i), .to_csv(path, loops=None) (atomic), Trace.from_csv(path).
 Plots (runtime.plots): plot_trace(trace, path, signals=None, references=None, title="").
 Metrics (runtime.metrics): settling_time, overshoot, steady_state_error, chattering,
-    steady_change, event_count — each over (T, N) arrays, one value per loop.
+    steady_change, event_count, moving_average — over (T, N) arrays, one value per loop.
 Scenarios (runtime.simulate, with fuzzyc.plants.scenario.load(name_or_path, overrides)):
     simulate(scenario, batch=1, baseline=False, backend="numpy", seed=0, randomize=False,
-             progress=False, record=None) -> Trace
+             progress=False, record=None, pace="sim") -> Trace
     summarize(scenario, trace) -> {label: {mean, min, max, unit}}
-    build(scenario, controller, batch, seed, randomize) -> blocks
+    build(scenario, controller, batch=1, seed=0, randomize=False, expose=()) -> blocks
+    load_controller(scenario, batch, backend="numpy") -> controller with the scenario's params
+    references(scenario) -> {signal: set point} for plots
+  Block order: schedules -> plant (sees the controller outputs of the previous period, u(-1)
+  the first time) -> observers -> controller. A 40-ms sample period therefore has one period
+  of delay from measurement to actuation, as on the machine.
 """
 from .blocks import ControllerBlock, FunctionBlock, PlantBlock, ScheduleBlock
 from .loop import run
