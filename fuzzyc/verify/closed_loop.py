@@ -33,6 +33,7 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
             return [[Evidence("closed-loop", Status.UNDECIDED, f"--backend c: the C back end "
                               f"cannot be loaded ({exc})")] for _ in checks]
     loop = _Loop(model, scen, a["duration"], options.backend, options.seed)
+    loop.progress = None if options.progress else False   # the runtime's bar, on a terminal
     learned = loop.learn(**learning) if learning else ""
     cases = _draw_cases(loop, a["vary"], options.max_examples, options.seed)
     try:
@@ -88,6 +89,7 @@ class _Loop:
     def __init__(self, model: Model, scen, duration: float, backend: str, seed: int):
         self.model, self.scen, self.duration, self.backend, self.seed = (
             model, scen, duration, backend, seed)
+        self.progress: bool | None = False
         self.module = scen.plant_module()
         self.nominal = scen.plant_params(1)
         self.plant_inputs = set(getattr(self.module, "INPUTS", ()))
@@ -139,7 +141,7 @@ class _Loop:
         for name in sorted({s[0] for s in steps if s}):
             blocks.insert(k, _disturbance(name, steps, varied, self.nominal, FunctionBlock))
         trace = run(blocks, self.scen.period, self.duration, batch,
-                    initial=self.scen.data.get("initial"))
+                    initial=self.scen.data.get("initial"), progress=self.progress)
         return trace.time, trace.signals
 
 
