@@ -17,7 +17,7 @@ import numpy as np
 
 from ..engine import CompiledRuleBase
 from ..errors import Diagnostic, FuzzycError
-from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, Op,
+from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
                      OutputKind, RuleBase, SNorm, TermKind, TNorm)
 from .c_centroid import CentroidEmitter, area_segments, supported
 from .c_expr import REAL_TYPES, ExprPrinter, RealType
@@ -88,12 +88,12 @@ class HeaderWriter:
     def helpers(self) -> None:
         t, p, lit = self.real.name, self.p, self.real.lit
         self.out(
-            f"/* min/max that propagate NaN, like numpy (fmin/fmax would drop it). */",
+            "/* min/max that propagate NaN, like numpy (fmin/fmax would drop it). */",
             f"static inline {t} {p}min({t} a, {t} b) {{ return (a < b || a != a) ? a : b; }}",
             f"static inline {t} {p}max({t} a, {t} b) {{ return (a > b || a != a) ? a : b; }}",
             f"static inline {t} {p}sign({t} a) {{ return a > 0 ? {lit(1)} : "
             f"(a < 0 ? {lit(-1)} : a); }}",
-            f"/* NaN-free helpers for values known to be numbers. */",
+            "/* NaN-free helpers for values known to be numbers. */",
             f"static inline {t} {p}lesser({t} a, {t} b) {{ return a < b ? a : b; }}",
             f"static inline {t} {p}greater({t} a, {t} b) {{ return a > b ? a : b; }}",
             f"static inline {t} {p}clamp({t} x, {t} lo, {t} hi) "
@@ -102,7 +102,7 @@ class HeaderWriter:
             f"{{ {t} lo = {p}lesser(*a, *b); *b = {p}greater(*a, *b); *a = lo; }}",
             f"static inline {t} {p}ratio_or({t} num, {t} den, {t} fallback) "
             f"{{ return den != 0 ? num / den : fallback; }}",
-            f"/* One linear piece of M: exact area and first moment. */",
+            "/* One linear piece of M: exact area and first moment. */",
             f"static inline void {p}piece({t} x0, {t} x1, {t} f0, {t} f1, {t} *area, "
             f"{t} *moment) {{",
             f"    {t} dx = x1 - x0;",
@@ -110,12 +110,12 @@ class HeaderWriter:
             f"    *moment += dx * (f0 * ({lit(2)} * x0 + x1) + f1 * (x0 + {lit(2)} * x1)) "
             f"/ {lit(6)};",
             "}",
-            f"/* Trapezoid row: a b c d 1/(b-a) 1/(d-c); shoulders have a = b = -inf or c = d = "
-            f"+inf. */",
+            "/* Trapezoid row: a b c d 1/(b-a) 1/(d-c); shoulders have a = b = -inf or c = d = "
+            "+inf. */",
             f"static inline {t} {p}trapezoid({t} x, const {t} q[6]) {{",
             f"    {t} rise = x >= q[1] ? {lit(1)} : (x > q[0] ? (x - q[0]) * q[4] : {lit(0)});",
             f"    {t} fall = x <= q[2] ? {lit(1)} : (x < q[3] ? (q[3] - x) * q[5] : {lit(0)});",
-            f"    return rise < fall ? rise : fall;",
+            "    return rise < fall ? rise : fall;",
             "}",
             "")
 
@@ -207,7 +207,7 @@ class HeaderWriter:
             cons[cons[:, o] < 0, o] = var.n_terms
         if extra_row:
             cons = np.vstack([cons, [v.n_terms for v in rb.outputs]])
-        self.out(f"/* Consequent term per rule and output (n_terms = the rule says nothing). */",
+        self.out("/* Consequent term per rule and output (n_terms = the rule says nothing). */",
                  f"static const unsigned char {self.P}CONSEQUENTS[{len(cons)}]"
                  f"[{self.P}N_RB_OUTPUTS] = {_int_table(cons)};")
         if not np.all(rb.weights == 1.0):
@@ -228,8 +228,8 @@ class HeaderWriter:
         flat = np.where(rb.antecedents >= 0, rb.antecedents + offsets[:-1],
                         np.where((conj | only_wild)[:, None], one, zero))
         plain = bool(np.all(conj) and not np.any(rb.negated) and np.all(rb.hedges == Hedge.NONE))
-        self.out(f"/* Per rule and input: index into mu (all terms, then 1 and 0 for an absent "
-                 f"clause). */",
+        self.out("/* Per rule and input: index into mu (all terms, then 1 and 0 for an absent "
+                 "clause). */",
                  f"static const {_index_type(zero)} {P}ANTECEDENTS[{P}N_RULES][{P}N_RB_INPUTS] = "
                  f"{_int_table(flat)};")
         if not plain:
@@ -271,7 +271,7 @@ class HeaderWriter:
 
     def clause_helper(self) -> None:
         t, p, f, lit = self.real.name, self.p, self.real.fn, self.real.lit
-        self.out(f"/* Hedge (none, very, somewhat, extremely) then NOT, as in the model. */",
+        self.out("/* Hedge (none, very, somewhat, extremely) then NOT, as in the model. */",
                  f"static inline {t} {p}clause({t} mu, unsigned char hedge, unsigned char not_) {{",
                  f"    {t} g = hedge == 1 ? mu * mu : (hedge == 2 ? {f('sqrt')}(mu) : "
                  f"(hedge == 3 ? mu * mu * mu : mu));",
@@ -297,28 +297,28 @@ class HeaderWriter:
             users = [v.name for k, v in enumerate(self.rb.inputs)
                      if engine.partitions[k].breaks.tobytes() + engine.partitions[k].table.tobytes()
                      == key]
-            self.out(f"/* {', '.join(users)}: terms " + ", ".join(var.names) + f"; breaks and per "
-                     f"segment (anchor, 1/width, offset) x 2 with the two term ids. */",
+            self.out(f"/* {', '.join(users)}: terms " + ", ".join(var.names) + "; breaks and per "
+                     "segment (anchor, 1/width, offset) x 2 with the two term ids. */",
                      f"static const {t} {P}BREAKS_{i}[{nb}] = "
                      "{" + ", ".join(lit(b) for b in part.breaks) + "};",
                      f"static const {t} {P}PIECES_{i}[{nb + 1}][6] = {_table(self.real, rows)};",
                      f"static const unsigned char {P}ACTIVE_{i}[{nb + 1}][2] = "
                      f"{_int_table(terms)};",
                      f"static inline void {p}active_{i}({t} x, {t} m[2], unsigned char id[2]) {{",
-                     f"    /* Outside the outer break points every term is constant: clamp. */",
+                     "    /* Outside the outer break points every term is constant: clamp. */",
                      f"    {t} xc = {p}clamp(x, {P}BREAKS_{i}[0], {P}BREAKS_{i}[{nb - 1}]);",
-                     f"    int k = 0, b;",
+                     "    int k = 0, b;",
                      f"    const {t} *q;",
                      f"    if (x != x) {{ m[0] = m[1] = {lit(0)}; "
                      f"id[0] = id[1] = {var.n_terms}; return; }}",
                      f"    for (b = 0; b < {nb}; ++b) k += xc >= {P}BREAKS_{i}[b];",
                      f"    q = {P}PIECES_{i}[k];",
-                     f"    m[0] = (xc - q[0]) * q[1] + q[2];",
-                     f"    m[1] = (xc - q[3]) * q[4] + q[5];",
+                     "    m[0] = (xc - q[0]) * q[1] + q[2];",
+                     "    m[1] = (xc - q[3]) * q[4] + q[5];",
                      f"    id[0] = {P}ACTIVE_{i}[k][0]; id[1] = {P}ACTIVE_{i}[k][1];",
                      "}")
-        self.out(f"/* Per cell (tuple of term ids, n_terms = none): its rules, padded with "
-                 f"N_RULES. */",
+        self.out("/* Per cell (tuple of term ids, n_terms = none): its rules, padded with "
+                 "N_RULES. */",
                  f"static const {_index_type(self.rb.n_rules)} {P}CELLS[{engine.lookup.shape[0]}]"
                  f"[{engine.lookup.shape[1]}] = {_int_table(engine.lookup)};")
         self.engine = engine
@@ -374,8 +374,8 @@ class HeaderWriter:
         self.consequent_table(extra_row=self.sparse)
         body = self.sparse_rules() if self.sparse else self.dense_rules()
         self.out("",
-                 f"/* The bare rule base: x[N_RB_INPUTS] (scaled inputs) -> y[N_RB_OUTPUTS]. "
-                 f"*/",
+                 "/* The bare rule base: x[N_RB_INPUTS] (scaled inputs) -> y[N_RB_OUTPUTS]. "
+                 "*/",
                  f"static inline void {p}rulebase(const {t} x[{self.P}N_RB_INPUTS], "
                  f"{t} y[{self.P}N_RB_OUTPUTS]) {{",
                  "    int r;")
@@ -482,8 +482,8 @@ class HeaderWriter:
                  for o, v in enumerate(self.rb.outputs)]
         body += self.output_statements(printer)
         body += [f"(void){self.symbol(o.name)};" for o in m.outputs]
-        self.out(f"/* One sample of the whole chain: raw inputs in[N_SIGNALS] -> out[N_OUTPUTS]. "
-                 f"*/",
+        self.out("/* One sample of the whole chain: raw inputs in[N_SIGNALS] -> out[N_OUTPUTS]. "
+                 "*/",
                  f"static inline void {self.p}step({self.p}state *s, "
                  f"const {t} in[{P}N_SIGNALS], {t} out[{P}N_OUTPUTS]) {{",
                  *("    " + line for line in body), "}", "")

@@ -84,7 +84,7 @@ class FixedPointWriter:
                 "{" + ", ".join(_ints(r) for r in ids) + "};"]
 
     def header(self) -> str:
-        rb, p, P, m = self.rb, self.p, self.P, self.model
+        rb, P, m = self.rb, self.P, self.model
         one = 1 << self.mf
         n_in, n_out = len(rb.inputs), len(rb.outputs)
         guard = f"FUZZYC_{self.name.upper()}_{self.numeric.upper()}_H"
@@ -140,7 +140,7 @@ class FixedPointWriter:
         n_in = len(rb.inputs)
         code = [f"static inline int64_t {p}sat(int64_t v, int64_t lo, int64_t hi) "
                 "{ return v < lo ? lo : (v > hi ? hi : v); }",
-                f"/* The two active terms of an input at xq and their memberships. */",
+                "/* The two active terms of an input at xq and their memberships. */",
                 f"static inline void {p}active(int64_t xq, const int64_t *breaks, int nb, "
                 f"const int64_t (*pieces)[6], const unsigned char (*active)[2], int64_t m[2], "
                 f"unsigned char id[2]) {{",
@@ -162,7 +162,7 @@ class FixedPointWriter:
                  f"static inline int64_t {p}product(int64_t a, int64_t b) "
                  f"{{ return a * b >> {self.mf}; }}",
                  "",
-                 f"/* The bare rule base on scaled integers: xq[N_RB_INPUTS] -> yq[N_RB_OUTPUTS]. */",
+                 "/* The bare rule base on scaled integers: xq[N_RB_INPUTS] -> yq[N_RB_OUTPUTS]. */",
                  f"static inline void {p}rulebase(const {io} xq[{n_in}], "
                  f"{io} yq[{len(rb.outputs)}]) {{",
                  f"    int64_t m[{n_in}][2];", f"    unsigned char id[{n_in}][2];",
