@@ -9,13 +9,14 @@ import subprocess
 import numpy as np
 import pytest
 
+from fuzzyc.backends.c import generate_header
 from fuzzyc.backends.cload import STRICT_FLAGS, CController
 from fuzzyc.cli import main as cli_main
 from fuzzyc.controller import Controller
 from fuzzyc.engine import evaluate
 from fuzzyc.parser import load
 
-from test_c_backend import SHIPPED, inputs_for, shipped
+from test_c_backend import CASES, SHIPPED, inputs_for, shipped
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 MAIN_C = ROOT / "examples" / "c" / "main.c"
@@ -132,3 +133,16 @@ def test_example_program(compiled_headers, tmp_path, name, sanitize):
     got = run_csv(program, seq)
     out_span = np.array([o.hi - o.lo for o in model.outputs])
     assert np.all(np.abs(got - expected) <= 5e-5 * out_span)
+
+
+@pytest.mark.parametrize("case", sorted(set(CASES) - set(SHIPPED)))
+def test_other_code_paths_under_sanitizers(tmp_path, case):
+    """Dense rules, hedges, NOT, OR, centroids and libm shapes under ASan + UBSan too."""
+    model = CASES[case]()
+    model.name = "variant"
+    (tmp_path / "variant.h").write_text(generate_header(model))
+    program = build_example(tmp_path, "variant", tmp_path / "controller", SANITIZE)
+    rb = model.rulebase
+    x = inputs_for(rb, seed=5, n_random=2000)
+    span = np.array([v.hi - v.lo for v in rb.outputs])
+    assert np.all(np.abs(run_csv(program, x, "-r") - evaluate(rb, x)) <= 1e-5 * span)
