@@ -12,10 +12,14 @@ from pathlib import Path
 
 import numpy as np
 
+from . import demo_simulate
+from .cli import main as fuzzyc
 from .cli_check import summary
 from .cli_eval import evaluate_batch
 from .parser import load
 from .plotting import plot_model
+from .verify import Options, verify_model
+from .verify.report import format_result
 
 OUT = Path("out")
 
@@ -57,6 +61,21 @@ def main() -> int:
     for model in models:
         paths = plot_model(model, OUT / "plots")
         print(f"{model.name}: {len(paths)} pictures in {OUT / 'plots'}")
+
+    section("compile: C99 headers (float), size and stack")
+    for model in models:
+        fuzzyc(["compile", model.source_path, "--target", "c", "-o", str(OUT / "c")])
+
+    section("simulate: every paper scenario, rule base against baseline")
+    demo_simulate.main()
+
+    section("verify: the properties in each rule file")
+    for model in models:
+        for result in verify_model(model, Options(max_examples=50)):
+            print(format_result(result).splitlines()[0])
+            if result.finding:
+                print(f"          {result.finding[:150]}...")
+    print(f"\nreports, traces and pictures are in {OUT.resolve()}")
     return 0
 
 
