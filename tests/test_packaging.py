@@ -1,5 +1,6 @@
 """The wheel carries everything: installed non-editable into a fresh venv, `fuzzyc` works from
 another folder (grammar and rule bases found as package data, runtime/plants under fuzzyc)."""
+import importlib.util
 import os
 import shutil
 import site
@@ -32,7 +33,10 @@ def installed(tmp_path_factory):
         else:
             src.mkdir(exist_ok=True)
             shutil.copy(source, src / name)
-    run([sys.executable, "-m", "pip", "wheel", "--no-deps", "--no-build-isolation", "-q",
+    # Build with the test environment's setuptools when it has them (no downloads); otherwise
+    # let pip fetch the build backend into an isolated environment.
+    offline = ["--no-build-isolation"] if importlib.util.find_spec("wheel") else []
+    run([sys.executable, "-m", "pip", "wheel", "--no-deps", *offline, "-q",
          "-w", str(tmp / "dist"), str(src)], cwd=tmp)
     wheel = next((tmp / "dist").glob("fuzzyc-*.whl"))
     venv = tmp / "venv"
