@@ -64,3 +64,27 @@ def evaluate(x: np.ndarray) -> np.ndarray:
         num = sum(a * p for a, p in zip(al, PEAKS))
         out.append(np.where(total > 0, num / np.where(total > 0, total, 1.0), 0.0))
     return np.stack(out, axis=1)
+
+
+ANTECEDENTS = np.array([r[:3] for r in RULES])                 # (75, 3) term indices
+ONE_HOT = [np.eye(len(LABELS), dtype=bool)[[r[3 + o] for r in RULES]] for o in range(2)]
+
+
+def evaluate_matrix(x: np.ndarray, chunk: int = 65536) -> np.ndarray:
+    """The same rule base written the way numpy invites: memberships as (N, T) matrices, all 75
+    rule activations as one (N, 75) matrix, max aggregation through a (75, 5) one-hot map.
+    In chunks, so that its (N, 75, 5) temporary stays bounded."""
+    return np.concatenate([_matrix_chunk(x[i:i + chunk]) for i in range(0, len(x), chunk)])
+
+
+def _matrix_chunk(x: np.ndarray) -> np.ndarray:
+    mu1 = np.stack([triangle(x[:, 0], p - 1, p, p + 1) for p in E1_TERMS.values()], axis=1)
+    mu2, mu3 = np.stack(uniform5(x[:, 1]), axis=1), np.stack(uniform5(x[:, 2]), axis=1)
+    act = np.minimum(np.minimum(mu1[:, ANTECEDENTS[:, 0]], mu2[:, ANTECEDENTS[:, 1]]),
+                     mu3[:, ANTECEDENTS[:, 2]])
+    out = []
+    for one_hot in ONE_HOT:
+        alpha = np.where(one_hot[None], act[:, :, None], 0.0).max(axis=1)     # (N, 5)
+        total = alpha.sum(axis=1)
+        out.append(np.where(total > 0, alpha @ PEAKS / np.where(total > 0, total, 1.0), 0.0))
+    return np.stack(out, axis=1)
