@@ -1,0 +1,12 @@
+"""Runs every benchmark in turn (`make bench`); each writes its table to benchmarks/results/."""
+import pathlib
+import subprocess
+import sys
+
+HERE = pathlib.Path(__file__).resolve().parent
+SCRIPTS = ["bench_engine.py", "bench_c.py", "bench_loop.py", "bench_verify.py"]
+
+if __name__ == "__main__":
+    for script in SCRIPTS:
+        print(f"== {script}", flush=True)
+        subprocess.run([sys.executable, str(HERE / script)], check=True)
