@@ -55,13 +55,21 @@ def test_finish_starts_near_25_percent(finish):
     assert trace["abnormal_ratio"][0, 0] == pytest.approx(0.25, abs=0.04)
 
 
-def test_finish_reaches_40_percent_within_150_s(finish):
-    # Fig. 7a: 25 % -> 40 % within about 150 s (we allow 150 s +- 50 s, band +- 3 %)
+def finish_settling_time(finish) -> float:
     _, trace = finish
     t, ratio, ref = ratio_view(trace)
-    settle = metrics.settling_time(t, ratio[:, None], ref[:, None], 0.03)[0]
-    # "within 150 s" (+50 s of reading tolerance): our plant settles in about 70 s
-    assert settle <= 150.0 + 50.0, settle
+    return metrics.settling_time(t, ratio[:, None], ref[:, None], 0.03)[0]
+
+
+def test_finish_reaches_40_percent_within_200_s(finish):
+    # Fig. 7a: 25 % -> 40 % (band +- 3 %) within about 150 s; no later than 150 + 50 s
+    assert finish_settling_time(finish) <= 150.0 + 50.0
+
+
+@pytest.mark.xfail(strict=True, reason="finding: our plant's process dynamics are faster than "
+                   "the machine's: the ratio settles in about 70 s, not 150 s +- 50 s")
+def test_finish_settling_time_is_the_papers_150_s(finish):
+    assert 150.0 - 50.0 <= finish_settling_time(finish) <= 150.0 + 50.0
 
 
 def test_finish_no_overshoot_beyond_3_percent(finish):
