@@ -278,45 +278,76 @@ class HeaderWriter:
                  f"    return not_ ? {lit(1)} - g : g;",
                  "}")
 
+    @staticmethod
+    def slope_intercept(piece) -> list[float]:
+        """The engine's piece (anchor, width, offset), mu = (x - anchor) / width + offset, as
+        mu = slope * x + intercept (width inf: constant)."""
+        anchor, width, offset = (float(v) for v in piece)
+        if not np.isfinite(width):
+            return [0.0, offset]
+        return [1.0 / width, offset - anchor / width]
+
     def sparse_tables(self) -> None:
-        """Per input: break points and, per segment, the two active terms' linear pieces."""
+        """Per distinct partition: break points and, per segment, the two active terms' linear
+        pieces; one shared function finds them for every input (one copy of its code, which
+        keeps the header small at -O2 too, where per-input copies would be inlined)."""
         engine = CompiledRuleBase(self.rb)
         t, p, P, lit = self.real.name, self.p, self.P, self.real.lit
-        self.partition_of: list[int] = []   # inputs with equal partitions share one function
-        seen: dict[bytes, int] = {}
-        for i, part in enumerate(engine.partitions):
+        parts: list = []
+        part_of: list[int] = []
+        for part in engine.partitions:
+            keys = [q.breaks.tobytes() + q.table.tobytes() for q in parts]
             key = part.breaks.tobytes() + part.table.tobytes()
-            self.partition_of.append(seen.setdefault(key, i))
-            if seen[key] != i:
-                continue
-            nb = len(part.breaks)
-            rows = [[r[0], 1.0 / r[2] if np.isfinite(r[2]) else 0.0, r[4],
-                     r[1], 1.0 / r[3] if np.isfinite(r[3]) else 0.0, r[5]] for r in part.table]
-            terms = part.table[:, 6:8].astype(int)
-            var = self.rb.inputs[i]
-            users = [v.name for k, v in enumerate(self.rb.inputs)
-                     if engine.partitions[k].breaks.tobytes() + engine.partitions[k].table.tobytes()
-                     == key]
-            self.out(f"/* {', '.join(users)}: terms " + ", ".join(var.names) + "; breaks and per "
-                     "segment (anchor, 1/width, offset) x 2 with the two term ids. */",
-                     f"static const {t} {P}BREAKS_{i}[{nb}] = "
-                     "{" + ", ".join(lit(b) for b in part.breaks) + "};",
-                     f"static const {t} {P}PIECES_{i}[{nb + 1}][6] = {_table(self.real, rows)};",
-                     f"static const unsigned char {P}ACTIVE_{i}[{nb + 1}][2] = "
-                     f"{_int_table(terms)};",
-                     f"static inline void {p}active_{i}({t} x, {t} m[2], unsigned char id[2]) {{",
-                     "    /* Outside the outer break points every term is constant: clamp. */",
-                     f"    {t} xc = {p}clamp(x, {P}BREAKS_{i}[0], {P}BREAKS_{i}[{nb - 1}]);",
-                     "    int k = 0, b;",
-                     f"    const {t} *q;",
-                     f"    if (x != x) {{ m[0] = m[1] = {lit(0)}; "
-                     f"id[0] = id[1] = {var.n_terms}; return; }}",
-                     f"    for (b = 0; b < {nb}; ++b) k += xc >= {P}BREAKS_{i}[b];",
-                     f"    q = {P}PIECES_{i}[k];",
-                     "    m[0] = (xc - q[0]) * q[1] + q[2];",
-                     "    m[1] = (xc - q[3]) * q[4] + q[5];",
-                     f"    id[0] = {P}ACTIVE_{i}[k][0]; id[1] = {P}ACTIVE_{i}[k][1];",
-                     "}")
+            if key not in keys:
+                parts.append(part)
+                keys.append(key)
+            part_of.append(keys.index(key))
+        # Same length for all: the last break repeated, so the count loop has one constant
+        # bound and x past the last break lands in the last (constant) segment.
+        nb = max(len(q.breaks) for q in parts)
+        breaks, pieces, active = [], [], []
+        for q in parts:
+            pad = nb - len(q.breaks)
+            breaks.append(list(q.breaks) + [q.breaks[-1]] * pad)
+            rows = [self.slope_intercept(r[0::2][:3]) + self.slope_intercept(r[1::2][:3])
+                    for r in q.table]
+            pieces.append(rows[:-1] + [rows[-1]] * (pad + 1))
+            ids = q.table[:, 6:8].astype(int).tolist()
+            active.append(ids[:-1] + [ids[-1]] * (pad + 1))
+        radix = engine.radix
+        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
+        inputs = [[k, v.n_terms, int(pl)] for k, v, pl in zip(part_of, self.rb.inputs, place)]
+        n_parts = len(parts)
+        cell_type = _index_type(int(engine.lookup.shape[0]))
+        self.cell_type = cell_type
+        self.out("/* Partitions of the inputs: break points and per segment (slope, intercept) "
+                 "x 2 with the two term ids. */",
+                 f"static const {t} {P}BREAKS[{n_parts}][{nb}] = {_table(self.real, breaks)};",
+                 f"static const {t} {P}PIECES[{n_parts}][{nb + 1}][4] = "
+                 "{" + ", ".join(_table(self.real, rows) for rows in pieces) + "};",
+                 f"static const unsigned char {P}ACTIVE[{n_parts}][{nb + 1}][2] = "
+                 "{" + ", ".join(_int_table(ids) for ids in active) + "};",
+                 "/* Per rule-base input (" + ", ".join(v.name for v in self.rb.inputs)
+                 + "): partition, number of terms, place value in the cell index. */",
+                 f"static const {_index_type(int(max(np.max(place), n_parts)))} "
+                 f"{P}INPUTS[{P}N_RB_INPUTS][3] = {_int_table(inputs)};",
+                 "/* The two positive terms of input i at x: memberships m and their place in "
+                 "the cell index. */",
+                 f"static inline void {p}active(int i, {t} x, {t} m[2], {cell_type} cell[2]) "
+                 "{",
+                 f"    const {t} *b = {P}BREAKS[{P}INPUTS[i][0]];",
+                 "    /* Outside the outer break points every term is constant: clamp. */",
+                 f"    {t} xc = {p}clamp(x, b[0], b[{nb - 1}]);",
+                 "    int k = 0, j, s;",
+                 f"    if (x != x) {{ m[0] = m[1] = {lit(0)}; "
+                 f"cell[0] = cell[1] = {P}INPUTS[i][1] * {P}INPUTS[i][2]; return; }}",
+                 f"    for (j = 0; j < {nb}; ++j) k += xc >= b[j];",
+                 "    for (s = 0; s < 2; ++s) {",
+                 f"        const {t} *q = {P}PIECES[{P}INPUTS[i][0]][k] + 2 * s;",
+                 "        m[s] = xc * q[0] + q[1];",
+                 f"        cell[s] = {P}ACTIVE[{P}INPUTS[i][0]][k][s] * {P}INPUTS[i][2];",
+                 "    }",
+                 "}")
         self.out("/* Per cell (tuple of term ids, n_terms = none): its rules, padded with "
                  "N_RULES. */",
                  f"static const {_index_type(self.rb.n_rules)} {P}CELLS[{engine.lookup.shape[0]}]"
@@ -326,15 +357,14 @@ class HeaderWriter:
     def sparse_rules(self) -> list[str]:
         rb, t, P = self.rb, self.real.name, self.P
         n_in = len(rb.inputs)
-        radix = self.engine.radix
-        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
         depth = self.engine.lookup.shape[1]
-        code = [f"{t} m[{n_in}][2];", f"unsigned char id[{n_in}][2];"]
-        code += [f"{self.p}active_{self.partition_of[i]}(x[{i}], m[{i}], id[{i}]);"
-                 for i in range(n_in)]
-        code.append(f"for (r = 0; r < {1 << n_in}; ++r) {{   /* the 2**I active term tuples */")
+        code = [f"{t} m[{n_in}][2];",
+                f"{self.cell_type} part[{n_in}][2];   /* term id times place value */",
+                "int i;",
+                f"for (i = 0; i < {n_in}; ++i) {self.p}active(i, x[i], m[i], part[i]);",
+                f"for (r = 0; r < {1 << n_in}; ++r) {{   /* the 2**I active term tuples */"]
         bits = [f"(r >> {n_in - 1 - i}) & 1" for i in range(n_in)]
-        cell = " + ".join(f"id[{i}][{bits[i]}] * {int(place[i])}" for i in range(n_in))
+        cell = " + ".join(f"part[{i}][{bits[i]}]" for i in range(n_in))
         act = f"m[0][{bits[0]}]"
         for i in range(1, n_in):
             act = self.combine(act, f"m[{i}][{bits[i]}]", True)
