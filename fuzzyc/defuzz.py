@@ -20,7 +20,7 @@ from itertools import product
 import numpy as np
 
 from .centroid import ClosedFormCentroid
-from .membership import term_values, trapezoid
+from .membership import linear_coefficients, term_values, trapezoid
 from .model import Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable
 
 GRID_POINTS = 2001
@@ -55,13 +55,20 @@ def _safe_ratio(num: np.ndarray, den: np.ndarray, default: float) -> np.ndarray:
 class OutputDefuzzifier:
     """Everything about one output that does not depend on the sample, prepared once."""
 
-    def __init__(self, var: Variable, inference: Inference):
+    def __init__(self, var: Variable, inference: Inference, n_inputs: int = 0):
         self.var = var
         self.inference = inference
         self.params_key = np.asarray(var.params, dtype=float).tobytes()
         self.peaks = var.peaks()
         kinds = var.kinds
         method = inference.defuzzifier
+        self.linear = None
+        if np.any(kinds == TermKind.LINEAR):
+            if method not in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM):
+                raise ValueError(f"`{var.name}` has linear terms: they need defuzzify = "
+                                 f"weighted_average or weighted_sum, not {method.name.lower()}")
+            self.linear = linear_coefficients(var, n_inputs)
+            self.is_linear = kinds == TermKind.LINEAR
         self.use_peaks = method in PEAK_BASED or bool(np.all(kinds == TermKind.SINGLETON))
         self.sampled = not self.use_peaks and bool(
             np.any((kinds != TermKind.TRAPEZOID) & (kinds != TermKind.SINGLETON)))
@@ -130,11 +137,21 @@ class OutputDefuzzifier:
                 else self.inference.aggregation
         return self.inference.aggregation if self._static_items() else None
 
-    def from_strengths(self, alpha: np.ndarray) -> np.ndarray:
-        """The crisp output from the terms' strengths alpha (N, T) (see strength_aggregation)."""
+    def _values(self, x: np.ndarray | None) -> np.ndarray:
+        """The terms' values z: the peaks (T,), or (N, T) with linear terms at the inputs x."""
+        if self.linear is None:
+            return self.peaks
+        z = x @ self.linear[:, 1:].T + self.linear[:, 0]
+        return np.where(self.is_linear, z, self.peaks)
+
+    def from_strengths(self, alpha: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
+        """The crisp output from the terms' strengths alpha (N, T) (see strength_aggregation);
+        x (N, I), the rule base's inputs, is needed only by linear terms."""
         var, method = self.var, self.inference.defuzzifier
         if self.use_peaks:
-            num, den = alpha @ self.peaks, alpha.sum(axis=1)
+            z = self._values(x)
+            num = alpha @ z if z.ndim == 1 else (alpha * z).sum(axis=1)
+            den = alpha.sum(axis=1)
             if method == Defuzzifier.WEIGHTED_SUM:
                 return np.where(den > 0, num, var.default)
             return _safe_ratio(num, den, var.default)
@@ -144,10 +161,10 @@ class OutputDefuzzifier:
         x, f = self._sample(alpha, np.arange(var.n_terms))
         return _area_defuzzify(method, x, f, var.default)
 
-    def __call__(self, act: np.ndarray, J: np.ndarray) -> np.ndarray:
+    def __call__(self, act: np.ndarray, J: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
         aggregation = self.strength_aggregation()
         if aggregation is not None:
-            return self.from_strengths(term_strengths(act, J, self.var.n_terms, aggregation))
+            return self.from_strengths(term_strengths(act, J, self.var.n_terms, aggregation), x)
         # SUM of MIN-clipped terms: every candidate rule is its own item
         levels = np.where(J >= 0, act, 0.0)
         x, f = self._sample(levels, np.broadcast_to(J, act.shape))

@@ -22,22 +22,14 @@ import numpy as np
 
 from .defuzz import OutputDefuzzifier
 from .grid import GridStrengths
-from .membership import HEDGE_EXPONENT, LocalPartition, memberships
-from .model import Connective, Hedge, RuleBase, SNorm, TNorm
+from .membership import LocalPartition, apply_hedges, memberships
+from .model import Connective, Hedge, RuleBase, TNorm
+from .norms import combine
 
 MAX_LOOKUP_CELLS = 1 << 21
 MAX_SPARSE_INPUTS = 6
 CHUNK_FLOATS = 1 << 22      # the working set one chunk may use, in float64 values
-
-
-def _combine(values: list[np.ndarray], tnorm: TNorm | SNorm, conjunction: bool) -> np.ndarray:
-    out = values[0]
-    for v in values[1:]:
-        if conjunction:
-            out = np.minimum(out, v) if tnorm == TNorm.MIN else out * v
-        else:
-            out = np.maximum(out, v) if tnorm == SNorm.MAX else out + v - out * v
-    return out
+GRID_TNORMS = (TNorm.MIN, TNorm.PRODUCT)
 
 
 def activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
@@ -50,16 +42,15 @@ def activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
         mu = np.concatenate([memberships(var, x[:, i]), np.zeros((n, 1))], axis=1)
         cols = rb.antecedents[:, i]
         g = mu[:, np.where(cols >= 0, cols, var.n_terms)]
-        exponent = HEDGE_EXPONENT[rb.hedges[:, i]]
-        if np.any(exponent != 1.0):
-            g = g ** exponent
+        if np.any(rb.hedges[:, i] != Hedge.NONE):
+            g = apply_hedges(g, rb.hedges[:, i])
         g = np.where(rb.negated[:, i], 1.0 - g, g)
         # An absent clause is the neutral element of the rule's connective.
         clauses.append(np.where(cols >= 0, g, np.where(conj, 1.0, 0.0)))
     if not clauses:
         return np.broadcast_to(rb.weights.astype(float), (n, r)).copy()
-    act = np.where(conj, _combine(clauses, rb.inference.and_, True),
-                   _combine(clauses, rb.inference.or_, False))
+    act = np.where(conj, combine(clauses, rb.inference.and_, True),
+                   combine(clauses, rb.inference.or_, False))
     act = np.where(np.all(rb.antecedents < 0, axis=1), 1.0, act)
     return act * rb.weights
 
@@ -78,7 +69,8 @@ class CompiledRuleBase:
     def __init__(self, rb: RuleBase, allow_sparse: bool = True):
         self.rb = rb
         self.key = _fingerprint(rb)
-        self.defuzzifiers = [OutputDefuzzifier(v, rb.inference) for v in rb.outputs]
+        self.defuzzifiers = [OutputDefuzzifier(v, rb.inference, len(rb.inputs))
+                             for v in rb.outputs]
         self.partitions = self._sparse_partitions(rb) if allow_sparse else None
         self.sparse = self.partitions is not None
         n_candidates = rb.n_rules
@@ -108,9 +100,10 @@ class CompiledRuleBase:
 
     def _grid(self, rb: RuleBase) -> GridStrengths | None:
         """The grid fast path, when every output can be defuzzified from term strengths
-        aggregated the same way."""
+        aggregated the same way, and the t-norm is one the grid knows."""
         aggregations = {d.strength_aggregation() for d in self.defuzzifiers}
-        if len(aggregations) != 1 or None in aggregations or \
+        if rb.inference.and_ not in GRID_TNORMS or len(aggregations) != 1 or \
+                None in aggregations or \
                 not GridStrengths.fits(rb, self.partitions, self.lookup.shape[1]):
             return None
         return GridStrengths(rb, self.partitions, self.lookup, self.radix, aggregations.pop())
@@ -137,12 +130,13 @@ class CompiledRuleBase:
             return activations(self.rb, x), None
         n = x.shape[0]
         cell = np.zeros((n, 1), dtype=np.intp)
-        mu = np.ones((n, 1))
+        mu = None    # the first input's memberships as they are: T(1, m) = m only up to rounding
         tnorm = self.rb.inference.and_
         for i, part in enumerate(self.partitions):
             terms, m = part.active(x[:, i])
             cell = (cell[:, :, None] * self.radix[i] + terms[:, None, :]).reshape(n, -1)
-            mu = _combine([mu[:, :, None], m[:, None, :]], tnorm, True).reshape(n, -1)
+            mu = m if mu is None else \
+                combine([mu[:, :, None], m[:, None, :]], tnorm, True).reshape(n, -1)
         rid = self.lookup[cell].reshape(n, -1)
         if self.lookup.shape[1] > 1:
             mu = np.repeat(mu, self.lookup.shape[1], axis=1)
@@ -153,12 +147,12 @@ class CompiledRuleBase:
         if self.grid is not None:
             alpha = self.grid(x)
             for o, defuzzify in enumerate(self.defuzzifiers):
-                y[:, o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T)
+                y[:, o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T, x)
             return y
         act, rid = self.candidates(x)
         for o, defuzzify in enumerate(self.defuzzifiers):
             J = self.rb.consequents[:, o] if rid is None else self.consequents[rid, o]
-            y[:, o] = defuzzify(act, J)
+            y[:, o] = defuzzify(act, J, x)
         return y
 
 

@@ -12,9 +12,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import TermKind, Variable
+from .model import Hedge, TermKind, Variable
 
-HEDGE_EXPONENT = np.array([1.0, 2.0, 0.5, 3.0])  # indexed by Hedge: NONE VERY SOMEWHAT EXTREMELY
+# The power hedges, indexed by Hedge (NONE VERY SOMEWHAT EXTREMELY); the others (SELDOM,
+# SHARPLY) are piecewise and have no entry, so code that only knows powers fails loudly on them.
+HEDGE_EXPONENT = np.array([1.0, 2.0, 0.5, 3.0])
 LINEAR_SEARCH_BREAKS = 16
 
 
@@ -56,13 +58,99 @@ def _singleton(x: np.ndarray, p: np.ndarray) -> np.ndarray:
     return (x == p[:, 0]).astype(float)
 
 
+def _s_shape(x: np.ndarray, s: np.ndarray, e: np.ndarray) -> np.ndarray:
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(x <= s, 0.0, np.where(
+            x <= 0.5 * (s + e), 2.0 * ((x - s) / (e - s)) ** 2,
+            np.where(x < e, 1.0 - 2.0 * ((x - e) / (e - s)) ** 2, 1.0)))
+
+
+def _z_shape(x: np.ndarray, s: np.ndarray, e: np.ndarray) -> np.ndarray:
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(x <= s, 1.0, np.where(
+            x < 0.5 * (s + e), 1.0 - 2.0 * ((x - s) / (e - s)) ** 2,
+            np.where(x < e, 2.0 * ((x - e) / (e - s)) ** 2, 0.0)))
+
+
+def _sshape(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return _s_shape(x, p[:, 0], p[:, 1])
+
+
+def _zshape(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return _z_shape(x, p[:, 0], p[:, 1])
+
+
+def _pishape(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return _s_shape(x, p[:, 0], p[:, 1]) * _z_shape(x, p[:, 2], p[:, 3])
+
+
+def _spike(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    center, width = p[:, 0], p[:, 1]
+    return np.exp(-np.abs(10.0 / width * (x - center)))
+
+
+def _cosine(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    center, width = p[:, 0], p[:, 1]
+    inside = np.abs(x - center) <= 0.5 * width
+    # cos of an infinite x is NaN, and x is outside there anyway
+    arg = np.where(inside, 2.0 * np.pi / width * (x - center), 0.0)
+    return np.where(inside, 0.5 * (1.0 + np.cos(arg)), 0.0)
+
+
+def _concave(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    i, e = p[:, 0], p[:, 1]
+    rising, falling = (i <= e) & (x < e), (i > e) & (x > e)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(rising, (e - i) / (2.0 * e - i - x),
+                        np.where(falling, (i - e) / (i - 2.0 * e + x), 1.0))
+
+
+def _linear(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return np.zeros((x.shape[0], p.shape[0]))   # a consequent value, not a shape
+
+
 _SHAPES = {
     TermKind.TRAPEZOID: _trapezoid,
     TermKind.GAUSSIAN: _gaussian,
     TermKind.BELL: _bell,
     TermKind.SIGMOID: _sigmoid,
     TermKind.SINGLETON: _singleton,
+    TermKind.SSHAPE: _sshape,
+    TermKind.ZSHAPE: _zshape,
+    TermKind.PISHAPE: _pishape,
+    TermKind.SPIKE: _spike,
+    TermKind.COSINE: _cosine,
+    TermKind.CONCAVE: _concave,
+    TermKind.LINEAR: _linear,
 }
+
+
+def apply_hedges(mu: np.ndarray, hedges: np.ndarray) -> np.ndarray:
+    """mu (N, R) with hedges (R,) Hedge per column -> the hedged truth (N, R)."""
+    power = np.array([HEDGE_EXPONENT[h] if h < len(HEDGE_EXPONENT) else 1.0 for h in hedges])
+    out = mu ** power
+    for hedge, low, high in ((Hedge.SELDOM, lambda m: np.sqrt(0.5 * m),
+                              lambda m: 1.0 - np.sqrt(0.5 * (1.0 - m))),
+                             (Hedge.SHARPLY, lambda m: 2.0 * m * m,
+                              lambda m: 1.0 - 2.0 * (1.0 - m) ** 2)):
+        cols = np.flatnonzero(hedges == hedge)
+        if cols.size:
+            m = np.clip(mu[:, cols], 0.0, 1.0)
+            out[:, cols] = np.where(m <= 0.5, low(m), high(m))
+    return out
+
+
+def linear_coefficients(var: Variable, n_inputs: int) -> np.ndarray:
+    """(T, 1 + n_inputs): c0, c1.. of each LINEAR term of an output (rows of other terms 0)."""
+    out = np.zeros((var.n_terms, 1 + n_inputs))
+    for t in np.flatnonzero(var.kinds == TermKind.LINEAR):
+        extra = (var.coefficients or {}).get(int(t))
+        row = np.asarray(extra if extra is not None else var.params[t], dtype=float)
+        if n_inputs + 1 > len(row) or np.any(row[n_inputs + 1:] != 0.0):
+            raise ValueError(f"linear term `{var.names[t]}` of `{var.name}` has "
+                             f"{len(row)} coefficients for {n_inputs} inputs")
+        out[t] = row[:n_inputs + 1]
+    return out
 
 
 def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray) -> np.ndarray:

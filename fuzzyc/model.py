@@ -15,10 +15,34 @@ Membership of a term at x (params padded to 4 with 0):
   BELL      (center, width, slope): 1 / (1 + |(x-center)/width|^(2 slope))   (MATLAB gbellmf)
   SIGMOID   (center, slope): 1 / (1 + exp(-slope (x-center)))
   SINGLETON (value):        1 if x == value else 0; as an output term, a point mass at value.
+  SSHAPE    (s, e):  0 if x <= s; 2((x-s)/(e-s))^2 if x <= (s+e)/2; 1 - 2((x-e)/(e-s))^2 if x < e;
+                     else 1.  ZSHAPE (s, e) = the mirror: 1 if x <= s; 1 - 2((x-s)/(e-s))^2 if
+                     x < (s+e)/2; 2((x-e)/(e-s))^2 if x < e; else 0.  (MATLAB smf / zmf.)
+  PISHAPE   (a, b, c, d):  SSHAPE(a, b)(x) * ZSHAPE(c, d)(x)   (MATLAB pimf)
+  SPIKE     (center, width):  exp(-|10 (x-center) / width|)
+  COSINE    (center, width):  (1 + cos(2 pi (x-center) / width)) / 2 if |x-center| <= width/2,
+                     else 0
+  CONCAVE   (i, e):  i <= e: (e-i)/(2e-i-x) if x < e else 1;  i > e: (i-e)/(i-2e+x) if x > e
+                     else 1   (fuzzylite's inflection/end concave edge)
+  LINEAR    (c0, c1, c2, c3): an output term only, for WEIGHTED_AVERAGE / WEIGHTED_SUM
+                     (first-order Takagi-Sugeno): z = c0 + sum_i c_{i+1} x_i over the rule base's
+                     inputs in order; with more than 3 inputs the row is in
+                     Variable.coefficients[term] (c0, c1, ..., c_I) and params are ignored.
+                     As a membership it is 0 everywhere (it has no shape).
   NaN input: every term of that variable has mu = 0 (so rules that need it do not fire).
-Hedges on a clause: VERY mu^2, SOMEWHAT sqrt(mu), EXTREMELY mu^3, applied before NOT (1-mu).
+Hedges on a clause: VERY mu^2, SOMEWHAT sqrt(mu), EXTREMELY mu^3, SELDOM sqrt(mu/2) if
+  mu <= 1/2 else 1 - sqrt((1-mu)/2), SHARPLY (contrast intensification, fuzzylite's `extremely`)
+  2 mu^2 if mu <= 1/2 else 1 - 2 (1-mu)^2; applied before NOT (1-mu).
 Rule activation: the clauses that are not wildcards (-1) combined with the rule's connective
-  (AND: the t-norm, OR: the s-norm; a rule of wildcards only fires 1), times the rule weight.
+  (AND: the t-norm, OR: the s-norm, folded left to right in input order; a rule of wildcards
+  only fires 1), times the rule weight.
+T-norms T(a, b): MIN min; PRODUCT ab; BOUNDED_DIFFERENCE max(0, a+b-1); DRASTIC_PRODUCT
+  min(a, b) if max(a, b) = 1 else 0; EINSTEIN_PRODUCT ab / (2 - (a+b-ab)); HAMACHER_PRODUCT
+  ab / (a+b-ab) (0 at a = b = 0); NILPOTENT_MIN min(a, b) if a+b > 1 else 0.
+S-norms S(a, b): MAX max; PROBSUM a+b-ab; BOUNDED_SUM min(1, a+b) (= fuzzylite 8's normalized
+  sum (a+b)/max(1, a+b)); DRASTIC_SUM max(a, b) if min(a, b) = 0 else 1; EINSTEIN_SUM
+  (a+b)/(1+ab); HAMACHER_SUM (a+b-2ab)/(1-ab) (1 at ab = 1); NILPOTENT_MAX max(a, b) if a+b < 1
+  else 1.
 Aggregated output membership of output o at u in [lo, hi]:
   M(u) = AGG over rules r with consequent[r, o] = j >= 0 of IMP(act_r, mu_j(u)).
 Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives its default):
@@ -29,7 +53,8 @@ Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives 
   MEAN_OF_MAXIMUM  the mean of the set where M is largest.
   CENTER_OF_AREA   paper eq. 2: sum_j alpha_j peak_j / sum_j alpha_j, alpha_j = AGG of act_r over
              rules concluding term j; peak = (b+c)/2 of a trapezoid, the mean, centre, or value.
-  WEIGHTED_AVERAGE  sum_r act_r z_r / sum_r act_r  (Takagi-Sugeno; z_r = peak of the consequent)
+  WEIGHTED_AVERAGE  sum_r act_r z_r / sum_r act_r  (Takagi-Sugeno; z_r = peak of the consequent,
+             or the LINEAR term's value at the rule base's inputs)
   WEIGHTED_SUM      sum_r act_r z_r  (the neuro-fuzzy controller's output; may leave [lo, hi]).
 Rule-base outputs are not clamped; the signal chain's outputs saturate (see Output).
 """
@@ -50,6 +75,13 @@ class TermKind(IntEnum):
     BELL = 2
     SIGMOID = 3
     SINGLETON = 4
+    SSHAPE = 5
+    ZSHAPE = 6
+    PISHAPE = 7
+    SPIKE = 8
+    COSINE = 9
+    CONCAVE = 10
+    LINEAR = 11
 
 
 class Hedge(IntEnum):
@@ -57,6 +89,8 @@ class Hedge(IntEnum):
     VERY = 1
     SOMEWHAT = 2
     EXTREMELY = 3
+    SELDOM = 4
+    SHARPLY = 5
 
 
 class Connective(IntEnum):
@@ -67,11 +101,21 @@ class Connective(IntEnum):
 class TNorm(IntEnum):
     MIN = 0
     PRODUCT = 1
+    BOUNDED_DIFFERENCE = 2
+    DRASTIC_PRODUCT = 3
+    EINSTEIN_PRODUCT = 4
+    HAMACHER_PRODUCT = 5
+    NILPOTENT_MIN = 6
 
 
 class SNorm(IntEnum):
     MAX = 0
     PROBSUM = 1
+    BOUNDED_SUM = 2
+    DRASTIC_SUM = 3
+    EINSTEIN_SUM = 4
+    HAMACHER_SUM = 5
+    NILPOTENT_MAX = 6
 
 
 class Implication(IntEnum):
@@ -123,6 +167,7 @@ class Variable:
     unit: str | None = None
     default: float = 0.0
     learnable: np.ndarray | None = None  # (T,) bool, outputs only
+    coefficients: dict[int, np.ndarray] | None = None  # LINEAR terms with > 3 inputs
     loc: SourceLoc | None = None
     term_locs: list[SourceLoc | None] = field(default_factory=list)
 
@@ -142,8 +187,14 @@ class Variable:
                 lo_ = b if np.isfinite(b) else self.lo
                 hi_ = c if np.isfinite(c) else self.hi
                 out[i] = 0.5 * (lo_ + hi_)
-            else:  # GAUSSIAN mean, BELL centre, SIGMOID centre, SINGLETON value
-                out[i] = a
+            elif kind == TermKind.SSHAPE or kind == TermKind.CONCAVE:
+                out[i] = b                       # where it reaches 1
+            elif kind == TermKind.PISHAPE:
+                out[i] = 0.5 * (b + c)
+            elif kind == TermKind.LINEAR:
+                out[i] = np.nan                  # no fixed value: depends on the inputs
+            else:  # GAUSSIAN mean, BELL centre, SIGMOID centre, SINGLETON value, ZSHAPE start,
+                out[i] = a                       # SPIKE and COSINE centre
         return out
 
 
