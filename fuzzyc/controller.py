@@ -9,13 +9,18 @@ Robustness to bad samples (a NaN or infinite raw input):
   (its `init` before the first finite one).  Outputs are therefore always finite.
 `set_consequent_values` changes the rule base of the model in place (the learned parameters
 belong to the model, so exporting it after learning writes the learned values).
+
+Speed: the model is read at `reset()` (expressions compiled to closures, the engine's tables
+fetched, saturation limits taken), so a step does only the batch's arithmetic.  A model
+changed in place other than through `set_consequent_values` (a term moved, a limit changed)
+takes effect at the next `reset()`; `params` are read every step (schedules change them).
 """
 from __future__ import annotations
 
 import numpy as np
 
 from .engine import compiled
-from .expr import evaluate_expr
+from .expr import clip, compile_value
 from .model import Model, Op, OutputKind, TermKind
 
 
@@ -30,7 +35,8 @@ class Controller:
         self.reset(batch)
 
     def reset(self, batch: int | None = None) -> None:
-        """Forget all memories (steps and output states); optionally change the batch size."""
+        """Forget all memories (steps and output states); optionally change the batch size.
+        Reads the model again (see the module docstring)."""
         if batch is not None:
             self.batch = int(batch)
         n = self.batch
@@ -38,6 +44,12 @@ class Controller:
         self._memory = {s.name: np.full(n, np.nan) for s in self.model.steps if s.op != Op.ASSIGN}
         self._state = {o.name: np.full(n, self._initial_state(o)) for o in self.model.outputs}
         self.signals = {}
+        self._steps = [(s, compile_value(s.expr)) for s in self.model.steps]
+        self._outputs = [(o, compile_value(o.expr), self._state_limits(o))
+                         for o in self.model.outputs]
+        self._rb_inputs = [v.name for v in self.rulebase.inputs]
+        self._rb_outputs = list(enumerate(v.name for v in self.rulebase.outputs))
+        self._engine = compiled(self.rulebase)
 
     @staticmethod
     def _initial_state(out) -> float:
@@ -45,7 +57,19 @@ class Controller:
             return 1.0 / out.init
         return float(out.init)
 
+    @staticmethod
+    def _state_limits(out) -> tuple[float, float]:
+        """The saturation of an output's state: [lo, hi], or [1/hi, 1/lo] for a reciprocal."""
+        if out.kind != OutputKind.RECIPROCAL_INCREMENT:
+            return out.lo, out.hi
+        with np.errstate(divide="ignore"):
+            return np.float64(1.0) / out.hi, np.float64(1.0) / out.lo
+
     def _column(self, value, n: int) -> np.ndarray:
+        """value as a float (N,) array: itself when it already is one (steps never write into
+        their arguments, so sharing it is safe), else broadcast."""
+        if isinstance(value, np.ndarray) and value.shape == (n,) and value.dtype == np.float64:
+            return value
         return np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy()
 
     def step(self, inputs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
@@ -56,14 +80,16 @@ class Controller:
             raise KeyError(f"no value for input(s): {', '.join(missing)}")
         env: dict = dict(self.params)
         env.update({name: self._column(inputs[name], n) for name in self.input_names})
-        for s in self.model.steps:
-            env[s.name] = self._run_step(s, self._column(evaluate_expr(s.expr, env), n))
-        rb = self.rulebase
-        x = np.stack([env[v.name] for v in rb.inputs], axis=1)
-        y = compiled(rb).evaluate_chunk(x) if n else np.empty((0, len(rb.outputs)))
-        env.update({v.name: y[:, o] for o, v in enumerate(rb.outputs)})
-        outputs = {o.name: self._run_output(o, self._column(evaluate_expr(o.expr, env), n))
-                   for o in self.model.outputs}
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            for s, value in self._steps:
+                env[s.name] = self._run_step(s, self._column(value(env), n))
+            if self._engine is None:        # the consequents were set since the last step
+                self._engine = compiled(self.rulebase)
+            x = np.stack([env[name] for name in self._rb_inputs], axis=1)
+            y = self._engine.evaluate_chunk(x) if n else np.empty((0, len(self._rb_outputs)))
+            env.update({name: y[:, o] for o, name in self._rb_outputs})
+            outputs = {o.name: self._run_output(o, self._column(value(env), n), limits)
+                       for o, value, limits in self._outputs}
         env.update(outputs)
         self.signals = {k: v for k, v in env.items() if k not in self.params}
         return outputs
@@ -86,22 +112,17 @@ class Controller:
         self._memory[s.name] = np.where(np.isfinite(keep), keep, mem)
         return value
 
-    def _run_output(self, out, value: np.ndarray) -> np.ndarray:
+    def _run_output(self, out, value: np.ndarray, limits: tuple[float, float]) -> np.ndarray:
         state = self._state[out.name]
         finite = np.isfinite(value)
         if out.kind == OutputKind.DIRECT:
-            state = np.where(finite, np.clip(value, out.lo, out.hi), state)
+            state = np.where(finite, clip(value, *limits), state)
             self._state[out.name] = state
             return state.copy()
-        increment = np.where(finite, value, 0.0)
-        if out.kind == OutputKind.INCREMENT:
-            state = np.clip(state + increment, out.lo, out.hi)
-            self._state[out.name] = state
-            return state.copy()
-        with np.errstate(divide="ignore"):
-            v_lo, v_hi = 1.0 / out.hi, 1.0 / out.lo
-        state = np.clip(state + increment, v_lo, v_hi)
+        state = clip(state + np.where(finite, value, 0.0), *limits)
         self._state[out.name] = state
+        if out.kind == OutputKind.INCREMENT:
+            return state.copy()
         return 1.0 / state
 
     def set_consequent_values(self, output: str, values: np.ndarray) -> None:
@@ -115,3 +136,4 @@ class Controller:
         if not np.all(np.isfinite(values)):
             raise ValueError(f"{output}: values must be finite")
         var.params[:, 0] = values
+        self._engine = None     # fetched again (rebuilt for the new values) at the next step

@@ -1,7 +1,8 @@
 """Evaluate the signal chain's sympy expressions with numpy, by walking the expression tree.
 
 No lambdify, eval or exec: each node kind maps to one numpy function, so only the operations
-listed here can run.  A tree is compiled once into nested closures (cached per expression).
+listed here can run.  A tree is compiled once into nested closures (cached per expression);
+a caller in a loop keeps the closure (`compile_value`) and sets numpy's error state once.
 """
 from __future__ import annotations
 
@@ -10,6 +11,11 @@ from typing import Callable
 
 import numpy as np
 import sympy
+
+try:        # the ufunc behind np.clip, without its Python wrapper (same results, a quarter of
+    from numpy._core.umath import clip      # the cost on small arrays); numpy 2
+except ImportError:                         # numpy 1.x
+    from numpy.core.umath import clip       # noqa: F401
 
 Env = dict[str, "np.ndarray | float"]
 Compiled = Callable[[Env], "np.ndarray | float"]
@@ -54,6 +60,9 @@ def compile_expr(expr: sympy.Expr) -> Compiled:
     args = [compile_expr(a) for a in expr.args]
     for kind, fn in _NARY.items():
         if isinstance(expr, kind):
+            if len(args) == 2:      # the common case, without building a list
+                first, second = args
+                return lambda env: fn(first(env), second(env))
             return lambda env: reduce(fn, [a(env) for a in args])
     for kind, fn in _UNARY.items():
         if isinstance(expr, kind):
@@ -65,9 +74,15 @@ def compile_expr(expr: sympy.Expr) -> Compiled:
     raise ValueError(f"cannot evaluate `{expr}`: {type(expr).__name__} is not supported")
 
 
+def compile_value(expr: "sympy.Expr | float") -> Compiled:
+    """compile_expr, also for a plain number (a constant function)."""
+    if not isinstance(expr, sympy.Basic):
+        value = float(expr)
+        return lambda env: value
+    return compile_expr(expr)
+
+
 def evaluate_expr(expr: sympy.Expr, env: Env) -> np.ndarray:
     """The value of expr with symbols taken from env (arrays broadcast), as a float array."""
-    if not isinstance(expr, sympy.Basic):      # a plain number
-        return np.asarray(float(expr))
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-        return np.asarray(compile_expr(expr)(env), dtype=float)
+        return np.asarray(compile_value(expr)(env), dtype=float)
