@@ -64,6 +64,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from fuzzyc.expr import clip
+
 INPUTS = ("feed", "t_off", "height", "on_time")
 OUTPUTS = ("spark_freq", "abnormal_ratio", "gap_voltage", "removal_rate", "feed_actual",
            "rupture", "ruptures")
@@ -160,9 +162,10 @@ def _inputs(p: WedmGapParams, inputs: dict, n: int):
 
     def get(name):
         value = inputs.get(name)
-        x = np.broadcast_to(np.asarray(safe[name] if value is None else value, float), (n,))
-        x = np.where(np.isfinite(x), x, safe[name])
-        return np.clip(x, *INPUT_LIMITS[name])
+        x = np.asarray(safe[name] if value is None else value, float)
+        if x.shape != (n,):
+            x = np.broadcast_to(x, (n,))
+        return clip(np.where(np.isfinite(x), x, safe[name]), *INPUT_LIMITS[name])
     return get("feed"), get("t_off"), get("on_time"), get("height")
 
 
@@ -205,7 +208,7 @@ def _measure(p: WedmGapParams, acc: dict, dt: float, n: int, rng):
     counted = np.maximum(discharges + z[0] * np.sqrt(np.maximum(discharges, 0.0)), 0.0)
     normal = np.maximum(pulses * (1 - ratio), 1.0)
     voltage = np.maximum(voltage * (1 + z[2] / np.sqrt(normal)), 0.0)
-    ratio = np.clip(ratio + z[1] * np.sqrt(ratio * (1 - ratio) / pulses), 0.0, 1.0)
+    ratio = clip(ratio + z[1] * np.sqrt(ratio * (1 - ratio) / pulses), 0.0, 1.0)
     return counted / dt, ratio, voltage
 
 
