@@ -17,18 +17,20 @@ def add_parser(subparsers) -> None:
     p.add_argument("--target", choices=("c", "lut"), default="c")
     p.add_argument("-o", "--output", metavar="DIR", default=".")
     p.add_argument("--numeric", choices=NUMERIC, default="float",
-                   help="arithmetic of the generated code (target c); q15/q31 emit the bare "
-                        "rule base on scaled integers, NAME_q15.h / NAME_q31.h")
+                   help="arithmetic of the generated code (target c); q15/q31 emit the whole "
+                        "chain on integers, NAME_q15.h / NAME_q31.h")
     p.add_argument("--resolution", type=int, default=33,
                    help="grid points per input (target lut)")
     p.set_defaults(run=run)
 
 
 def _entry_points(name: str, target: str) -> list[str]:
-    if target in ("q15", "q31"):
+    if target in ("q15", "q31"):   # the whole chain, like the float header's init and step
         io = "int16_t" if target == "q15" else "int32_t"
-        return [f"void measure_{target}(const {io} *x, {io} *y) "
-                f"{{ {name}_{target}_rulebase(x, y); }}"]
+        p = f"{name}_{target}_"
+        return [f"void measure_init({p}state *s) {{ {p}init(s); }}",
+                f"void measure_step({p}state *s, const {io} *in, {io} *out) "
+                f"{{ {p}step(s, in, out); }}"]
     if target == "lut":
         return [f"void measure_lut(const float *x, float *y) {{ {name}_lut(x, y); }}"]
     # What a firmware calls: init and step (the bare rule base is inlined inside step).

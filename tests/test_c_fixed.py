@@ -1,15 +1,20 @@
 """q15 / q31 rule bases against the engine: within the stated bound (`ERROR_BOUND`, a fraction
 of each output's range) on >= 100,000 random inputs plus every edge, for the engine evaluated
-at the dequantized input.  Compiled with the strict flags (-Werror)."""
+at the dequantized input; the whole chain (q15/q31 step) against the Controller over 10,000
+steps within `CHAIN_ERROR_BOUND`.  Compiled with the strict flags (-Werror)."""
 from __future__ import annotations
 
+import copy
 import ctypes
 
 import numpy as np
 import pytest
+import sympy
 
-from fuzzyc.backends.c_fixed import ERROR_BOUND, FORMATS, generate_fixed_header
+from fuzzyc.backends.c_fixed import (CHAIN_ERROR_BOUND, ERROR_BOUND, FORMATS,
+                                     generate_fixed_header, io_frac)
 from fuzzyc.backends.cload import compile_shared
+from fuzzyc.controller import Controller
 from fuzzyc.engine import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.model import Defuzzifier, TNorm
@@ -88,3 +93,87 @@ def test_q15_hand_computed_point():
 def test_weighted_sum_is_a_diagnostic():
     with pytest.raises(FuzzycError, match="weighted_sum"):
         generate_fixed_header(shipped("milling_neurofuzzy"), "q15")
+
+
+# -- the whole chain in fixed point ------------------------------------------------------------
+
+CHAIN_SHIM = """\
+#include "fixed.h"
+void run(int steps, int batch, const long long *x, long long *y) {{
+    {p}state s[{batch}];
+    int k, b, i;
+    for (b = 0; b < batch; ++b) {p}init(&s[b]);
+    for (k = 0; k < steps; ++k) for (b = 0; b < batch; ++b) {{
+        {io} in[{ns}], out[{no}];
+        for (i = 0; i < {ns}; ++i) in[i] = ({io})x[(k * batch + b) * {ns} + i];
+        {p}step(&s[b], in, out);
+        for (i = 0; i < {no}; ++i) y[(k * batch + b) * {no} + i] = out[i];
+    }}
+}}
+"""
+CHAIN_STEPS, CHAIN_BATCH = 10_000, 4
+
+
+def chain_runner(model, numeric, batch=CHAIN_BATCH):
+    """Integer in-sequences (steps, batch, signals) -> integer out (steps, batch, outputs)."""
+    shim = CHAIN_SHIM.format(p=f"{model.name}_{numeric}_", batch=batch, io=FORMATS[numeric][0],
+                             ns=len(model.signals), no=len(model.outputs))
+    lib = ctypes.CDLL(str(compile_shared({"fixed.h": generate_fixed_header(model, numeric),
+                                          "shim.c": shim}, "shim.c")))
+    ptr = ctypes.POINTER(ctypes.c_longlong)
+    lib.run.argtypes = [ctypes.c_int, ctypes.c_int, ptr, ptr]
+
+    def run(xq) -> np.ndarray:
+        xq = np.ascontiguousarray(xq, dtype=np.int64)
+        y = np.empty(xq.shape[:2] + (len(model.outputs),), dtype=np.int64)
+        lib.run(xq.shape[0], batch, xq.ctypes.data_as(ptr), y.ctypes.data_as(ptr))
+        return y
+    return run
+
+
+@pytest.mark.parametrize("numeric", sorted(FORMATS))
+@pytest.mark.parametrize("name", ["wedm_three_region", "edm_sink_gap"])
+def test_fixed_point_chain_follows_the_controller(name, numeric):
+    # 10,000 steps of random walks over the inputs' ranges, the engine's Controller fed the
+    # same (dequantized) inputs; every output within CHAIN_ERROR_BOUND of its range.
+    model = shipped(name)
+    in_frac = np.array([io_frac(s.lo, s.hi, numeric) for s in model.signals])
+    out_frac = np.array([io_frac(o.lo, o.hi, numeric) for o in model.outputs])
+    lo = np.array([s.lo for s in model.signals])
+    hi = np.array([s.hi for s in model.signals])
+    rng = np.random.default_rng(1)
+    walk = np.cumsum(rng.normal(0.0, 0.006, (CHAIN_STEPS, CHAIN_BATCH, len(lo))), axis=0)
+    xq = np.round((lo + (hi - lo) * np.clip(0.5 + walk, 0, 1)) * 2.0 ** in_frac)
+    got = chain_runner(model, numeric)(xq) / 2.0 ** out_frac
+    controller, x = Controller(model, CHAIN_BATCH), xq / 2.0 ** in_frac
+    expected = np.empty_like(got)
+    for k in range(CHAIN_STEPS):
+        y = controller.step({s.name: x[k, :, i] for i, s in enumerate(model.signals)})
+        expected[k] = np.stack([y[o.name] for o in model.outputs], axis=1)
+    span = np.array([o.hi - o.lo for o in model.outputs])
+    # The outputs really move (not a saturated constant compared with itself).
+    assert np.all(expected.max(axis=(0, 1)) - expected.min(axis=(0, 1)) > 0.05 * span)
+    assert (np.abs(got - expected) / span).max() <= CHAIN_ERROR_BOUND[numeric]
+
+
+def test_q15_chain_hand_computed_first_steps():
+    # EDM sinking, 70 V held (in = 70 * 2^8 = 17920): e = (70 - 50) / 20 = 1 (PB), first
+    # delta 0 so ce = 0 (Z): rule PB, Z -> PB = 0.3, velocity = 0.3 * Vmax 2 = 0.6 mm/s,
+    # out = 0.6 * 2^13 = 4915.2 -> 4915.
+    edm = chain_runner(shipped("edm_sink_gap"), "q15", batch=1)
+    assert abs(int(edm([[[17920]]])[0, 0, 0]) - 4915) <= 1
+    # WEDM at the references, spark_freq 30 kHz (30 * 2^7 = 3840), abnormal ratio 0.4
+    # (0.4 * 2^14 = 6553.6 -> 6554): e1 = e2 = ce2 = 0, du1 = ZO = 0 (feed stays 0.3 mm/min:
+    # 0.3 * 2^13 = 2457.6 -> 2458), du2 = NS = -0.5: 1/t_off = 1/32 - 0.5 * 8e-5 = 0.03121,
+    # t_off = 32.041 us, out = 32.041 * 2^9 = 16405.0.
+    wedm = chain_runner(shipped("wedm_three_region"), "q15", batch=1)
+    feed, t_off = wedm([[[3840, 6554]]])[0, 0]
+    assert abs(int(feed) - 2458) <= 1 and abs(int(t_off) - 16405) <= 1
+
+
+def test_chain_step_without_a_fixed_point_form_is_named():
+    model = copy.deepcopy(shipped("edm_sink_gap"))
+    step = next(s for s in model.steps if s.name == "e")
+    step.expr = sympy.exp(step.expr)
+    with pytest.raises(FuzzycError, match="`let e`"):
+        generate_fixed_header(model, "q15")

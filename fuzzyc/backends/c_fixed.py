@@ -1,4 +1,5 @@
-"""Fixed-point rule bases (q15, q31) for boards without an FPU: integer arithmetic only.
+"""Fixed-point rule bases (q15, q31) for boards without an FPU: integer arithmetic only,
+and with them the whole signal chain (`c_fixed_chain`).
 
 Scaling (written into the header): an input x of variable [lo, hi] is the integer
 xq = round((x - lo) / (hi - lo) * FULL) in [0, FULL] (FULL = 32767 for q15 in int16_t, 2**31 - 1
@@ -18,8 +19,9 @@ import numpy as np
 
 from ..engine import CompiledRuleBase
 from ..errors import Diagnostic, FuzzycError
-from ..model import Aggregation, Defuzzifier, Model, TNorm
+from ..model import Aggregation, Defuzzifier, Model, OutputKind, TNorm
 from .c import c_identifier
+from .c_fixed_chain import FixedChain, Fx, frac_for
 
 FORMATS = {
     # name: (io type, full scale, membership fraction bits)
@@ -30,6 +32,18 @@ FORMATS = {
 # fixed-point grid (the engine evaluated at the dequantized input).  Checked by
 # tests/test_c_fixed.py on >= 100,000 random inputs and every edge of every shipped rule base.
 ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -24}
+# The whole chain (step) against the engine's Controller fed the same dequantized inputs, as a
+# fraction of each output's range over 10,000 steps of random walks (the shipped WEDM and EDM
+# chains).  Measured, with a margin of about 4 (measured: q15 9.2e-5, the t_off output's own
+# quantization and the rule base's; q31 1.4e-5, the 1/integrate state amplifying the rule
+# base's error by up to 1/v^2 = 48^2 (q31 barely helps there) -- not derived: an integrator
+# sums the per-step errors, so the bound grows with the run length.
+CHAIN_ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -14}
+
+
+def io_frac(lo: float, hi: float, numeric: str) -> int:
+    """Fraction bits of a chain input or output of range [lo, hi] in the I/O arrays."""
+    return frac_for(lo, hi, 15 if numeric == "q15" else 31)
 
 
 def _fail(message: str) -> FuzzycError:
@@ -101,8 +115,13 @@ class FixedPointWriter:
                                    for v in rb.inputs + rb.outputs),
                f" * Memberships are fractions of 2^{self.mf}.  Worst-case error against the "
                f"engine at the dequantized input: {bound:.3g} of each output's range",
-               " * (checked on >= 100,000 random inputs and every edge).  Only the bare rule",
-               " * base is in fixed point; the signal chain is in the float header.",
+               " * (checked on >= 100,000 random inputs and every edge).",
+               " * The whole chain (NAME_step) is in fixed point too: every value at the binary",
+               " * point its range allows in 31 bits (memories and integrator states included),",
+               " * in[]/out[] at the *_FRAC points below, inputs saturated to their ranges;",
+               f" * against the engine's Controller within {CHAIN_ERROR_BOUND[self.numeric]:.3g} of "
+               "each output's range over",
+               " * 10,000 steps (measured on the shipped chains; integrators sum per-step errors).",
                " * static inline: self-contained, no heap, no recursion, constant loop bounds.",
                " */",
                f"#ifndef {guard}", f"#define {guard}", "", "#include <stdint.h>", "",
@@ -132,14 +151,63 @@ class FixedPointWriter:
             out.append(f"static const int64_t {P}PEAKS_{o}[{var.n_terms}] = "
                        + _ints([self.q(v, var) for v in var.peaks()]) + ";")
         out += self.functions(which, unit)
+        out += self.chain()
         out += ["", f"#endif /* {guard} */", ""]
         return "\n".join(out)
+
+    def chain(self) -> list[str]:
+        """State, init and step of the whole signal chain on integers (see c_fixed_chain)."""
+        m, p, P, io = self.model, self.p, self.P, self.io
+        chain = FixedChain(m, p)
+        chain.io = io
+        body = []
+        for k, sig in enumerate(m.signals):
+            frac = io_frac(sig.lo, sig.hi, self.numeric)
+            v = Fx(f"{p}sat(in[{k}], {chain.const(sig.lo, frac)}, {chain.const(sig.hi, frac)})",
+                   frac, sig.lo, sig.hi)
+            body.append(chain.bind(sig.name, v)[0])
+        for step in m.steps:
+            body += chain.step(step)
+        body += chain.rulebase_io(self.rb, self.full, io, p)
+        io_max = self.full
+        for k, o in enumerate(m.outputs):
+            body += chain.output(k, o, io_frac(o.lo, o.hi, self.numeric), io_max)
+        fields = [f"    int32_t memory_{i};\n    unsigned char seen_{i};" for i in chain.memories]
+        fields += [f"    int32_t out_{c_identifier(o.name)};   /* at 2^-{chain.state_frac(o)} */"
+                   for o in m.outputs] or ["    unsigned char unused;"]
+        init = [f"    s->memory_{i} = 0; s->seen_{i} = 0;" for i in chain.memories]
+        for o in m.outputs:
+            start = 1.0 / o.init if o.kind == OutputKind.RECIPROCAL_INCREMENT else o.init
+            lo, hi = chain.state_range(o)
+            init.append(f"    s->out_{c_identifier(o.name)} = "
+                        f"{chain.const(min(max(start, lo), hi), chain.state_frac(o))};")
+        scales = [f"#define {P}IN_{c_identifier(sig.name).upper()}_FRAC "
+                  f"{io_frac(sig.lo, sig.hi, self.numeric)}" for sig in m.signals]
+        scales += [f"#define {P}OUT_{c_identifier(o.name).upper()}_FRAC "
+                   f"{io_frac(o.lo, o.hi, self.numeric)}" for o in m.outputs]
+        return ["", "/* The chain's I/O: in[k] = round(x * 2^FRAC), saturated to the input's "
+                "range; out[k] likewise. */", *scales,
+                f"#define {P}N_SIGNALS {max(1, len(m.signals))}",
+                f"#define {P}N_OUTPUTS {max(1, len(m.outputs))}",
+                "typedef struct {", *fields, f"}} {p}state;", "",
+                f"static inline void {p}init({p}state *s) {{",
+                *(init or ["    s->unused = 0;"]), "}", "",
+                "/* One sample of the whole chain on integers: in[N_SIGNALS] -> out[N_OUTPUTS]. */",
+                f"static inline void {p}step({p}state *s, const {io} in[{P}N_SIGNALS], "
+                f"{io} out[{P}N_OUTPUTS]) {{",
+                *("    " + line for line in body), "}"]
 
     def functions(self, which: list[int], unit: bool) -> list[str]:
         rb, p, P, io = self.rb, self.p, self.P, self.io
         n_in = len(rb.inputs)
         code = [f"static inline int64_t {p}sat(int64_t v, int64_t lo, int64_t hi) "
                 "{ return v < lo ? lo : (v > hi ? hi : v); }",
+                "/* v / 2**s rounded to nearest (s >= 1; >> of a negative int64 is arithmetic "
+                "on every compiler fuzzyc supports). */",
+                f"static inline int64_t {p}shr(int64_t v, int s) "
+                "{ return (v + ((int64_t)1 << (s - 1))) >> s; }",
+                f"static inline int64_t {p}greater(int64_t a, int64_t b) "
+                "{ return a > b ? a : b; }",
                 "/* The two active terms of an input at xq and their memberships. */",
                 f"static inline void {p}active(int64_t xq, const int64_t *breaks, int nb, "
                 f"const int64_t (*pieces)[6], const unsigned char (*active)[2], int64_t m[2], "

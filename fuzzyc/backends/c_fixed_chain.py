@@ -1,0 +1,267 @@
+"""The whole signal chain in fixed point (q15/q31): integer arithmetic from raw inputs to outputs.
+
+Every signal has a range: inputs and outputs declare one, a `let ... in [lo, hi]` is saturated
+to its declared one, and any other value takes the interval bound of its expression (inputs
+saturated to their declared ranges first, so the bounds hold).  From its range each value gets
+a binary point: it is the integer round(v * 2**frac) with frac the largest that keeps it within
+31 bits plus a sign, so the chain itself loses about 1e-9 of a range per operation; memories
+and integrator states are kept at that precision too (an increment of 1.8e-4 * du per sample
+would vanish at 15 bits).  Products and alignments run in int64 and round to nearest.
+The I/O arrays are int16_t (q15) or int32_t (q31) with their own binary points (the header
+#defines NAME_Q15_IN_x_FRAC / NAME_Q15_OUT_x_FRAC), and the rule base in between is the one of
+`c_fixed` on [0, FULL].  Emitted operations: + - and * (constants and params folded), min/max
+(clamp), delta, prev, lowpass (0 <= a < 1, b >= 0), direct, integrate and 1/integrate outputs.
+Anything else is a diagnostic naming the step.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import sympy
+
+from ..errors import Diagnostic, FuzzycError
+from ..model import Model, Op, OutputKind
+from .c import c_identifier
+
+CHAIN_BITS = 31
+
+
+@dataclass(frozen=True)
+class Fx:
+    """A fixed-point value: the C int64 expression `code` stands for code * 2**-frac, and the
+    value lies in [lo, hi]."""
+    code: str
+    frac: int
+    lo: float
+    hi: float
+
+
+def frac_for(lo: float, hi: float, bits: int = CHAIN_BITS) -> int:
+    """The most fraction bits with which every value of [lo, hi] rounds into `bits` bits."""
+    m = max(abs(lo), abs(hi))
+    if m == 0.0:
+        return bits - 1
+    frac = bits - 1 - math.floor(math.log2(m))
+    return frac - 1 if round(m * 2.0 ** frac) >= 2 ** bits else frac
+
+
+def _fail(message: str) -> FuzzycError:
+    return FuzzycError([Diagnostic(None, message)])
+
+
+class FixedChain:
+    """Builds the C statements of one chain; the helpers are named with prefix `p`."""
+
+    def __init__(self, model: Model, p: str):
+        self.model, self.p = model, p
+        self.params = {name: float(prm.value) for name, prm in model.params.items()}
+        self.symbols: dict[str, Fx] = {}
+        self.where = ""          # the step being translated, for diagnostics
+        self.memories: list[str] = []    # identifiers of the stateful steps
+        self.io = "int64_t"
+
+    # -- arithmetic on Fx and float constants -------------------------------------------------
+
+    @staticmethod
+    def const(value: float, frac: int) -> str:
+        return str(int(round(value * 2.0 ** frac)))
+
+    def rescale(self, code: str, frm: int, to: int) -> str:
+        """`code` at frm fraction bits, at `to` bits (rounded to nearest when bits drop)."""
+        if to == frm:
+            return code
+        if to > frm:   # a multiplication: << of a negative value is undefined in C
+            return f"(int64_t)({code}) * {1 << (to - frm)}"
+        return f"{self.p}shr({code}, {frm - to})"
+
+    def align(self, v: Fx | float, frac: int) -> str:
+        return self.const(v, frac) if isinstance(v, float) else self.rescale(v.code, v.frac, frac)
+
+    def fitted(self, code: str, frac: int, lo: float, hi: float) -> Fx:
+        """The value `code` (at frac bits, in [lo, hi]) at the precision its range allows."""
+        target = frac_for(lo, hi)
+        return Fx(self.rescale(code, frac, target), target, lo, hi)
+
+    def add(self, terms: list) -> Fx | float:
+        c = sum(t for t in terms if isinstance(t, float))
+        signals = [t for t in terms if isinstance(t, Fx)]
+        if not signals:
+            return c
+        lo = sum(t.lo for t in signals) + c
+        hi = sum(t.hi for t in signals) + c
+        frac = frac_for(lo, hi)
+        parts = [self.align(t, frac) for t in signals] + ([self.const(c, frac)] if c else [])
+        return Fx("(" + " + ".join(parts) + ")", frac, lo, hi)
+
+    def scale(self, v: Fx, c: float) -> Fx | float:
+        if c == 0.0:
+            return 0.0
+        if c == 1.0:
+            return v
+        cf = frac_for(c, c)
+        lo, hi = sorted((v.lo * c, v.hi * c))
+        return self.fitted(f"(int64_t)({v.code}) * {self.const(c, cf)}", v.frac + cf, lo, hi)
+
+    def mul(self, factors: list) -> Fx | float:
+        c = math.prod(f for f in factors if isinstance(f, float))
+        signals = [f for f in factors if isinstance(f, Fx)]
+        if not signals:
+            return c
+        acc = signals[0]
+        for f in signals[1:]:
+            corners = [a * b for a in (acc.lo, acc.hi) for b in (f.lo, f.hi)]
+            acc = self.fitted(f"(int64_t)({acc.code}) * ({f.code})", acc.frac + f.frac,
+                              min(corners), max(corners))
+        return self.scale(acc, c)
+
+    def extremum(self, args: list, smaller: bool) -> Fx | float:
+        pick = min if smaller else max
+        consts = [a for a in args if isinstance(a, float)]
+        signals = [a for a in args if isinstance(a, Fx)]
+        if not signals:
+            return pick(consts)
+        values = signals + ([pick(consts)] if consts else [])
+        lo = pick(v if isinstance(v, float) else v.lo for v in values)
+        hi = pick(v if isinstance(v, float) else v.hi for v in values)
+        frac = frac_for(min(v if isinstance(v, float) else v.lo for v in values),
+                        max(v if isinstance(v, float) else v.hi for v in values))
+        name = f"{self.p}{'lesser' if smaller else 'greater'}"
+        code = self.align(values[0], frac)
+        for v in values[1:]:
+            code = f"{name}({code}, {self.align(v, frac)})"
+        return self.fitted(code, frac, lo, hi)
+
+    def saturate(self, v: Fx | float, lo: float, hi: float) -> Fx:
+        """v held to [lo, hi] (a declared range), at the precision of that range."""
+        if isinstance(v, float):
+            v = Fx(self.const(v, frac_for(v, v)), frac_for(v, v), v, v)
+        frac = frac_for(lo, hi)
+        code = f"{self.p}sat({self.align(v, frac)}, {self.const(lo, frac)}, " \
+               f"{self.const(hi, frac)})"
+        return Fx(code, frac, max(lo, min(v.lo, hi)), min(hi, max(v.hi, lo)))
+
+    # -- sympy expressions --------------------------------------------------------------------
+
+    def expr(self, e: sympy.Expr) -> Fx | float:
+        if isinstance(e, sympy.Symbol):
+            if e.name in self.params:
+                return self.params[e.name]
+            return self.symbols[e.name]
+        if e.is_number:
+            return float(e)
+        args = [self.expr(a) for a in e.args]
+        if isinstance(e, sympy.Add):
+            return self.add(args)
+        if isinstance(e, sympy.Mul):
+            return self.mul(args)
+        if isinstance(e, (sympy.Min, sympy.Max)):
+            return self.extremum(args, isinstance(e, sympy.Min))
+        raise _fail(f"the fixed-point chain does not emit `{e}` ({type(e).__name__}) in "
+                    f"{self.where}; supported: + - * by constants and signals, min, max, "
+                    f"clamp, delta, prev, lowpass")
+
+    # -- the chain ----------------------------------------------------------------------------
+
+    def bind(self, name: str, v: Fx | float) -> tuple[str, Fx]:
+        """A C declaration of the named value and its Fx (a C variable from then on)."""
+        if isinstance(v, float):
+            v = Fx(self.const(v, frac_for(v, v)), frac_for(v, v), v, v)
+        var = f"v_{c_identifier(name)}"
+        self.symbols[name] = Fx(var, v.frac, v.lo, v.hi)
+        return f"const int64_t {var} = {v.code};", self.symbols[name]
+
+    def constant(self, v: Fx | float) -> Fx:
+        if isinstance(v, Fx):
+            return v
+        return Fx(self.const(v, frac_for(v, v)), frac_for(v, v), v, v)
+
+    def step(self, s) -> list[str]:
+        """The statements of one chain step (memories in the state `s`, kept at 31 bits)."""
+        self.where = f"`let {s.name}`"
+        arg = self.expr(s.expr)
+        if s.op == Op.ASSIGN:
+            if s.lo is not None and s.hi is not None:
+                arg = self.saturate(arg, s.lo, s.hi)
+            return [self.bind(s.name, arg)[0]]
+        arg = self.constant(arg)
+        ident = c_identifier(s.name)
+        mem, seen, out = f"s->memory_{ident}", f"s->seen_{ident}", f"v_{ident}"
+        if s.op == Op.DELTA:
+            value = self.fitted(f"(arg - {mem})", arg.frac, arg.lo - arg.hi, arg.hi - arg.lo)
+            first, keep = "0", "arg"
+        elif s.op == Op.PREV:
+            value, first, keep = Fx(mem, arg.frac, arg.lo, arg.hi), "arg", "arg"
+        else:
+            a, b = s.coeffs
+            if not (0.0 <= a < 1.0 and b >= 0.0):
+                raise _fail(f"the fixed-point chain emits lowpass(x, a, b) for 0 <= a < 1 and "
+                            f"b >= 0 only (bounded memory); {self.where} has a = {a:g}, "
+                            f"b = {b:g}")
+            gain = b / (1.0 - a)     # the filter's memory stays in the hull of these
+            lo, hi = min(arg.lo, gain * arg.lo), max(arg.hi, gain * arg.hi)
+            frac = frac_for(lo, hi)
+            mixed = self.add([self.scale(Fx(mem, frac, lo, hi), a),
+                              self.scale(Fx("arg", arg.frac, arg.lo, arg.hi), b)])
+            value = Fx(self.align(mixed, frac), frac, lo, hi)
+            first, keep = self.rescale("arg", arg.frac, frac), out
+        self.memories.append(ident)
+        self.symbols[s.name] = Fx(out, value.frac, value.lo, value.hi)
+        return [f"int64_t {out};", "{", f"    const int64_t arg = {arg.code};",
+                f"    {out} = {seen} ? {value.code} : {first};",
+                f"    {mem} = (int32_t){keep}; {seen} = 1;", "}"]
+
+    def rulebase_io(self, rb, full: int, io: str, rb_prefix: str) -> list[str]:
+        """Scale the rule-base inputs to [0, FULL], call the rule base, read its outputs."""
+        code = [f"{io} xq[{len(rb.inputs)}], yq[{len(rb.outputs)}];"]
+        for i, var in enumerate(rb.inputs):
+            self.where = f"the rule-base input `{var.name}`"
+            x = self.constant(self.expr(sympy.Symbol(var.name)))
+            cf = frac_for(full / (var.hi - var.lo), full / (var.hi - var.lo))
+            shifted = f"(int64_t)({x.code} - {self.const(var.lo, x.frac)}) * " \
+                      f"{self.const(full / (var.hi - var.lo), cf)}"
+            code.append(f"xq[{i}] = ({io}){self.p}sat({self.rescale(shifted, x.frac + cf, 0)}, "
+                        f"0, {full});")
+        code.append(f"{rb_prefix}rulebase(xq, yq);")
+        for o, var in enumerate(rb.outputs):
+            y = self.add([self.scale(Fx(f"yq[{o}]", 0, 0.0, float(full)),
+                                     (var.hi - var.lo) / full), float(var.lo)])
+            code.append(self.bind(var.name, y)[0])
+        return code
+
+    def output(self, k: int, o, io_frac: int, io_max: int) -> list[str]:
+        """Statements updating output k's state (31 bits) and writing out[k]."""
+        self.where = f"the output `{o.name}`"
+        value = self.constant(self.expr(o.expr))
+        state = f"s->out_{c_identifier(o.name)}"
+        frac = self.state_frac(o)
+        lo, hi = self.state_range(o)
+        bounds = f"{self.const(lo, frac)}, {self.const(hi, frac)}"
+        if o.kind == OutputKind.DIRECT:
+            code = [f"{state} = (int32_t){self.p}sat({self.align(value, frac)}, {bounds});"]
+        else:
+            code = [f"{state} = (int32_t){self.p}sat({state} + {self.align(value, frac)}, "
+                    f"{bounds});"]
+        result = Fx(state, frac, o.lo, o.hi)
+        if o.kind == OutputKind.RECIPROCAL_INCREMENT:   # u = 1/v, rounded to nearest
+            uf = frac_for(o.lo, o.hi)
+            one = 1 << (uf + frac)
+            result = Fx(f"u_{c_identifier(o.name)}", uf, o.lo, o.hi)
+            code.append(f"const int64_t {result.code} = {self.p}sat(({one} + {state} / 2) / "
+                        f"{state}, {self.const(o.lo, uf)}, {self.const(o.hi, uf)});")
+        code.append(f"out[{k}] = ({self.io}){self.p}sat({self.align(result, io_frac)}, "
+                    f"{-io_max}, {io_max});")
+        self.symbols[o.name] = result
+        return code
+
+    @staticmethod
+    def state_range(o) -> tuple[float, float]:
+        if o.kind == OutputKind.RECIPROCAL_INCREMENT:
+            if not o.lo > 0:
+                raise _fail(f"the fixed-point chain needs 0 < lo for the 1/integrate output "
+                            f"`{o.name}`")
+            return 1.0 / o.hi, 1.0 / o.lo
+        return o.lo, o.hi
+
+    def state_frac(self, o) -> int:
+        return frac_for(*self.state_range(o))
