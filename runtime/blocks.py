@@ -150,6 +150,11 @@ class ScheduleBlock:
 
     def reset(self, batch: int) -> None:
         self.batch = batch
+        self._held: tuple[float, np.ndarray] | None = None
 
     def step(self, signals: dict) -> dict[str, np.ndarray]:
-        return {self.output: np.full(self.batch, self.value_at(signals["t"]))}
+        # the same array while the value holds (blocks never write into the bus's arrays)
+        value = self.value_at(signals["t"])
+        if self._held is None or self._held[0] != value:
+            self._held = (value, np.full(self.batch, value))
+        return {self.output: self._held[1]}

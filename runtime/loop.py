@@ -44,8 +44,7 @@ def run(blocks: Iterable, period: float, duration: float, batch: int = 1, pace: 
     blocks = list(blocks)
     steps = int(round(duration / period))
     bus = _initial_bus(blocks, batch, initial)
-    rows: dict[str, list[np.ndarray]] = {}
-    times: list[float] = []
+    recorder = _Recorder(steps // decimate, record)
     bar = Progress(steps, progress)
     misses = 0
     wall_start = _time.perf_counter()
@@ -56,19 +55,38 @@ def run(blocks: Iterable, period: float, duration: float, batch: int = 1, pace: 
         if pace == "wall":
             misses += _wait_for_deadline(wall_start + (k + 1) * period)
         if (k + 1) % decimate == 0:
-            if record is None:   # every array signal, as the bus stands after the first period
-                record = [n for n, v in bus.items() if isinstance(v, np.ndarray)]
-            unknown = [n for n in record if n not in bus]
-            if unknown:
-                raise KeyError(f"cannot record {', '.join(unknown)}: no block writes it")
-            times.append((k + 1) * period)
-            for name in record:
-                rows.setdefault(name, []).append(np.array(bus[name], dtype=float, copy=True))
+            recorder.add((k + 1) * period, bus)
         if k % 64 == 0:
             bar.update(k)
     bar.close()
-    signals = {n: np.stack(v) if v else np.empty((0, batch)) for n, v in rows.items()}
-    return Trace(np.array(times), signals, period, misses, steps)
+    return Trace(recorder.times, recorder.signals, period, misses, steps)
+
+
+class _Recorder:
+    """The recorded signals, written row by row into arrays allocated once."""
+
+    def __init__(self, rows: int, names: list[str] | None):
+        self.names = names          # None: every array signal on the bus after the first period
+        self.times = np.empty(rows)
+        self.signals: dict[str, np.ndarray] = {}
+        self.rows, self.row = rows, 0
+
+    def add(self, time: float, bus: dict) -> None:
+        if self.row == 0:
+            self._allocate(bus)
+        self.times[self.row] = time
+        for name, rows in self.signals.items():
+            rows[self.row] = bus[name]
+        self.row += 1
+
+    def _allocate(self, bus: dict) -> None:
+        if self.names is None:
+            self.names = [n for n, v in bus.items() if isinstance(v, np.ndarray)]
+        unknown = [n for n in self.names if n not in bus]
+        if unknown:
+            raise KeyError(f"cannot record {', '.join(unknown)}: no block writes it")
+        # each signal's shape as it stands now: (N,) arrays, or a float (recorded as (T,))
+        self.signals = {n: np.empty((self.rows,) + np.shape(bus[n])) for n in self.names}
 
 
 def _wait_for_deadline(deadline: float) -> int:
