@@ -121,3 +121,92 @@ def test_wedm_sign_error_in_the_error_gain_is_caught_in_closed_loop():
     (result,) = verify_model(model, Options(max_examples=4, seed=0, shrink_rounds=0))
     assert result.status == Status.VIOLATED and result.finding is None
     assert "4 of 4 loops break it" in result.violation.detail
+
+
+# ---------------------------------------------------------------- the corner controller
+def _corner_loop_only(text=None):
+    from fuzzyc.parser import load
+    model = parse(text, "rulebases/wedm_corner.fz") if text else load("rulebases/wedm_corner.fz")
+    model.properties = [p for p in model.properties if p.kind == "closed_loop"]
+    # the plant moves the wire exactly, so a 2 s period only coarsens the times (and halves
+    # the test's run time)
+    model.properties[0].args["set"]["period"] = 2.0
+    return model
+
+
+CORNER_FAST = dict(max_examples=3, seed=0, shrink_rounds=2)
+
+
+def test_corner_sign_error_in_the_users_like_is_caught_against_normal_machining():
+    # reduction = -y * like: the output saturates at 0 %, the feed is never cut, and the
+    # summed corner error equals normal machining's (ratio 1, not < 0.85) on every drawn cut.
+    text = open("rulebases/wedm_corner.fz").read()
+    model = _corner_loop_only(text.replace("= y * like", "= -y * like"))
+    error, time_ = verify_model(model, Options(**CORNER_FAST))
+    assert error.status == Status.VIOLATED and error.finding is None
+    assert "baseline_error_sum" in error.prop.text
+    assert "3 of 3 loops break it" in error.violation.detail
+    # every drawn cut fails, so the shrinker lands on the scenario's rough cut (160, 50 mm)
+    assert error.violation.trace["case"] == {"plant.feed": 160.0, "plant.thickness": 50.0}
+    # an `eventually` is broken at its deadline; the trace keeps both runs' error sums
+    assert error.violation.trace["violated_at"] == 3400.0
+    signals = error.violation.trace["signals"]
+    assert signals["error_sum"][-1] == pytest.approx(signals["baseline_error_sum"][-1])
+    assert time_.status == Status.HELD          # no reduction costs no time
+
+
+def test_corner_precision_like_costs_more_than_ten_percent_time():
+    # like = 1.5 (the paper's "precision" setting): 60 % of y becomes 90 %, the wire crawls at
+    # a tenth of its speed through the zones of the sharp corners: 14 zones x 0.62 mm at up to
+    # 10x the time adds far more than 10 % to the 153.95 mm path.
+    model = _corner_loop_only()
+    loop = model.properties[0]
+    loop.args["set"]["controller.params.like"] = 1.5
+    _, time_ = verify_model(model, Options(**CORNER_FAST))
+    assert time_.status == Status.VIOLATED and "3 of 3 loops break it" in time_.violation.detail
+    # nominal cut: normal machining takes 153.95 * 60 * 50 / 160 = 2886.6 s, the bound 3175 s
+    assert time_.violation.trace["violated_at"] == pytest.approx(1.1 * 153.95 * 60 * 50 / 160,
+                                                                 abs=2.0)
+
+
+def test_corner_sign_error_in_the_lowpass_is_refused_by_the_compiler():
+    # b = -0.2 (or a = -0.8) would make F_ave negative; the builder refuses it at its place
+    from fuzzyc.errors import FuzzycError
+    text = open("rulebases/wedm_corner.fz").read()
+    with pytest.raises(FuzzycError, match=r"wedm_corner.fz:\d+:\d+: error: lowpass\(x, a, b\) "
+                                          r"needs 0 <= a < 1 and b > 0"):
+        parse(text.replace("param b = 0.2", "param b = -0.2"), "rulebases/wedm_corner.fz")
+
+
+def test_baseline_signals_need_a_scenario_with_a_baseline(toy_plant, scenario):
+    results = verify_model(_model(scenario, checks="always gap < 1.2 * baseline_gap\n"),
+                           Options(max_examples=2))
+    assert results[0].status == Status.UNDECIDED and "baseline" in results[0].evidence[0].detail
+
+
+# ---------------------------------------------------------------- milling
+@pytest.mark.parametrize("gain, value", [(None, None), ("GE", -0.0033), ("GU", -0.1)])
+def test_milling_sign_error_in_a_gain_is_caught_after_learning(gain, value):
+    # Shortened from the file's 15 cycles and 60 s to keep the suite fast: 3 learning cycles of
+    # a 15 s scenario already hold the force at Fr = 300 N +- 15 within 10 s (the correct file,
+    # the control case). With GE or GU negated the learning rule pushes the weights the wrong
+    # way: the feed stays at its initial 75 mm/min and the force sits near 544 N.
+    from fuzzyc.parser import load
+    model = load("rulebases/milling_neurofuzzy.fz")
+    loop = next(p for p in model.properties if p.kind == "closed_loop")
+    check = next(c for c in loop.args["checks"] if c.kind == "eventually")
+    model.properties = [dataclasses.replace(loop, args={
+        **loop.args, "duration": 15.0, "checks": [check],
+        "set": {**loop.args["set"], "learn.cycles": 3, "duration": 15.0}})]
+    if gain:
+        model.params[gain].value = value
+    (result,) = verify_model(model, Options(max_examples=3, seed=0, shrink_rounds=1))
+    if gain is None:
+        assert result.status == Status.HELD
+        return
+    assert result.status == Status.VIOLATED and result.finding is None
+    assert "3 of 3 loops break it" in result.violation.detail
+    trace = result.violation.trace
+    assert trace["violated_at"] == 10.0                  # the deadline of `eventually within`
+    force = trace["signals"]["force"]
+    assert abs(force[-1] - 300.0) > 200.0                # nowhere near Fr at the end

@@ -16,6 +16,9 @@ from ..model import Model, Property
 from . import temporal
 from .result import Evidence, Status
 
+BASELINE = "baseline_"   # a check's `baseline_X`: signal X of the scenario's baseline controller
+
+
 def check(model: Model, prop: Property, checks: list[Property], options) -> list[list[Evidence]]:
     from fuzzyc.plants import scenario as scenarios
     a = prop.args
@@ -32,7 +35,12 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
         except ImportError as exc:
             return [[Evidence("closed-loop", Status.UNDECIDED, f"--backend c: the C back end "
                               f"cannot be loaded ({exc})")] for _ in checks]
+    with_baseline = any(n.startswith(BASELINE) for c in checks for n in temporal.names_in(c))
+    if with_baseline and not scen.baseline:
+        return [[Evidence("closed-loop", Status.UNDECIDED, f"`{BASELINE}...` signals need a "
+                          f"scenario with a baseline; {scen.name} names none")] for _ in checks]
     loop = _Loop(model, scen, a["duration"], options.backend, options.seed)
+    loop.with_baseline = with_baseline
     loop.progress = None if options.progress else False   # the runtime's bar, on a terminal
     learned = loop.learn(**learning) if learning else ""
     cases = _draw_cases(loop, a["vary"], options.max_examples, options.seed)
@@ -90,6 +98,7 @@ class _Loop:
         self.model, self.scen, self.duration, self.backend, self.seed = (
             model, scen, duration, backend, seed)
         self.progress: bool | None = False
+        self.with_baseline = False
         self.module = scen.plant_module()
         self.nominal = scen.plant_params(1)
         self.plant_inputs = set(getattr(self.module, "INPUTS", ()))
@@ -122,8 +131,9 @@ class _Loop:
         return float(getattr(self.nominal, key.split(".", 1)[1]))
 
     def run(self, cases: list[dict]):
-        from fuzzyc.runtime import FunctionBlock, PlantBlock, run
-        from fuzzyc.runtime.simulate import build
+        """Time and signals of every case; with_baseline adds `baseline_X` for each signal X of
+        the scenario's baseline controller on the same cases (plant, steps), e.g. to compare
+        the corner error with normal machining."""
         batch = len(cases)
         model = self._controller_model()
         if self.backend == "c":
@@ -132,6 +142,18 @@ class _Loop:
         else:
             from fuzzyc.controller import Controller
             controller = Controller(model, batch)
+        time, signals = self._run_with(controller, cases)
+        if self.with_baseline:
+            baseline = self.scen.make("baseline", self.scen.baseline)
+            baseline.reset(batch)
+            _, theirs = self._run_with(baseline, cases)
+            signals.update({BASELINE + name: v for name, v in theirs.items()})
+        return time, signals
+
+    def _run_with(self, controller, cases: list[dict]):
+        from fuzzyc.runtime import FunctionBlock, PlantBlock, run
+        from fuzzyc.runtime.simulate import build
+        batch = len(cases)
         blocks = build(self.scen, controller, batch, self.seed)
         k = next(i for i, b in enumerate(blocks) if isinstance(b, PlantBlock))
         varied = {key.split(".", 1)[1]: np.array([c[key] for c in cases], dtype=float)
@@ -142,7 +164,7 @@ class _Loop:
             blocks.insert(k, _disturbance(name, steps, varied, self.nominal, FunctionBlock))
         trace = run(blocks, self.scen.period, self.duration, batch,
                     initial=self.scen.data.get("initial"), progress=self.progress)
-        return trace.time, trace.signals
+        return trace.time, dict(trace.signals)
 
 
 def _disturbance(name, steps, varied, nominal, FunctionBlock):

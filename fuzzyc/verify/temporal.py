@@ -13,12 +13,15 @@ class UnknownSignal(KeyError):
 
 
 def _values(expr: sympy.Expr, signals: dict[str, np.ndarray], params: dict[str, float],
-            shape: tuple[int, int]) -> np.ndarray:
-    """Evaluate an expression (relational or arithmetic) over (T, N) signals."""
+            shape: tuple[int, int], time: np.ndarray) -> np.ndarray:
+    """Evaluate an expression (relational or arithmetic) over (T, N) signals; `t` is the time
+    (s) unless a signal has that name."""
     names = sorted(s.name for s in expr.free_symbols)
     env = []
     for name in names:
-        if name in signals:
+        if name == "t" and name not in signals:
+            env.append(np.broadcast_to(time[:, None], shape))
+        elif name in signals:
             env.append(signals[name])
         elif name in params:
             env.append(np.full(shape, params[name]))
@@ -42,16 +45,16 @@ def evaluate(check: Property, time: np.ndarray, signals: dict[str, np.ndarray],
     shape = next(iter(signals.values())).shape
     a = check.args
     if check.kind in ("always", "eventually"):
-        ok = _values(a["predicate"], signals, params, shape).astype(bool)
+        ok = _values(a["predicate"], signals, params, shape, time).astype(bool)
         if check.kind == "always":
             bad = ~ok
             return bad.any(axis=0), _first(time, bad)
         window = time <= a["within"] + 1e-9
         met = (ok & window[:, None]).any(axis=0)
         return ~met, np.where(met, np.nan, a["within"])
-    y = _values(sympy.Symbol(a["signal"]), signals, params, shape).astype(float)
+    y = _values(sympy.Symbol(a["signal"]), signals, params, shape, time).astype(float)
     if check.kind == "settles":
-        target = _values(a["target"], signals, params, shape).astype(float)
+        target = _values(a["target"], signals, params, shape, time).astype(float)
         bad = ~(np.abs(y - target) <= a["tolerance"]) & (time >= a["by"] - 1e-9)[:, None]
         return bad.any(axis=0), _first(time, bad)
     # overshoot: how far the signal rises above its final value (mean of the last 10 %)
