@@ -22,8 +22,9 @@ from .syntax import Clause, Expr, Name, Num, Stmt, TermDef
 INF = math.inf
 
 INFERENCE_VALUES = {
-    "and": {"min": TNorm.MIN, "product": TNorm.PRODUCT, "prod": TNorm.PRODUCT},
-    "or": {"max": SNorm.MAX, "probsum": SNorm.PROBSUM, "probabilistic_sum": SNorm.PROBSUM},
+    "and": {"product": TNorm.PRODUCT, "prod": TNorm.PRODUCT,
+            **{t.name.lower(): t for t in TNorm}},
+    "or": {"probabilistic_sum": SNorm.PROBSUM, **{t.name.lower(): t for t in SNorm}},
     "implication": {"min": Implication.MIN, "product": Implication.PRODUCT,
                     "prod": Implication.PRODUCT},
     "aggregation": {"max": Aggregation.MAX, "sum": Aggregation.SUM},
@@ -37,11 +38,25 @@ INFERENCE_FIELD = {"and": "and_", "or": "or_", "implication": "implication",
                    "aggregation": "aggregation", "defuzzify": "defuzzifier"}
 
 SHAPE_ARITY = {"tri": 3, "trap": 4, "lshoulder": 2, "rshoulder": 2, "gauss": 2, "bell": 3,
-               "sigmoid": 2, "singleton": 1}
+               "sigmoid": 2, "singleton": 1, "linear": None}
+# Shapes written with their parameters in the model's order: word -> (kind, arity, the condition
+# that keeps them well defined, what to say when it fails)
+PLAIN_SHAPES = {
+    "sshape": (TermKind.SSHAPE, 2, lambda v: v[0] < v[1], "sshape(start, end) with start < end"),
+    "zshape": (TermKind.ZSHAPE, 2, lambda v: v[0] < v[1], "zshape(start, end) with start < end"),
+    "pishape": (TermKind.PISHAPE, 4, lambda v: v[0] < v[1] and v[2] < v[3],
+                "pishape(a, b, c, d) with a < b and c < d"),
+    "spike": (TermKind.SPIKE, 2, lambda v: v[1] > 0, "spike(center, width) with width > 0"),
+    "cosine": (TermKind.COSINE, 2, lambda v: v[1] > 0, "cosine(center, width) with width > 0"),
+    "concave": (TermKind.CONCAVE, 2, lambda v: v[0] != v[1],
+                "concave(inflection, end) with inflection != end"),
+}
+SHAPE_ARITY.update({word: arity for word, (_, arity, _, _) in PLAIN_SHAPES.items()})
+LINEAR_DEFUZZIFIERS = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
 PURE_FUNCTIONS = {"clamp": 3, "abs": 1, "min": None, "max": None, "sqrt": 1, "exp": 1, "log": 1}
 STATEFUL_FUNCTIONS = {"delta": 1, "prev": 1, "lowpass": 3}
 HEDGES = {None: Hedge.NONE, "very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT,
-          "extremely": Hedge.EXTREMELY}
+          "extremely": Hedge.EXTREMELY, "seldom": Hedge.SELDOM, "sharply": Hedge.SHARPLY}
 
 
 @dataclass
@@ -273,7 +288,7 @@ class Builder:
 
     def _add_term(self, var: _LinguisticVar, term: TermDef) -> None:
         values = [n.value for n in term.args]
-        arity = SHAPE_ARITY[term.shape]
+        arity = SHAPE_ARITY[term.shape] or len(values)
         if len(values) != arity:
             self.error(term.args[0].loc if term.args else term.name.loc,
                        f"`{term.shape}` takes {arity} number{'s' if arity > 1 else ''}, "
@@ -316,6 +331,18 @@ class Builder:
                 self.error(term.args[1].loc, f"sigmoid `{term.name.text}` needs a slope other than 0")
                 return
             self._append_term(var, term.name, TermKind.SIGMOID, (*values, 0, 0))
+        elif shape in PLAIN_SHAPES:
+            kind, _, valid, usage = PLAIN_SHAPES[shape]
+            if not valid(values):
+                self.error(where, f"degenerate {shape} `{term.name.text}`: write {usage}")
+                return
+            self._append_term(var, term.name, kind, (*values, 0, 0, 0)[:max(4, arity)])
+        elif shape == "linear":
+            if var.is_input:
+                self.error(term.name.loc, f"a linear term is a Takagi-Sugeno consequent: input "
+                                          f"`{var.name}` cannot have one")
+                return
+            self._append_term(var, term.name, TermKind.LINEAR, (*values, 0, 0, 0)[:max(4, arity)])
         else:
             self._append_term(var, term.name, TermKind.SINGLETON, (values[0], 0, 0, 0))
 
@@ -853,8 +880,21 @@ class Builder:
             if not v.is_input and v.lo is not None and not v.lo <= v.default <= v.hi:
                 self.error(v.loc, f"the default {v.default:g} of `{v.name}` is outside its range "
                                   f"[{v.lo:g}, {v.hi:g}]")
+            self._check_linear_terms(v, len(inputs))
         return assemble_rulebase([_variable(v) for v in inputs], [_variable(v) for v in outputs],
                                  merge_rules(self.rules), self.inference)
+
+
+    def _check_linear_terms(self, v: _LinguisticVar, n_inputs: int) -> None:
+        for name, kind, params, loc in v.terms:
+            if kind != TermKind.LINEAR:
+                continue
+            if self.inference.defuzzifier not in LINEAR_DEFUZZIFIERS:
+                self.error(loc, f"linear term `{name}` needs defuzzify = weighted_average or "
+                                "weighted_sum")
+            if any(params[n_inputs + 1:]):     # zeros are the (T, 4) padding
+                self.error(loc, f"linear `{name}` has more coefficients than c0 and one per "
+                                f"rule-base input ({n_inputs})")
 
 
 def assemble_rulebase(inputs: list[Variable], outputs: list[Variable], rules: list[RuleSpec],
@@ -904,15 +944,27 @@ def merge_rules(rules: list[RuleSpec]) -> list[RuleSpec]:
 
 def _core(kind: TermKind, params) -> tuple[float, float]:
     """The interval where a term is fully true (or its centre): it must meet the range."""
-    if kind == TermKind.TRAPEZOID:
+    if kind in (TermKind.TRAPEZOID, TermKind.PISHAPE):
         return params[1], params[2]
+    rising = {TermKind.SSHAPE: True, TermKind.ZSHAPE: False,
+              TermKind.CONCAVE: params[0] < params[1]}.get(kind)
+    if rising is not None:      # an edge: fully true from its end on (up to its end)
+        edge = params[1] if kind != TermKind.ZSHAPE else params[0]
+        return (edge, INF) if rising else (-INF, edge)
+    if kind == TermKind.LINEAR:
+        return -INF, INF
     return params[0], params[0]
 
 
 def _variable(v: _LinguisticVar) -> Variable:
     kinds = np.array([int(t[1]) for t in v.terms], dtype=np.int64)
-    params = np.array([t[2] for t in v.terms], dtype=float).reshape(len(v.terms), 4)
+    # Linear rows longer than the (T, 4) params live in `coefficients`.
+    long_rows = {t: np.array(term[2], dtype=float) for t, term in enumerate(v.terms)
+                 if len(term[2]) > 4}
+    params = np.array([term[2] if len(term[2]) <= 4 else (0, 0, 0, 0) for term in v.terms],
+                      dtype=float).reshape(len(v.terms), 4)
     return Variable(
+        coefficients=long_rows or None,
         name=v.name, lo=float(v.lo), hi=float(v.hi), names=[t[0] for t in v.terms], kinds=kinds,
         params=params, unit=units.format_unit(v.unit) if v.unit else None, default=v.default,
         learnable=None if v.is_input else np.array(v.learnable, dtype=bool), loc=v.loc,

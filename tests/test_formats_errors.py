@@ -15,15 +15,15 @@ CORPUS = Path(__file__).parent / "format_corpus"
 # file -> the diagnostics expected, as (line:col, words of the message)
 EXPECTED = {
     "bad_syntax.fll": [("12:35", "ends too early")],
-    "bad_unsupported.fll": [("4:14", "term shape `Spike` is not supported"),
+    "bad_unsupported.fll": [("4:14", "term shape `Discrete` is not supported"),
                             ("9:16", "defuzzifier `LargestOfMaximum` is not supported"),
-                            ("12:16", "conjunction `HamacherProduct` is not supported"),
-                            ("13:23", "hedge `extremely` is not supported"),
+                            ("12:16", "implication `HamacherProduct` is not supported"),
+                            ("13:23", "hedge `very very` is not supported"),
                             ("14:23", "did you mean `good`?")],
     "bad_syntax.fcl": [("7:3", "unexpected `TERM`: expected `(`, `;`")],
     "bad_unsupported.fcl": [("9:15", "not a triangle, trapezoid or shoulder"),
                             ("15:12", "METHOD LM is not supported"),
-                            ("19:9", "AND BDIF is not supported"),
+                            ("19:9", "AND HAMACHER is not supported"),
                             ("20:8", "mixes `and` and `or`")],
     "bad_rules.fis": [("10:14", "DefuzzMethod `lom` is not supported"),
                       ("15:5", "membership function `pimf` is not supported"),
@@ -58,9 +58,9 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "OutputVariable: y\n  range: 0 1\n  defuzzifier: WeightedAverage\n"
                "  term: b Triangle 0 0.5 1\nRuleBlock:\n  rule: if x is a then y is b\n",
-     "WeightedAverage needs Constant terms"),
+     "WeightedAverage needs Constant or Linear terms"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Linear 0 1\n",
-     "`Linear` is not supported"),
+     "input `x` cannot have one"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "OutputVariable: y\n  range: 0 1\n  aggregation: Maximum\n"
                "  defuzzifier: Centroid\n  term: b Triangle 0 0.5 1\n"
@@ -71,7 +71,7 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
                "OutputVariable: y\n  range: 0 1\n  aggregation: Maximum\n"
                "  defuzzifier: Centroid\n  term: b Triangle 0 0.5 1\n"
                "RuleBlock:\n  conjunction: none\n"
-               "  rule: if x is a and w is any then y is b\n", "hedge `any`"),
+               "  rule: if x is a and w is any then y is b\n", "needs a conjunction"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "InputVariable: w\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "OutputVariable: y\n  range: 0 1\n  aggregation: Maximum\n"

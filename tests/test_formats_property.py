@@ -57,8 +57,11 @@ def rule_base(draw, fmt: str):
                                                Defuzzifier.WEIGHTED_AVERAGE,
                                                Defuzzifier.WEIGHTED_SUM],
               "fcl": [Defuzzifier.CENTER_OF_AREA, *AREA]}[fmt]
-    got.inference = Inference(draw(st.sampled_from(list(TNorm))),
-                              draw(st.sampled_from(list(SNorm))),
+    # FCL (IEC 61131-7) names three t-norms and three s-norms; the other formats name them all
+    tnorms, snorms = ([TNorm.MIN, TNorm.PRODUCT, TNorm.BOUNDED_DIFFERENCE],
+                      [SNorm.MAX, SNorm.PROBSUM, SNorm.BOUNDED_SUM]) if fmt == "fcl" \
+        else (list(TNorm), list(SNorm))
+    got.inference = Inference(draw(st.sampled_from(tnorms)), draw(st.sampled_from(snorms)),
                               draw(st.sampled_from(list(Implication))),
                               Aggregation.MAX, draw(st.sampled_from(defuzz)))
     # FLL says center of area with a sum as WeightedAverage, which reads back as a weighted

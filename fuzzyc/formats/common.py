@@ -25,6 +25,9 @@ class TermSpec:
     kind: TermKind
     params: tuple[float, float, float, float]
     loc: SourceLoc | None = None
+    # LINEAR only: as fuzzylite and MATLAB write them, one per input then the constant (which
+    # fuzzylite lets out); resolved once the number of inputs is known.
+    coefficients: tuple[float, ...] | None = None
 
 
 @dataclass
@@ -55,7 +58,8 @@ class VarSpec:
     def range_from_terms(self) -> tuple[float, float] | None:
         """The span of the terms' finite break points: for formats where a range is optional."""
         points = [p for t in self.terms
-                  for p in (t.params if t.kind == TermKind.TRAPEZOID else t.params[:1])
+                  for p in (t.params if t.kind == TermKind.TRAPEZOID else
+                            () if t.kind == TermKind.LINEAR else t.params[:1])
                   if math.isfinite(p)]
         return (min(points), max(points)) if points and min(points) < max(points) else None
 
@@ -63,6 +67,35 @@ class VarSpec:
 def shape(kind: TermKind, *params: float) -> tuple[TermKind, tuple[float, float, float, float]]:
     padded = tuple(float(p) for p in params) + (0.0,) * (4 - len(params))
     return kind, padded
+
+
+# The shapes every format writes as NAME p1 p2 ... in the model's own parameter order, with
+# the condition that keeps them well defined.
+PLAIN_SHAPES = {
+    TermKind.SSHAPE: (2, lambda v: v[0] < v[1]),
+    TermKind.ZSHAPE: (2, lambda v: v[0] < v[1]),
+    TermKind.PISHAPE: (4, lambda v: v[0] < v[1] and v[2] < v[3]),
+    TermKind.SPIKE: (2, lambda v: v[1] > 0),
+    TermKind.COSINE: (2, lambda v: v[1] > 0),
+    TermKind.CONCAVE: (2, lambda v: v[0] != v[1]),
+}
+
+
+def plain_shape_or_none(kind: TermKind, values: list[float]):
+    """One of PLAIN_SHAPES from its parameters, or None when they are degenerate."""
+    arity, valid = PLAIN_SHAPES[kind]
+    if len(values) == arity and all(map(math.isfinite, values)) and valid(values):
+        return shape(kind, *values)
+    return None
+
+
+def linear_row(coefficients: tuple[float, ...], n_inputs: int) -> np.ndarray | None:
+    """fuzzylite/MATLAB order (c1..cI [c0]) -> the model's (c0, c1..cI), or None if the count
+    does not fit the inputs."""
+    if len(coefficients) not in (n_inputs, n_inputs + 1):
+        return None
+    constant = coefficients[n_inputs] if len(coefficients) > n_inputs else 0.0
+    return np.array([constant, *coefficients[:n_inputs]], dtype=float)
 
 
 def trapezoid_or_none(a: float, b: float, c: float, d: float):
@@ -110,9 +143,11 @@ class Collected:
 
     def model(self, path: str, text: str) -> Model:
         self.check_ranges()
+        self._check_linear_terms()
         self.rep.raise_if_any()
-        inputs = [_variable(v, is_input=True) for v in self.inputs.values()]
-        outputs = [_variable(v, is_input=False) for v in self.outputs.values()]
+        n_inputs = len(self.inputs)
+        inputs = [_variable(v, True, n_inputs) for v in self.inputs.values()]
+        outputs = [_variable(v, False, n_inputs) for v in self.outputs.values()]
         rb = assemble_rulebase(inputs, outputs, merge_rules(self.rules), self.inference)
         return Model(
             name=self.name, rulebase=rb, title=self.title or f"imported from {path}",
@@ -123,11 +158,36 @@ class Collected:
             source_path=path, source_text=text, notes=list(self.notes))
 
 
-def _variable(v: VarSpec, is_input: bool) -> Variable:
+    def _check_linear_terms(self) -> None:
+        n_inputs = len(self.inputs)
+        for var in self.inputs.values():
+            for term in var.terms:
+                if term.kind == TermKind.LINEAR:
+                    self.rep.error(term.loc, f"a Linear term is a Takagi-Sugeno consequent: "
+                                             f"input `{var.name}` cannot have one")
+        for var in self.outputs.values():
+            for term in var.terms:
+                if term.kind == TermKind.LINEAR and \
+                        linear_row(term.coefficients, n_inputs) is None:
+                    self.rep.error(term.loc, f"Linear `{term.name}` has "
+                                             f"{len(term.coefficients)} coefficients: give one "
+                                             f"per input ({n_inputs}) and optionally a constant")
+
+
+def _variable(v: VarSpec, is_input: bool, n_inputs: int) -> Variable:
+    """The model's Variable; linear rows that do not fit the (T, 4) params go to coefficients."""
     n = len(v.terms)
+    params = np.array([t.params for t in v.terms], dtype=float).reshape(n, 4)
+    coefficients = {}
+    for t, term in enumerate(v.terms):
+        if term.kind == TermKind.LINEAR:
+            row = linear_row(term.coefficients, n_inputs)
+            if len(row) <= 4:
+                params[t, :len(row)] = row
+            else:
+                coefficients[t] = row
     return Variable(
         name=v.name, lo=float(v.lo), hi=float(v.hi), names=v.term_names(),
-        kinds=np.array([int(t.kind) for t in v.terms], dtype=np.int64),
-        params=np.array([t.params for t in v.terms], dtype=float).reshape(n, 4),
+        kinds=np.array([int(t.kind) for t in v.terms], dtype=np.int64), params=params,
         default=float(v.default), learnable=None if is_input else np.zeros(n, dtype=bool),
-        loc=v.loc, term_locs=[t.loc for t in v.terms])
+        loc=v.loc, term_locs=[t.loc for t in v.terms], coefficients=coefficients or None)

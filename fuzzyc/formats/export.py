@@ -111,18 +111,20 @@ def unsayable_hedges(model: Model, hedge_words: dict[Hedge, str], fmt: str) -> l
 
 def peaks_instead(model: Model, fmt: str) -> tuple[list[Variable], list[str]]:
     """The outputs as singletons at their peaks, for peak-based defuzzifiers in formats whose
-    peak-based defuzzifier needs singleton terms (the numbers it gives do not change)."""
+    peak-based defuzzifier needs singleton (or linear) terms (the numbers it gives do not
+    change)."""
     changed, notes = [], []
     for v in model.rulebase.outputs:
-        if all_singletons(v):
+        kept = np.isin(v.kinds, (TermKind.SINGLETON, TermKind.LINEAR))
+        if np.all(kept):
             changed.append(v)
             continue
-        peaks = v.peaks()
-        params = np.zeros((v.n_terms, 4))
+        peaks = np.where(kept, v.params[:, 0], v.peaks())
+        params = np.where(kept[:, None], v.params, 0.0)
         params[:, 0] = peaks
         changed.append(Variable(v.name, v.lo, v.hi, list(v.names),
-                                np.full(v.n_terms, int(TermKind.SINGLETON)), params,
-                                default=v.default))
+                                np.where(kept, v.kinds, int(TermKind.SINGLETON)), params,
+                                default=v.default, coefficients=v.coefficients))
         notes.append(f"`{v.name}`'s terms are written as singletons at their peaks "
                      f"({', '.join(num(p) for p in peaks)}): {fmt}'s peak-based defuzzifier "
                      "needs singletons; the outputs are the same, the term shapes are not kept")

@@ -28,8 +28,9 @@ from .export import (all_singletons, left_out, num, peaks_instead, refuse, rule_
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
 OPERATORS = {
-    "and_op": ("AND", "and_", {"MIN": TNorm.MIN, "PROD": TNorm.PRODUCT}),
-    "or_op": ("OR", "or_", {"MAX": SNorm.MAX, "ASUM": SNorm.PROBSUM}),
+    "and_op": ("AND", "and_", {"MIN": TNorm.MIN, "PROD": TNorm.PRODUCT,
+                               "BDIF": TNorm.BOUNDED_DIFFERENCE}),
+    "or_op": ("OR", "or_", {"MAX": SNorm.MAX, "ASUM": SNorm.PROBSUM, "BSUM": SNorm.BOUNDED_SUM}),
     "act": ("ACT", "implication", {"MIN": Implication.MIN, "PROD": Implication.PRODUCT}),
     "accu": ("ACCU", "aggregation", {"MAX": Aggregation.MAX, "SUM": Aggregation.SUM}),
 }
@@ -254,13 +255,12 @@ def read_fcl(text: str, path: str = "<string>") -> Model:
 
 
 # ---------------------------------------------------------------------- export
-FCL_OPERATOR_WORDS = {
-    "and_": ("AND", {TNorm.MIN: "MIN", TNorm.PRODUCT: "PROD"}),
-    "or_": ("OR", {SNorm.MAX: "MAX", SNorm.PROBSUM: "ASUM"}),
-    "implication": ("ACT", {Implication.MIN: "MIN", Implication.PRODUCT: "PROD"}),
-    "aggregation": ("ACCU", {Aggregation.MAX: "MAX", Aggregation.SUM: "SUM"}),
-}
+FCL_OPERATOR_WORDS = {field: (key, {v: k for k, v in words.items()})
+                      for key, field, words in OPERATORS.values()}
 JFUZZYLOGIC = "a jFuzzyLogic extension, not IEC 61131-7"
+JFUZZYLOGIC_SHAPES = {TermKind.GAUSSIAN: lambda a, b, c: ("GAUSS", (a, b)),
+                      TermKind.BELL: lambda a, b, c: ("GBELL", (b, c, a)),
+                      TermKind.SIGMOID: lambda a, b, c: ("SIGM", (b, a))}
 
 
 def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
@@ -293,6 +293,10 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     lines.append("RULEBLOCK rules")
     for field, (key, words) in FCL_OPERATOR_WORDS.items():
         value = accu if field == "aggregation" else getattr(inf, field)
+        if value not in words:
+            problems.append(f"{key} {value.name.lower()} has no FCL word (FCL has "
+                            f"{', '.join(words.values())})")
+            continue
         lines.append(f"  {key} : {words[value]};")
     for r in range(rb.n_rules):
         lines.append(f"  RULE {r + 1} : {rule_sentence(model, r, {}, ', ', problems, upper=True)};")
@@ -333,10 +337,12 @@ def _fcl_terms(var, problems: list[str], notes: list[str]) -> list[str]:
                 problems.append(f"term `{name}` of `{var.name}` has no FCL point list")
         elif kind == TermKind.SINGLETON:
             body = num(a)
+        elif kind not in JFUZZYLOGIC_SHAPES:
+            problems.append(f"term `{name}` of `{var.name}` ({kind.name.lower()}) has no FCL "
+                            "shape")
+            continue
         else:
-            word, args = {TermKind.GAUSSIAN: ("GAUSS", (a, b)),
-                          TermKind.BELL: ("GBELL", (b, c, a)),
-                          TermKind.SIGMOID: ("SIGM", (b, a))}[kind]
+            word, args = JFUZZYLOGIC_SHAPES[kind](a, b, c)
             body = " ".join([word, *map(num, args)])
             notes.append(f"term `{name}` of `{var.name}` uses {word}, {JFUZZYLOGIC}")
         lines.append(f"  TERM {name} := {body};")

@@ -6,14 +6,20 @@ only the rule lines need a grammar, and they share the FCL one (`rule_text`).
 
 Mapping (exact unless said):
   Triangle, Trapezoid, Rectangle, Ramp -> TRAPEZOID (Ramp = shoulder); Gaussian, Bell, Sigmoid;
-  Constant -> SINGLETON.  Minimum/AlgebraicProduct, Maximum/AlgebraicSum, Maximum/UnboundedSum.
+  SShape, ZShape, PiShape, Spike, Cosine, Concave as themselves; Constant -> SINGLETON; Linear
+  -> LINEAR (coefficients per input, then the optional constant).  Every t-norm and s-norm of
+  fuzzylite as conjunction/disjunction (NormalizedSum = BoundedSum: pyfuzzylite 8 computes
+  (a+b)/max(1, a+b); fuzzylite 6 C++ computes a + b/max(1, max(a, b)), i.e. a+b).  Implication
+  Minimum/AlgebraicProduct; aggregation Maximum/UnboundedSum.  Hedges very, somewhat, seldom;
+  fuzzylite's `extremely` (contrast intensification) -> SHARPLY; `x is any` -> the clause left
+  out of an and-rule (the rule fires 1 if it is an or-rule; `not any` never fires).
   Centroid, Bisector, MeanOfMaximum -> exact integrals here; fuzzylite samples the range at
   `resolution` midpoints (see fuzzylite_compat).  WeightedAverage groups the activations of each
   term with the output's aggregation: `none`/UnboundedSum -> WEIGHTED_AVERAGE,
   Maximum -> CENTER_OF_AREA.  WeightedSum with `none` -> WEIGHTED_SUM.
-Anything else (Spike, Cosine, Concave, S/Z/Pi shapes, Linear, Function, Discrete, drastic,
-Einstein, Hamacher, nilpotent and bounded norms, `seldom`, `any`, fuzzylite's `extremely`,
-activation methods other than General, lock-previous) is reported with its place.
+Anything else (Function, Discrete, Binary, the products/differences of sigmoids, term heights,
+implications and aggregations other than the above, activation methods other than General,
+lock-previous) is reported with its place.
 """
 from __future__ import annotations
 
@@ -26,20 +32,30 @@ from lark.exceptions import UnexpectedInput
 from ..errors import Reporter
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
-from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
+from ..membership import linear_coefficients
+from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
+                     trapezoid_or_none)
 from .export import (all_singletons, left_out, num, peaks_instead, refuse, rule_sentence,
                      unsayable_hedges)
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
-HEDGES = {"very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT}
-TNORMS = {"Minimum": TNorm.MIN, "AlgebraicProduct": TNorm.PRODUCT}
-SNORMS = {"Maximum": SNorm.MAX, "AlgebraicSum": SNorm.PROBSUM}
+HEDGES = {"very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT, "seldom": Hedge.SELDOM,
+          "extremely": Hedge.SHARPLY}
+TNORMS = {"Minimum": TNorm.MIN, "AlgebraicProduct": TNorm.PRODUCT,
+          "BoundedDifference": TNorm.BOUNDED_DIFFERENCE, "DrasticProduct": TNorm.DRASTIC_PRODUCT,
+          "EinsteinProduct": TNorm.EINSTEIN_PRODUCT, "HamacherProduct": TNorm.HAMACHER_PRODUCT,
+          "NilpotentMinimum": TNorm.NILPOTENT_MIN}
+SNORMS = {"Maximum": SNorm.MAX, "AlgebraicSum": SNorm.PROBSUM, "BoundedSum": SNorm.BOUNDED_SUM,
+          "DrasticSum": SNorm.DRASTIC_SUM, "EinsteinSum": SNorm.EINSTEIN_SUM,
+          "HamacherSum": SNorm.HAMACHER_SUM, "NilpotentMaximum": SNorm.NILPOTENT_MAX,
+          "NormalizedSum": SNorm.BOUNDED_SUM}
+FLL_SHAPES = {"SShape": TermKind.SSHAPE, "ZShape": TermKind.ZSHAPE, "PiShape": TermKind.PISHAPE,
+              "Spike": TermKind.SPIKE, "Cosine": TermKind.COSINE, "Concave": TermKind.CONCAVE}
 IMPLICATIONS = {"Minimum": Implication.MIN, "AlgebraicProduct": Implication.PRODUCT}
 AGGREGATIONS = {"Maximum": Aggregation.MAX, "UnboundedSum": Aggregation.SUM}
 INTEGRAL = {"Centroid": Defuzzifier.CENTROID, "Bisector": Defuzzifier.BISECTOR,
             "MeanOfMaximum": Defuzzifier.MEAN_OF_MAXIMUM}
-KNOWN_UNSUPPORTED_TERMS = ("Spike", "Cosine", "Concave", "SShape", "ZShape", "PiShape", "Linear",
-                           "Function", "Discrete", "Binary", "GaussianProduct",
+KNOWN_UNSUPPORTED_TERMS = ("Function", "Discrete", "Binary", "GaussianProduct",
                            "SigmoidDifference", "SigmoidProduct", "Activated", "Aggregated")
 SECTIONS = ("Engine", "InputVariable", "OutputVariable", "RuleBlock")
 KEYS = {
@@ -170,15 +186,25 @@ class _FllReader:
                 return
         made = self._shape(kind, values, self.loc(line, kind_col))
         if made is not None:
-            self.var.add(TermSpec(name, *made, loc=self.loc(line, name_col)), self.rep)
+            term_kind, params, *coefficients = made
+            self.var.add(TermSpec(name, term_kind, params, self.loc(line, name_col),
+                                  *coefficients), self.rep)
 
     def _shape(self, kind: str, v: list[float], loc: SourceLoc):
+        if kind == "Linear":
+            if not v or not all(map(math.isfinite, v)):
+                self.rep.error(loc, "`Linear` takes finite coefficients, one per input and "
+                                    "optionally a constant")
+                return None
+            return TermKind.LINEAR, (0.0,) * 4, tuple(v)
         arity = {"Triangle": 3, "Trapezoid": 4, "Rectangle": 2, "Ramp": 2, "Gaussian": 2,
-                 "Bell": 3, "Sigmoid": 2, "Constant": 1}.get(kind)
+                 "Bell": 3, "Sigmoid": 2, "Constant": 1,
+                 **{name: PLAIN_SHAPES[k][0] for name, k in FLL_SHAPES.items()}}.get(kind)
         if arity is None:
             what = "is not supported" if kind in KNOWN_UNSUPPORTED_TERMS else "is unknown"
             self.rep.error(loc, f"term shape `{kind}` {what}: the model carries Triangle, "
-                                "Trapezoid, Rectangle, Ramp, Gaussian, Bell, Sigmoid, Constant")
+                                "Trapezoid, Rectangle, Ramp, Gaussian, Bell, Sigmoid, "
+                                + ", ".join(FLL_SHAPES) + ", Constant, Linear")
             return None
         height_allowed = kind != "Constant"
         if len(v) not in (arity, arity + height_allowed) or len(v) == 0:
@@ -202,6 +228,7 @@ class _FllReader:
             "Bell": lambda: shape(TermKind.BELL, *v) if v[1] > 0 and v[2] > 0 else None,
             "Sigmoid": lambda: shape(TermKind.SIGMOID, *v) if v[1] != 0 else None,
             "Constant": lambda: shape(TermKind.SINGLETON, *v) if math.isfinite(v[0]) else None,
+            **{name: (lambda k=k: plain_shape_or_none(k, v)) for name, k in FLL_SHAPES.items()},
         }[kind]()
         if made is None:
             self.rep.error(loc, f"degenerate {kind} ({' '.join(f'{p:g}' for p in v)})")
@@ -318,7 +345,10 @@ class _FllReader:
     def _forbid_constants(self, defuzz: str) -> None:
         for var in self.got.outputs.values():
             for term in var.terms:
-                if term.kind == TermKind.SINGLETON:
+                if term.kind == TermKind.LINEAR:
+                    self.rep.error(term.loc, f"a Linear term needs WeightedAverage or "
+                                             f"WeightedSum, not {defuzz}")
+                elif term.kind == TermKind.SINGLETON:
                     self.rep.error(term.loc, f"a Constant term under {defuzz} is a membership "
                                              "constant over the whole range in fuzzylite, a "
                                              "singleton in the model: use WeightedAverage")
@@ -326,8 +356,9 @@ class _FllReader:
     def _require_constants(self, defuzz: str) -> None:
         for var in self.got.outputs.values():
             for term in var.terms:
-                if term.kind != TermKind.SINGLETON:
-                    self.rep.error(term.loc, f"{defuzz} needs Constant terms (Takagi-Sugeno); "
+                if term.kind not in (TermKind.SINGLETON, TermKind.LINEAR):
+                    self.rep.error(term.loc, f"{defuzz} needs Constant or Linear terms "
+                                             "(Takagi-Sugeno); "
                                              f"`{term.name}` is not one")
 
     # ------------------------------------------------------------------ rules
@@ -376,10 +407,10 @@ def read_fll(text: str, path: str = "<string>") -> Model:
 
 
 # ---------------------------------------------------------------------- export
-FLL_HEDGES = {Hedge.VERY: "very", Hedge.SOMEWHAT: "somewhat"}
+FLL_HEDGES = {v: k for k, v in HEDGES.items()}
 FLL_NAMES = {
-    "and_": {TNorm.MIN: "Minimum", TNorm.PRODUCT: "AlgebraicProduct"},
-    "or_": {SNorm.MAX: "Maximum", SNorm.PROBSUM: "AlgebraicSum"},
+    "and_": {v: k for k, v in TNORMS.items()},
+    "or_": {v: k for k, v in SNORMS.items() if k != "NormalizedSum"},
     "implication": {Implication.MIN: "Minimum", Implication.PRODUCT: "AlgebraicProduct"},
 }
 FLL_INTEGRAL = {v: k for k, v in INTEGRAL.items()}
@@ -400,6 +431,7 @@ def write_fll(model: Model, warnings: list[str] | None = None) -> str:
         lines += _fll_variable("InputVariable", var, problems, is_input=True)
     for var in outputs:
         lines += _fll_variable("OutputVariable", var, problems, is_input=False,
+                               n_inputs=len(rb.inputs),
                                extra=[f"aggregation: {aggregation}", f"defuzzifier: {defuzzifier}",
                                       f"default: {num(var.default)}", "lock-previous: false"])
     lines += ["RuleBlock: rules", "  enabled: true"]
@@ -439,11 +471,16 @@ def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):
 
 
 def _fll_variable(section: str, var, problems: list[str], is_input: bool,
-                  extra: list[str] = ()) -> list[str]:
+                  extra: list[str] = (), n_inputs: int = 0) -> list[str]:
     lines = [f"{section}: {var.name}", "  enabled: true",
              f"  range: {num(var.lo)} {num(var.hi)}", "  lock-range: false",
              *("  " + e for e in extra)]
-    for name, kind, p in zip(var.names, var.kinds, var.params):
+    linear = linear_coefficients(var, n_inputs) if not is_input else None
+    for t, (name, kind, p) in enumerate(zip(var.names, var.kinds, var.params)):
+        if kind == TermKind.LINEAR:
+            row = linear[t]   # fuzzylite writes the constant last
+            lines.append(f"  term: {name} Linear " + " ".join(num(c) for c in (*row[1:], row[0])))
+            continue
         term = _fll_term(TermKind(int(kind)), p, is_input)
         if term is None:
             problems.append(f"term `{name}` of `{var.name}` ({TermKind(int(kind)).name.lower()} "
@@ -467,6 +504,8 @@ def _fll_term(kind: TermKind, p, is_input: bool) -> str | None:
         return f"Trapezoid {num(a)} {num(b)} {num(c)} {num(d)}"
     if kind == TermKind.SINGLETON:
         return None if is_input else f"Constant {num(a)}"
-    name = {TermKind.GAUSSIAN: "Gaussian", TermKind.BELL: "Bell", TermKind.SIGMOID: "Sigmoid"}[kind]
-    arity = {TermKind.GAUSSIAN: 2, TermKind.BELL: 3, TermKind.SIGMOID: 2}[kind]
-    return " ".join([name, *(num(x) for x in (a, b, c)[:arity])])
+    names = {TermKind.GAUSSIAN: "Gaussian", TermKind.BELL: "Bell", TermKind.SIGMOID: "Sigmoid",
+             **{k: name for name, k in FLL_SHAPES.items()}}
+    arity = {TermKind.GAUSSIAN: 2, TermKind.BELL: 3, TermKind.SIGMOID: 2,
+             **{k: n for k, (n, _) in PLAIN_SHAPES.items()}}
+    return " ".join([names[kind], *(num(x) for x in (a, b, c, d)[:arity[kind]])])

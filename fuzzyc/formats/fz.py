@@ -10,15 +10,19 @@ from __future__ import annotations
 import math
 import re
 
+import numpy as np
+
 from ..model import (Aggregation, Defuzzifier, Hedge, Implication, Model, SNorm,
                      TermKind, TNorm, Variable)
+from ..builder import PLAIN_SHAPES
+from ..membership import linear_coefficients
 from .common import OUTPUT_SUFFIX
 from .export import left_out, num, refuse, rule_sentence
 
-FZ_HEDGES = {Hedge.VERY: "very", Hedge.SOMEWHAT: "somewhat", Hedge.EXTREMELY: "extremely"}
+FZ_HEDGES = {h: h.name.lower() for h in Hedge if h != Hedge.NONE}
 FZ_INFERENCE = (
-    ("and", "and_", {TNorm.MIN: "min", TNorm.PRODUCT: "product"}),
-    ("or", "or_", {SNorm.MAX: "max", SNorm.PROBSUM: "probsum"}),
+    ("and", "and_", {t: t.name.lower() for t in TNorm}),
+    ("or", "or_", {s: s.name.lower() for s in SNorm}),
     ("implication", "implication", {Implication.MIN: "min", Implication.PRODUCT: "product"}),
     ("aggregation", "aggregation", {Aggregation.MAX: "max", Aggregation.SUM: "sum"}),
     ("defuzzify", "defuzzifier", {d: d.name.lower() for d in Defuzzifier}),
@@ -40,7 +44,7 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     for var in rb.outputs:
         lines.append(f"  var {var.name}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}] "
                      f"default {num(var.default)}")
-        lines.append(f"  terms {var.name} : {_terms(var, problems)}")
+        lines.append(f"  terms {var.name} : {_terms(var, problems, len(rb.inputs))}")
     inf = rb.inference
     lines.append("  inference " + ", ".join(f"{key} = {words[getattr(inf, field)]}"
                                             for key, field, words in FZ_INFERENCE))
@@ -65,9 +69,12 @@ def _unit(var: Variable) -> str:
     return f" : {var.unit}" if var.unit else ""
 
 
-def _terms(var: Variable, problems: list[str]) -> str:
-    return ", ".join(f"{name} = {_shape(TermKind(int(kind)), p, var.name, name, problems)}"
-                     for name, kind, p in zip(var.names, var.kinds, var.params))
+def _terms(var: Variable, problems: list[str], n_inputs: int = 0) -> str:
+    linear = linear_coefficients(var, n_inputs) if np.any(var.kinds == TermKind.LINEAR) else None
+    return ", ".join(f"{name} = linear({', '.join(num(c) for c in linear[t])})"
+                     if kind == TermKind.LINEAR else
+                     f"{name} = {_shape(TermKind(int(kind)), p, var.name, name, problems)}"
+                     for t, (name, kind, p) in enumerate(zip(var.names, var.kinds, var.params)))
 
 
 def _shape(kind: TermKind, p, var: str, term: str, problems: list[str]) -> str:
@@ -83,7 +90,8 @@ def _shape(kind: TermKind, p, var: str, term: str, problems: list[str]) -> str:
         if b == c:
             return f"tri({num(a)}, {num(b)}, {num(d)})"
         return f"trap({num(a)}, {num(b)}, {num(c)}, {num(d)})"
-    arity = {TermKind.GAUSSIAN: 2, TermKind.BELL: 3, TermKind.SIGMOID: 2, TermKind.SINGLETON: 1}
+    arity = {TermKind.GAUSSIAN: 2, TermKind.BELL: 3, TermKind.SIGMOID: 2, TermKind.SINGLETON: 1,
+             **{k: n for k, n, _, _ in PLAIN_SHAPES.values()}}
     word = {TermKind.GAUSSIAN: "gauss", TermKind.BELL: "bell", TermKind.SIGMOID: "sigmoid",
-            TermKind.SINGLETON: "singleton"}[kind]
-    return f"{word}({', '.join(num(x) for x in (a, b, c)[:arity[kind]])})"
+            TermKind.SINGLETON: "singleton", **{k: w for w, (k, *_) in PLAIN_SHAPES.items()}}
+    return f"{word[kind]}({', '.join(num(x) for x in (a, b, c, d)[:arity[kind]])})"

@@ -2,6 +2,9 @@
 
 The model has one connective per rule, one clause per input, hedges before `not`: anything else
 (mixed and/or, `not` around a compound condition, a hedge the model lacks) is reported.
+fuzzylite's `x is any` (truth 1) is said exactly with wildcards: every norm has 1 as the
+absorbing element of s-norms and the neutral one of t-norms, and 0 the other way round, so
+`any` drops out of an and-rule and makes an or-rule fire 1; `not any` (truth 0) the reverse.
 """
 from __future__ import annotations
 
@@ -95,7 +98,26 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
     if not rule_clauses and ok:
         rep.error(loc, "a rule needs at least one clause")
         ok = False
-    return RuleSpec(rule_clauses, connective, conclusions, weight, loc, origin) if ok else None
+    if not ok:
+        return None
+    rule_clauses, weight = _resolve_any(rule_clauses, connective, weight)
+    if sum(term != ANY for term, _, _ in rule_clauses.values()) < 2:
+        connective = Connective.AND     # one clause or none: as every front end reads it
+    return RuleSpec(rule_clauses, connective, conclusions, weight, loc, origin)
+
+
+ANY = -1   # the clause `x is any`, as a wildcard term index until `_resolve_any`
+
+
+def _resolve_any(clauses: dict, connective: Connective, weight: float) -> tuple[dict, float]:
+    """Clauses and weight with `any` said by wildcards (see the module docstring)."""
+    truths = {not negated for term, negated, _ in clauses.values() if term == ANY}
+    wildcard = (ANY, False, Hedge.NONE)
+    if connective == Connective.AND and False in truths:    # and `not any`: never fires
+        return {name: wildcard for name in clauses}, 0.0
+    if connective == Connective.OR and True in truths:      # or `any`: always fires
+        return {name: wildcard for name in clauses}, weight
+    return {name: wildcard if c[0] == ANY else c for name, c in clauses.items()}, weight
 
 
 def _flatten(cond: Tree, rep: Reporter, loc: SourceLoc):
@@ -136,9 +158,7 @@ def _clause(name: Token, words: list[Token], negated: bool, got: Collected, loc_
         return None
     *hedge_words, term = words
     if not hedge_words and term.value.lower() == "any" and "any" not in var.term_names():
-        rep.error(loc_of(term), "hedge `any` (a clause that is always true) is not supported: "
-                                "leave the clause out")
-        return None
+        return ANY, negated, Hedge.NONE
     hedge = Hedge.NONE
     if hedge_words:
         word = hedge_words[-1] if len(hedge_words) == 1 else None
@@ -153,9 +173,6 @@ def _clause(name: Token, words: list[Token], negated: bool, got: Collected, loc_
 
 
 def hedge_message(word: str, hedges: dict[str, Hedge]) -> str:
-    if word == "extremely":
-        return ("fuzzylite's `extremely` is 2x^2 below 0.5 and 1-2(1-x)^2 above; the model's "
-                "is x^3, so it is not carried")
     known = ", ".join(hedges) if hedges else "none in this format"
     return f"the model carries {known} (one hedge per clause, applied before `not`)"
 
