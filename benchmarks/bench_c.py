@@ -23,7 +23,7 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from common import markdown_table, median_seconds, write_result  # noqa: E402
 from fuzzyc.backends.c import c_identifier, generate_header  # noqa: E402
-from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header  # noqa: E402
+from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header, io_frac  # noqa: E402
 from fuzzyc.errors import FuzzycError  # noqa: E402
 from fuzzyc.backends.lut import LookupTable, generate_lut_header  # noqa: E402
 from fuzzyc.engine import evaluate  # noqa: E402
@@ -143,6 +143,17 @@ def entries(model):
                 f"    y[0] = (float)yq[0];\n}}")
         out.append(("C q15 rule base (incl. float to q15 input conversion)", f"{n}_q15.h",
                     fixed, wrap, f"q15_{n}", ins))
+        fracs = ", ".join(f"{float(2 ** io_frac(s.lo, s.hi, 'q15'))!r}f" for s in model.signals)
+        wrap = (f"static void q15_step_{n}(const float *x, float *y) {{\n"
+                f"    static {n}_q15_state s; static int ready;\n"
+                f"    static const float scale[] = {{{fracs}}};\n"
+                f"    int16_t in[{len(sig)}], out[{len(model.outputs)}]; int k;\n"
+                f"    if (!ready) {{ {n}_q15_init(&s); ready = 1; }}\n"
+                f"    for (k = 0; k < {len(sig)}; ++k) in[k] = (int16_t)(x[k] * scale[k]);\n"
+                f"    {n}_q15_step(&s, in, out);\n"
+                f"    y[0] = (float)out[0];\n}}")
+        out.append(("C q15, whole chain step (incl. float to q15 input conversion)", None, None,
+                    wrap, f"q15_step_{n}", sig))
     table = LookupTable(rb, LUT_RESOLUTION)
     wrap = f"static void lut_{n}(const float *x, float *y) {{ {n}_lut(x, y); }}"
     out.append((f"C lookup table ({LUT_RESOLUTION} points per input)", f"{n}_lut.h",

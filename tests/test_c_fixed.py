@@ -12,7 +12,7 @@ import pytest
 import sympy
 
 from fuzzyc.backends.c_fixed import (CHAIN_ERROR_BOUND, ERROR_BOUND, FORMATS,
-                                     generate_fixed_header, io_frac)
+                                     derived_error_bound, generate_fixed_header, io_frac)
 from fuzzyc.backends.cload import compile_shared
 from fuzzyc.controller import Controller
 from fuzzyc.engine import evaluate
@@ -79,6 +79,9 @@ def test_fixed_point_within_stated_bound(case, numeric):
     expected = evaluate(rb, lo + np.clip(xq, 0, full) / full * (hi - lo))
     error = np.abs(out_lo + yq / full * span - expected) / span
     assert error.max() <= ERROR_BOUND[numeric]
+    # The derived worst case holds too (it is looser: it assumes every rounding at its worst).
+    derived = derived_error_bound(model, numeric)
+    assert np.all(error.max(axis=0) <= derived)
     assert np.all((yq >= 0) & (yq <= full))
 
 

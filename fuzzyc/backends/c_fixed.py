@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine import CompiledRuleBase
+from ..membership import memberships
 from ..errors import Diagnostic, FuzzycError
 from ..model import Aggregation, Defuzzifier, Model, OutputKind, TNorm
 from .c import c_identifier
@@ -39,6 +40,73 @@ ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -24}
 # base's error by up to 1/v^2 = 48^2 (q31 barely helps there) -- not derived: an integrator
 # sums the per-step errors, so the bound grows with the run length.
 CHAIN_ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -14}
+
+
+def _least_top(var, part) -> float:
+    """min over x in [lo, hi] of the largest membership of var's terms: exact, as max of the
+    (at most two) linear pieces is smallest at a break point, a crossing or a range end."""
+    points = [var.lo, var.hi] + [b for b in part.breaks if var.lo < b < var.hi]
+    for r in part.table:
+        (a0, a1), (w0, w1), (o0, o1) = r[0:2], r[2:4], r[4:6]
+        s0 = 1.0 / w0 if np.isfinite(w0) else 0.0
+        s1 = 1.0 / w1 if np.isfinite(w1) else 0.0
+        if s0 != s1:        # (x - a0) s0 + o0 = (x - a1) s1 + o1
+            x = (o1 - o0 + a0 * s0 - a1 * s1) / (s0 - s1)
+            if var.lo < x < var.hi:
+                points.append(x)
+    return float(memberships(var, np.array(points)).max(axis=1).min())
+
+
+def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
+    """Per rule-base output, a worst-case |C - engine| as a fraction of its range, derived from
+    the arithmetic (the engine at the dequantized input), or None where the argument below does
+    not apply (weights, or an input point where no rule concludes the output):
+
+    - a membership of a piece of scaled width w (input LSBs; anchor and width rounded to the
+      grid, +-0.5 each, and the break picking the piece +-0.5) is off by at most
+      eps = 1.5 / (w - 0.5) + 2^-MF (the division truncates);
+    - min and max are exact, so an activation is off by eps (min) or I eps (product of I);
+    - the levels alpha_j then differ by D = eps_act * min(terms, 2^I) in sum (max aggregation;
+      2^I for sum: at most 2^I rules fire);
+    - center of area y = sum alpha_j z_j / S moves by sum |delta_j| |z_j - y'| / S' <=
+      D Z / (S_min - D), Z the spread of the peaks, S_min = T-norm over inputs of the least
+      top membership (every term tuple has a rule, so the rule of the tallest terms fires);
+    - peaks rounded (0.5 LSB) and the division rounded to nearest (0.5 LSB): + 1 / FULL.
+    """
+    rb = model.rulebase
+    engine = CompiledRuleBase(rb)
+    if not engine.sparse or not np.all(rb.weights == 1.0):
+        return None
+    full, mf = FORMATS[numeric][1], FORMATS[numeric][2]
+    n_in = len(rb.inputs)
+    eps = 0.0
+    tops = []
+    for var, part in zip(rb.inputs, engine.partitions):
+        widths = np.abs(part.table[:, 2:4])
+        widths = widths[np.isfinite(widths)] * full / (var.hi - var.lo)
+        if len(widths):
+            eps = max(eps, 1.5 / (widths.min() - 0.5))
+        tops.append(_least_top(var, part))
+    eps += 2.0 ** -mf
+    product = rb.inference.and_ == TNorm.PRODUCT
+    eps_act = n_in * eps * (1 + eps) ** (n_in - 1) if product else eps
+    s_min = float(np.prod(tops)) if product else min(tops)
+    summed = rb.inference.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE or \
+        rb.inference.aggregation == Aggregation.SUM
+    place = np.concatenate([np.cumprod(engine.radix[::-1])[::-1][1:], [1]])
+    tuples = np.stack(np.meshgrid(*[np.arange(v.n_terms) for v in rb.inputs], indexing="ij"),
+                      -1).reshape(-1, n_in)        # every tuple of real terms
+    rules = engine.lookup[tuples @ place]          # its rules, padded with n_rules
+    bounds = []
+    for o, var in enumerate(rb.outputs):
+        concluded = np.any(np.append(rb.consequents[:, o], -1)[rules] >= 0, axis=1)
+        d = eps_act * (2 ** n_in if summed else min(var.n_terms, 2 ** n_in))
+        if not np.all(concluded) or s_min <= d:
+            return None
+        peaks = var.peaks()
+        spread = (max(peaks) - min(peaks)) / (var.hi - var.lo)
+        bounds.append(d * spread / (s_min - d) + 1.0 / full)
+    return np.array(bounds)
 
 
 def io_frac(lo: float, hi: float, numeric: str) -> int:
@@ -69,6 +137,13 @@ class FixedPointWriter:
                         f"at most two terms of an input are positive at a time")
         self.name = c_identifier(model.name)
         self.p, self.P = f"{self.name}_{numeric}_", f"{self.name.upper()}_{numeric.upper()}_"
+
+    def derived_text(self) -> str:
+        bound = derived_error_bound(self.model, self.numeric)
+        if bound is None:
+            return "not derived (weights, or an input point where no rule concludes an output)"
+        return "; ".join(f"{v.name} {e:.3g}" for v, e in zip(self.rb.outputs, bound)) + \
+            " of the output's range"
 
     def q(self, value: float, var) -> int:
         """A position in var's range as an integer of the I/O scale (may lie outside it)."""
@@ -116,6 +191,9 @@ class FixedPointWriter:
                f" * Memberships are fractions of 2^{self.mf}.  Worst-case error against the "
                f"engine at the dequantized input: {bound:.3g} of each output's range",
                " * (checked on >= 100,000 random inputs and every edge).",
+               " * Derived worst case (membership rounding + exact min/max + rounded COA "
+               "division, see",
+               " * fuzzyc.backends.c_fixed.derived_error_bound): " + self.derived_text() + ".",
                " * The whole chain (NAME_step) is in fixed point too: every value at the binary",
                " * point its range allows in 31 bits (memories and integrator states included),",
                " * in[]/out[] at the *_FRAC points below, inputs saturated to their ranges;",
