@@ -20,13 +20,15 @@ def test_shipped_file_holds_with_findings_as_expected_failures(capsys, tmp_path)
     assert "FINDING  wedm_corner.fz::monotone y increasing in feedrate" in out
     # y in [5, 60] is not in the hull of the peaks with the default 0: the search decides
     assert "HELD     wedm_corner.fz::bounded y in [5, 60]" in out
-    assert "8 properties: 4 proved, 1 held, 0 violated, 3 known findings, 0 undecided" in out
+    # the closed loop against normal machining: its two checks held on the 5 drawn cuts
+    assert "HELD     wedm_corner.fz::closed_loop corner_path for 3400 s :: eventually" in out
+    assert "10 properties: 4 proved, 3 held, 0 violated, 3 known findings, 0 undecided" in out
     report = json.loads((tmp_path / "verify.json").read_text())
     by_text = {p["text"]: p for p in report["properties"]}
     assert by_text["complete y"]["status"] == "proved"
     assert by_text["monotone y decreasing in angle"]["finding"].startswith("finding:")
     suite = ET.parse(tmp_path / "verify.junit.xml").getroot().find("testsuite")
-    assert suite.get("tests") == "8" and suite.get("failures") == "0"
+    assert suite.get("tests") == "10" and suite.get("failures") == "0"
     assert suite.get("skipped") == "3"
 
 

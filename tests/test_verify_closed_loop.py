@@ -210,3 +210,19 @@ def test_milling_sign_error_in_a_gain_is_caught_after_learning(gain, value):
     assert trace["violated_at"] == 10.0                  # the deadline of `eventually within`
     force = trace["signals"]["force"]
     assert abs(force[-1] - 300.0) > 200.0                # nowhere near Fr at the end
+
+
+def test_edm_sign_error_in_vmax_is_caught_on_the_sinking_scenario():
+    # Vmax = -2 mm/s on the real edm_sink plant (not the toy): the servo retracts when it
+    # should advance, so the mean voltage never settles to Vset (every loop, at the `by` time)
+    from fuzzyc.parser import load
+    model = load("rulebases/edm_sink_gap.fz")
+    model.properties = [p for p in model.properties if p.kind == "closed_loop"]
+    model.params["Vmax"].value = -2.0
+    results = verify_model(model, Options(max_examples=3, seed=0, shrink_rounds=1))
+    settles = next(r for r in results if r.prop.kind == "settles")
+    assert settles.status == Status.VIOLATED and settles.finding is None
+    assert "3 of 3 loops break it" in settles.violation.detail
+    # every gap fails, so one shrinking round lands on the scenario's nominal 0.08 mm
+    assert settles.violation.trace["case"] == {"plant.gap0": 0.08}
+    assert settles.violation.trace["violated_at"] == pytest.approx(1.0)
