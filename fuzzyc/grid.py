@@ -89,6 +89,7 @@ class GridStrengths:
         index *= n
         index += np.arange(n)
         alpha = np.zeros(self.width * n)
+        act = act.reshape(-1)
         for rows in index.reshape(len(self.slices), -1):       # one scatter per output
-            self.scatter.at(alpha, rows, act.reshape(-1))
+            self.scatter.at(alpha, rows, act)
         return alpha.reshape(self.width, n)

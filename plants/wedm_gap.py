@@ -138,15 +138,16 @@ def pulse_statistics(p: WedmGapParams, gap, debris, t_off, on_time):
 def rates(p: WedmGapParams, gap, debris, feed, t_off, on_time, height):
     """The mean process at a state: dict of frequencies (Hz), ratios, speeds (mm/min), V."""
     p_s, p_a, t_d, cycle = pulse_statistics(p, gap, debris, t_off, on_time)
-    fq = (1 - p_s) / (cycle * 1e-6)                        # discharges per second
-    ratio = p_s + (1 - p_s) * p_a
-    energy_weight = (on_time ** 2 * (1 - p_a) + p.arc_on_time ** 2 * p_a / 2) * 1e-12
+    no_short, no_arc = 1 - p_s, 1 - p_a
+    fq = no_short / (cycle * 1e-6)                         # discharges per second
+    ratio = p_s + no_short * p_a
+    energy_weight = (on_time ** 2 * no_arc + p.arc_on_time ** 2 * p_a / 2) * 1e-12
     volume = (p.discharge_voltage * p.current_slope * 1e6 * energy_weight
               * p.efficiency * height_efficiency(height) / p.u0)   # mm^3 per discharge
     v_erosion = fq * volume / (p.kerf * height) * 60.0     # mm/min the front recedes
-    v_table = feed * (1 - p_s) - p.v_retract * p_s ** 2
-    voltage = (p.open_voltage * (1 - p_s) * (1 - p_a) * t_d
-               + p.discharge_voltage * on_time * (1 - p_s)) / cycle
+    v_table = feed * no_short - p.v_retract * p_s ** 2
+    voltage = (p.open_voltage * no_short * no_arc * t_d
+               + p.discharge_voltage * on_time * no_short) / cycle
     return {"fq": fq, "pulses": 1e6 / cycle, "ratio": ratio, "v_erosion": v_erosion,
             "v_table": v_table, "voltage": voltage, "energy": discharge_energy(p, on_time)}
 
@@ -218,9 +219,9 @@ def _wire(p: WedmGapParams, state: dict, fq, energy, ratio, height, dt):
     heat = state["heat"] + (dt / p.tau_wire) * (load - state["heat"])
     limit = p.q_rupture_per_speed * p.wire_speed * (800.0 / p.tension)
     arc_time = np.where(ratio > p.arc_rupture_ratio, state["arc_time"] + dt, 0.0)
-    rupture = ((heat > limit) | (arc_time >= p.arc_rupture_time)).astype(float)
+    broken = (heat > limit) | (arc_time >= p.arc_rupture_time)
     # re-threaded: a broken wire starts cold and with a fresh arc clock
-    return np.where(rupture > 0, 0.0, heat), np.where(rupture > 0, 0.0, arc_time), rupture
+    return np.where(broken, 0.0, heat), np.where(broken, 0.0, arc_time), broken.astype(float)
 
 
 @dataclass
