@@ -29,7 +29,8 @@ from .norms import combine
 MAX_LOOKUP_CELLS = 1 << 21
 MAX_SPARSE_INPUTS = 6
 CHUNK_FLOATS = 1 << 22      # the working set one chunk may use, in float64 values
-GRID_TNORMS = (TNorm.MIN, TNorm.PRODUCT)
+FAST_TNORMS = (TNorm.MIN, TNorm.PRODUCT)   # the t-norms the sparse and grid paths (and
+                                          # the back ends built on them) know
 
 
 def activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
@@ -90,6 +91,7 @@ class CompiledRuleBase:
     @staticmethod
     def _sparse_partitions(rb: RuleBase) -> list[LocalPartition] | None:
         plain = (rb.n_rules > 0 and 0 < len(rb.inputs) <= MAX_SPARSE_INPUTS
+                 and rb.inference.and_ in FAST_TNORMS
                  and np.all(rb.connective == Connective.AND) and not np.any(rb.negated)
                  and np.all(rb.hedges == Hedge.NONE) and np.all(rb.antecedents >= 0)
                  and np.prod([v.n_terms + 1 for v in rb.inputs]) <= MAX_LOOKUP_CELLS)
@@ -100,10 +102,9 @@ class CompiledRuleBase:
 
     def _grid(self, rb: RuleBase) -> GridStrengths | None:
         """The grid fast path, when every output can be defuzzified from term strengths
-        aggregated the same way, and the t-norm is one the grid knows."""
+        aggregated the same way."""
         aggregations = {d.strength_aggregation() for d in self.defuzzifiers}
-        if rb.inference.and_ not in GRID_TNORMS or len(aggregations) != 1 or \
-                None in aggregations or \
+        if len(aggregations) != 1 or None in aggregations or \
                 not GridStrengths.fits(rb, self.partitions, self.lookup.shape[1]):
             return None
         return GridStrengths(rb, self.partitions, self.lookup, self.radix, aggregations.pop())

@@ -26,7 +26,7 @@ EXPECTED = {
                             ("19:9", "AND HAMACHER is not supported"),
                             ("20:8", "mixes `and` and `or`")],
     "bad_rules.fis": [("10:14", "DefuzzMethod `lom` is not supported"),
-                      ("15:5", "membership function `pimf` is not supported"),
+                      ("15:5", "membership function `dsigmf` is not supported"),
                       ("24:1", "expected a rule row"),
                       ("25:1", "`x` has 1 terms, no term 3")],
 }
@@ -94,7 +94,7 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
                "END_FUNCTION_BLOCK\n", "`z` is not declared in VAR_INPUT"),
     (read_fis, "[System]\nType='mamdani'\nDefuzzMethod='wtaver'\n", "cannot use weighted_average"),
     (read_fis, "[System]\nType='sugeno'\n[Input1]\nName='x'\nRange=[0 1]\n"
-               "MF1='a':'linear',[1 0]\n", "`linear` is not supported"),
+               "MF1='a':'linear',[1 0]\n", "cannot have one"),
 ])
 def test_unsupported_constructs_are_reported(reader, text, words):
     with pytest.raises(FuzzycError) as info:

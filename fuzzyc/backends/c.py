@@ -53,6 +53,7 @@ def _uses_peaks(var, method: Defuzzifier) -> bool:
 
 def check_supported(rb: RuleBase) -> None:
     """Raise FuzzycError for the inference choices this back end does not emit."""
+    _check_constructs(rb)
     method = rb.inference.defuzzifier
     for var in rb.outputs:
         if _uses_peaks(var, method):
@@ -66,6 +67,30 @@ def check_supported(rb: RuleBase) -> None:
         if not supported(rb.inference):
             raise _fail("the C back end does not emit the centroid of sum-aggregated "
                         "min-implied rules; use aggregation = max or implication = product")
+
+
+C_TNORMS, C_SNORMS = (TNorm.MIN, TNorm.PRODUCT), (SNorm.MAX, SNorm.PROBSUM)
+C_TERM_KINDS = (TermKind.TRAPEZOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind.SIGMOID,
+                TermKind.SINGLETON)
+C_HEDGES = (Hedge.NONE, Hedge.VERY, Hedge.SOMEWHAT, Hedge.EXTREMELY)
+
+
+def _check_constructs(rb: RuleBase) -> None:
+    """The norms, hedges and term shapes the C back end emits (the engine has more)."""
+    inf = rb.inference
+    if inf.and_ not in C_TNORMS or inf.or_ not in C_SNORMS:
+        raise _fail(f"the C back end emits and = min | product and or = max | probsum; "
+                    f"this rule base has and = {inf.and_.name.lower()}, "
+                    f"or = {inf.or_.name.lower()}")
+    hedges = sorted({Hedge(int(h)) for h in np.unique(rb.hedges)} - set(C_HEDGES))
+    if hedges:
+        raise _fail("the C back end emits the hedges very, somewhat, extremely; not "
+                    + ", ".join(h.name.lower() for h in hedges))
+    for var in rb.inputs + rb.outputs:
+        for name, kind in zip(var.names, var.kinds):
+            if kind not in C_TERM_KINDS:
+                raise _fail(f"the C back end does not emit {TermKind(int(kind)).name.lower()} "
+                            f"terms (`{name}` of `{var.name}`); use the lookup-table back end")
 
 
 class HeaderWriter:

@@ -19,7 +19,7 @@ from ..builder import RuleSpec
 from ..errors import Reporter
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, SNorm,
                      SourceLoc, TermKind, TNorm)
-from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
+from .common import Collected, TermSpec, VarSpec, plain_shape_or_none, shape, trapezoid_or_none
 
 SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")
 KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$")
@@ -71,7 +71,8 @@ class _FisReader:
                                                f"{self.got.inference.defuzzifier.name.lower()}")
         for var in self.got.outputs.values():
             for term in var.terms:
-                if (term.kind == TermKind.SINGLETON) != (self.type == "sugeno"):
+                if (term.kind in (TermKind.SINGLETON, TermKind.LINEAR)) != \
+                        (self.type == "sugeno"):
                     self.rep.error(term.loc, f"`{term.name}`: constant output terms belong to "
                                              "sugeno systems, and only they")
 
@@ -143,12 +144,21 @@ class _FisReader:
             self.rep.error(loc, "expected MFn='name':'type',[parameters]")
             return
         name, kind = match.group(1), match.group(2)
-        arity = {"trimf": 3, "trapmf": 4, "gaussmf": 2, "gbellmf": 3, "sigmf": 2, "constant": 1}
+        arity = {"trimf": 3, "trapmf": 4, "gaussmf": 2, "gbellmf": 3, "sigmf": 2, "constant": 1,
+                 "smf": 2, "zmf": 2, "pimf": 4, "linear": 1 + sum(is_input for is_input, _ in self.variables)}
         if kind not in arity:
             self.rep.error(loc, f"membership function `{kind}` is not supported: the model "
-                                "carries trimf, trapmf, gaussmf, gbellmf, sigmf, constant")
+                                "carries " + ", ".join(arity))
             return
         v = numbers
+        if kind == "linear":     # [c1 .. cn c0], as MATLAB writes it
+            if len(v) != arity[kind] or not all(map(math.isfinite, v)):
+                self.rep.error(loc, f"`linear` takes {arity[kind]} finite coefficients (one "
+                                    "per input, then the constant)")
+            else:
+                self.var.add(TermSpec(name, TermKind.LINEAR, (0.0,) * 4, loc, tuple(v)),
+                             self.rep)
+            return
         if len(v) != arity[kind]:
             self.rep.error(loc, f"`{kind}` takes {arity[kind]} parameters, got {len(v)}")
             return
@@ -158,7 +168,10 @@ class _FisReader:
                 "gbellmf": lambda: shape(TermKind.BELL, v[2], v[0], v[1]) if v[0] > 0 and v[1] > 0
                 else None,
                 "sigmf": lambda: shape(TermKind.SIGMOID, v[1], v[0]) if v[0] != 0 else None,
-                "constant": lambda: shape(TermKind.SINGLETON, v[0])}[kind]()
+                "constant": lambda: shape(TermKind.SINGLETON, v[0]),
+                "smf": lambda: plain_shape_or_none(TermKind.SSHAPE, v),
+                "zmf": lambda: plain_shape_or_none(TermKind.ZSHAPE, v),
+                "pimf": lambda: plain_shape_or_none(TermKind.PISHAPE, v)}[kind]()
         if made is None:
             self.rep.error(loc, f"degenerate {kind} [{' '.join(f'{p:g}' for p in v)}]")
         else:
