@@ -166,6 +166,7 @@ def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray) -> np.ndar
         with np.errstate(invalid="ignore"):
             mu[:, cols] = _SHAPES[TermKind(int(kind))](x, params[cols])
     mu[np.isnan(mu)] = 0.0  # NaN x, or an infinite x where a shape has no limit (0 * inf)
+    mu[np.isnan(x[:, 0])] = 0.0   # edge shapes' comparisons would read NaN as "beyond the end"
     return mu
 
 
