@@ -197,8 +197,8 @@ class FixedPointWriter:
                " * The whole chain (NAME_step) is in fixed point too: every value at the binary",
                " * point its range allows in 31 bits (memories and integrator states included),",
                " * in[]/out[] at the *_FRAC points below, inputs saturated to their ranges;",
-               f" * against the engine's Controller within {CHAIN_ERROR_BOUND[self.numeric]:.3g} of "
-               "each output's range over",
+               " * against the engine's Controller within "
+               f"{CHAIN_ERROR_BOUND[self.numeric]:.3g} of each output's range over",
                " * 10,000 steps (measured on the shipped chains; integrators sum per-step errors).",
                " * static inline: self-contained, no heap, no recursion, constant loop bounds.",
                " */",
