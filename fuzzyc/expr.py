@@ -12,8 +12,8 @@ from typing import Callable
 import numpy as np
 import sympy
 
-try:        # the ufunc behind np.clip, without its Python wrapper (same results, a quarter of
-    from numpy._core.umath import clip      # the cost on small arrays); numpy 2
+try:        # the ufunc behind np.clip, without its Python wrapper (same results,
+    from numpy._core.umath import clip      # noqa: F401  (a quarter of the cost); numpy 2
 except ImportError:                         # numpy 1.x
     from numpy.core.umath import clip       # noqa: F401
 
