@@ -61,6 +61,8 @@ def _fingerprint(rb: RuleBase) -> tuple:
     for v in rb.inputs + rb.outputs:
         arrays += [v.kinds, np.asarray(v.params, dtype=float),
                    np.array([v.lo, v.hi, v.default], dtype=float)]
+        arrays += [np.append(float(t), row)
+                   for t, row in sorted((v.coefficients or {}).items())]
     return (rb.inference.describe(),) + tuple(np.ascontiguousarray(a).tobytes() for a in arrays)
 
 

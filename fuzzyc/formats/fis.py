@@ -3,12 +3,13 @@
 The format is line-oriented (`[Section]` headers, `Key=value` lines, numeric rule rows), so it is
 read line by line with a regular expression per line kind, every value keeping its column.
 Mapping (exact unless said): trimf, trapmf -> TRAPEZOID; gaussmf [sigma c] -> GAUSSIAN (c, sigma);
-gbellmf [a b c] -> BELL (c, a, b); sigmf [a c] -> SIGMOID (c, a); constant -> SINGLETON.
+gbellmf [a b c] -> BELL (c, a, b); sigmf [a c] -> SIGMOID (c, a); smf, zmf, pimf -> SSHAPE,
+ZSHAPE, PISHAPE; constant -> SINGLETON; linear [c1 .. cn c0] -> LINEAR (sugeno outputs).
 min/prod, max/probor, implication min/prod, aggregation max/sum; centroid, bisector, mom,
 wtaver, wtsum.  MATLAB evaluates Mamdani outputs on 101 points of the range; the model
 integrates exactly.  Rules: `i1 i2, o1 (w) : c` with 0 = any, a negative index = NOT,
-c = 1 (and) or 2 (or).  Not carried, reported: other MF types (linear, pimf, smf, zmf, dsigmf,
-psigmf, gauss2mf), som/lom, probor aggregation, custom functions, negated consequents.
+c = 1 (and) or 2 (or).  Not carried, reported: other MF types (dsigmf, psigmf, gauss2mf),
+som/lom, probor aggregation, custom functions, negated consequents.
 """
 from __future__ import annotations
 
@@ -144,8 +145,9 @@ class _FisReader:
             self.rep.error(loc, "expected MFn='name':'type',[parameters]")
             return
         name, kind = match.group(1), match.group(2)
+        n_inputs = sum(is_input for is_input, _ in self.variables)   # inputs come first
         arity = {"trimf": 3, "trapmf": 4, "gaussmf": 2, "gbellmf": 3, "sigmf": 2, "constant": 1,
-                 "smf": 2, "zmf": 2, "pimf": 4, "linear": 1 + sum(is_input for is_input, _ in self.variables)}
+                 "smf": 2, "zmf": 2, "pimf": 4, "linear": n_inputs + 1}
         if kind not in arity:
             self.rep.error(loc, f"membership function `{kind}` is not supported: the model "
                                 "carries " + ", ".join(arity))
