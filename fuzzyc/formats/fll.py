@@ -295,6 +295,10 @@ class _FllReader:
                                         + " and ".join(table))
                 else:
                     setattr(inf, field, table[value])
+                    if value == "NormalizedSum":
+                        self.got.notes.append("disjunction NormalizedSum taken as BoundedSum, "
+                                              "min(1, a+b), as pyfuzzylite 8 computes it; "
+                                              "fuzzylite 6 (C++) computes a+b")
             else:
                 self._unset_operator_used(kind)
         if not self.got.outputs:
