@@ -127,7 +127,7 @@ _SHAPES = {
 
 def apply_hedges(mu: np.ndarray, hedges: np.ndarray) -> np.ndarray:
     """mu (N, R) with hedges (R,) Hedge per column -> the hedged truth (N, R)."""
-    power = np.array([HEDGE_EXPONENT[h] if h < len(HEDGE_EXPONENT) else 1.0 for h in hedges])
+    power = HEDGE_EXPONENT[np.where(hedges < len(HEDGE_EXPONENT), hedges, Hedge.NONE)]
     out = mu ** power
     for hedge, low, high in ((Hedge.SELDOM, lambda m: np.sqrt(0.5 * m),
                               lambda m: 1.0 - np.sqrt(0.5 * (1.0 - m))),
