@@ -27,7 +27,8 @@ READABLE = {
     "SIGNED_INT": "a whole number", "STRING": "a quoted title", "LBRACE": "`{`", "RBRACE": "`}`",
     "LPAR": "`(`", "RPAR": "`)`", "LSQB": "`[`", "RSQB": "`]`", "COMMA": "`,`", "COLON": "`:`",
     "SEMICOLON": "`;`", "EQUAL": "`=`", "ARROW": "`->`", "SHAPE": "a term shape (tri, trap, "
-    "lshoulder, rshoulder, gauss, bell, sigmoid, singleton)", "HEDGE": "a hedge", "NOT": "`not`",
+    "lshoulder, rshoulder, gauss, bell, sigmoid, singleton, sshape, zshape, pishape, spike, "
+    "cosine, concave, linear)", "HEDGE": "a hedge", "NOT": "`not`",
     "INFERENCE_KEY": "an inference setting (and, or, implication, aggregation, defuzzify)",
     "AXIS": "`rows` or `cols`", "DIRECTION": "`increasing` or `decreasing`",
     "COMPARE": "a comparison (<, <=, >, >=)", "DOTTED_NAME": "a parameter name",

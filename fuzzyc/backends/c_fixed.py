@@ -21,7 +21,7 @@ from ..engine import CompiledRuleBase
 from ..membership import memberships
 from ..errors import Diagnostic, FuzzycError
 from ..model import Aggregation, Defuzzifier, Model, OutputKind, TNorm
-from .c import c_identifier
+from .c import c_identifier, check_supported
 from .c_fixed_chain import FixedChain, Fx, frac_for
 
 FORMATS = {
@@ -127,6 +127,7 @@ class FixedPointWriter:
         self.model, self.rb, self.numeric = model, model.rulebase, numeric
         self.io, self.full, self.mf = FORMATS[numeric]
         rb = self.rb
+        check_supported(rb)   # what the float back end cannot emit, fixed point cannot either
         method = rb.inference.defuzzifier
         if method not in (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE):
             raise _fail(f"the {numeric} back end emits center of area and weighted average; "

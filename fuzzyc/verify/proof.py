@@ -20,12 +20,31 @@ from __future__ import annotations
 import numpy as np
 
 from .. import engine
-from ..model import Aggregation, Connective, Defuzzifier, RuleBase, TNorm, TermKind
+from ..model import (Aggregation, Connective, Defuzzifier, Hedge, RuleBase, SNorm, TNorm,
+                     TermKind)
 from .result import Evidence, Status
 from .space import break_points, hedge_free, restrict, tensor_points
 
 TOL = 1e-9
 AREA_BASED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
+# What the proof methods (here, coverage.py, levelsets.py) were written for; the rest of the
+# model (fuzzylite's extra norms, shapes and hedges, linear consequents) goes to the search.
+PROVABLE_TERMS = {TermKind.TRAPEZOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind.SIGMOID,
+                  TermKind.SINGLETON}
+
+
+def beyond_proofs(rb: RuleBase) -> str | None:
+    """Why no proof method applies to this rule base at all, or None when they may."""
+    inf = rb.inference
+    if inf.and_ not in (TNorm.MIN, TNorm.PRODUCT) or inf.or_ not in (SNorm.MAX, SNorm.PROBSUM):
+        return f"no proof method for and={inf.and_.name.lower()} or={inf.or_.name.lower()}"
+    if rb.hedges.size and int(rb.hedges.max()) > Hedge.EXTREMELY:
+        return "no proof method for the hedges seldom/sharply"
+    kinds = {TermKind(int(k)) for v in rb.inputs + rb.outputs for k in v.kinds}
+    if kinds - PROVABLE_TERMS:
+        names = ", ".join(sorted(k.name.lower() for k in kinds - PROVABLE_TERMS))
+        return f"no proof method for {names} terms"
+    return None
 
 
 def multilinear(rb: RuleBase, o: int) -> str | None:

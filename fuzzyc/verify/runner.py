@@ -106,13 +106,14 @@ def check_property(model: Model, prop: Property, options: Options) -> list[Evide
     if prop.kind == "continuous":
         return [tables.continuous(rb, a["output"])]
     if prop.kind == "covers":
-        proved = coverage.prove_covers(rb, a["inputs"], a["level"])
+        proved = _unless_beyond(rb) or coverage.prove_covers(rb, a["inputs"], a["level"])
         if proved.status != Status.UNDECIDED:
             return [proved]
         return [proved, search.covers(rb, a["inputs"], a["level"], budget)]
     if prop.kind == "monotone":
         args = (a["output"], a["input"], a["direction"], a["where"])
-        evidence = [tables.monotone(rb, *args), proof.prove_monotone(rb, *args)]
+        evidence = [tables.monotone(rb, *args),
+                    _unless_beyond(rb) or proof.prove_monotone(rb, *args)]
         if evidence[-1].status == Status.UNDECIDED:
             evidence += search.monotone(rb, *args, budget, n, s)
         return evidence
@@ -121,10 +122,18 @@ def check_property(model: Model, prop: Property, options: Options) -> list[Evide
     return [Evidence("none", Status.UNDECIDED, f"unknown property kind `{prop.kind}`")]
 
 
+def _unless_beyond(rb) -> Evidence | None:
+    """UNDECIDED evidence when the rule base is outside every proof method's scope."""
+    reason = proof.beyond_proofs(rb)
+    if reason is None:
+        return None
+    return Evidence("proof", Status.UNDECIDED, reason + "; the search decides")
+
+
 def _bounded(model: Model, signal: str, lo: float, hi: float, options: Options):
     rb = model.rulebase
     if signal in [v.name for v in rb.outputs]:
-        proved = proof.prove_bounded(rb, signal, lo, hi)
+        proved = _unless_beyond(rb) or proof.prove_bounded(rb, signal, lo, hi)
         if proved.status != Status.UNDECIDED:
             return [proved]
         return [proved] + search.bounded(rb, signal, lo, hi, options.grid_budget,
