@@ -127,7 +127,7 @@ NORMS_FZ = """controller norms {{
 """
 
 
-@pytest.mark.parametrize("tnorm, snorm", zip(list(TNorm), list(SNorm)))
+@pytest.mark.parametrize("tnorm, snorm", list(zip(TNorm, SNorm)))
 def test_fz_norms_fire_rules_as_the_formulas_say(tnorm, snorm):
     model = parse(NORMS_FZ.format(and_=tnorm.name.lower(), or_=snorm.name.lower()), "n.fz")
     act = activations(model.rulebase, np.array([[0.3, 0.6]]))[0]
@@ -240,7 +240,7 @@ def _pyfuzzylite_outputs(text: str, rb, x: np.ndarray) -> np.ndarray:
     return np.column_stack([engine.output_variable(v.name).value for v in rb.outputs])
 
 
-@pytest.mark.parametrize("tnorm, snorm", zip(TNORMS, [s for s in SNORMS] + ["Maximum"]))
+@pytest.mark.parametrize("tnorm, snorm", list(zip(TNORMS, [*SNORMS, "Maximum"])))
 def test_shapes_norms_hedges_and_linear_terms_agree_with_pyfuzzylite(tnorm, snorm):
     text = (CORPUS / "shapes_tsk.fll").read_text()
     text = re.sub(r"conjunction: \w+", f"conjunction: {tnorm}", text)
