@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic import atomic_path, write_text
+from .atomic import save_figure, write_text
 from .errors import FuzzycError
 
 
@@ -43,9 +43,7 @@ def plot_pi(pi: np.ndarray, path: str | Path, title: str) -> None:
     ax.set_title(title)
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format=Path(path).suffix.lstrip(".") or "png")
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def run(args) -> int:

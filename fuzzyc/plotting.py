@@ -9,17 +9,14 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-from .atomic import atomic_path  # noqa: E402
+from .atomic import save_figure  # noqa: E402
 from .engine import evaluate  # noqa: E402
 from .membership import memberships  # noqa: E402
 from .model import Model, TermKind, Variable  # noqa: E402
 
 
 def save(fig, path: Path) -> Path:
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=110)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=110)
 
 
 def plot_variable(var: Variable, path: Path) -> Path:

@@ -8,7 +8,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
-from fuzzyc.atomic import atomic_path  # noqa: E402
+from fuzzyc.atomic import save_figure  # noqa: E402
 
 from .trace import Trace  # noqa: E402
 
@@ -37,8 +37,4 @@ def plot_trace(trace: Trace, path: str | Path, signals: list[str] | None = None,
     if title:
         axes[0, 0].set_title(title, fontsize=9)
     fig.tight_layout()
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=100)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=100)

@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..atomic import atomic_path, write_text
+from ..atomic import save_figure, write_text
 from .result import Result, Status
 
 MARK = {Status.PROVED: "PROVED  ", Status.HELD: "HELD    ", Status.VIOLATED: "VIOLATED",
@@ -132,8 +132,4 @@ def plot_trace(trace: dict, signals: list[str], title: str, path: str | os.PathL
     axes[-1, 0].set_xlabel("t [s]")
     fig.suptitle(title, fontsize=9)
     fig.tight_layout()
-    path = Path(path)
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=90)
-    plt.close(fig)
-    return path
+    return save_figure(fig, path, dpi=90)
