@@ -1,6 +1,5 @@
 """Malformed rule files: each must give file:line:col, the line with a caret, and a message
 that names the mistake (and the fix where it can). No traceback, exit status 2 from the CLI."""
-import textwrap
 
 import pytest
 
