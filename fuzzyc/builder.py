@@ -639,7 +639,9 @@ class Builder:
             if name in self.broken:
                 return None, None
             if not self._known_symbol(name):
-                known = sorted([*self.params, *self.signals, *self.step_by_name])
+                steps = [n for n, st in self.step_by_name.items() if not st.hidden]
+                outs = [n for n, v in self.vars.items() if not v.is_input]
+                known = sorted([*self.params, *self.signals, *steps, *outs])
                 self.error(node.loc, f"unknown name `{name}`: {suggest(name, known)}")
                 return None, None
             return sympy.Symbol(name), self.units.get(name)
