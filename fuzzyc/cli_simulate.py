@@ -51,6 +51,10 @@ def format_summary(title: str, controller: str, summary: dict, trace) -> str:
     if trace.deadline_misses:
         lines.append(f"deadline misses: {trace.deadline_misses}")
     for label, v in summary.items():
+        if v["mean"] != v["mean"]:   # NaN: the event never happened in any loop
+            lines.append(f"  {label:45s} not reached in {trace.steps * trace.period:g} s "
+                         "(a longer run: --set duration=...)")
+            continue
         spread = "" if v["min"] == v["max"] else f"  (min {v['min']:.4g}, max {v['max']:.4g})"
         lines.append(f"  {label:45s} {v['mean']:.4g} {v['unit']}{spread}")
     return "\n".join(lines) + "\n"
