@@ -803,14 +803,25 @@ class Builder:
     def _prop_closed_loop(self, p: Stmt):
         d = p.data
         duration = self._seconds(d["duration"], d["unit"], "the loop duration")
-        settings, ranges, checks = {}, {}, []
+        settings, ranges, before, faults, checks = {}, {}, {}, [], []
         for item in d["items"]:
             if item.kind == "set":
                 settings[item.data["key"].text] = item.data["value"].value
             elif item.kind == "vary":
-                rng = self._range(item.data["range"], f"`vary {item.data['key'].text}`")
-                if rng:
-                    ranges[item.data["key"].text] = rng
+                key = item.data["key"].text
+                rng = self._range(item.data["range"], f"`vary {key}`")
+                if rng and self._varied_key(item.data["key"]):
+                    ranges[key] = rng
+                if item.data["before"]:
+                    seconds = self._seconds(*item.data["before"], "`steps before`")
+                    if seconds is not None:
+                        before[key] = seconds
+            elif item.kind == "fault":
+                seconds = self._seconds(item.data["seconds"], item.data["unit"], "a fault")
+                if seconds is not None and seconds <= 0:
+                    self.error(item.data["seconds"].loc, "a fault lasts a positive time")
+                elif seconds is not None:
+                    faults.append((item.data["signal"].text, item.data["kind"], seconds))
             else:
                 check = self._temporal(item)
                 if check is not None:
@@ -818,7 +829,21 @@ class Builder:
         if duration is None:
             return None
         return {"scenario": d["scenario"].text, "duration": duration, "set": settings,
-                "vary": ranges, "checks": checks}
+                "vary": ranges, "steps_before": before, "faults": faults, "checks": checks}
+
+    def _varied_key(self, key) -> bool:
+        """`vary plant.NAME` (a plant parameter, resolved with the scenario) or
+        `vary controller.NAME` (a param of this file: a set point)."""
+        kind, _, name = key.text.partition(".")
+        if kind == "controller" and name in self.params:
+            return True
+        if kind == "controller":
+            self.error(key.loc, f"`{key.text}`: this file has no param `{name}`"
+                       + (f"; params: {', '.join(self.params)}" if self.params else ""))
+        elif kind != "plant" or not name:
+            self.error(key.loc, f"`vary {key.text}`: vary a plant parameter (plant.NAME) or a "
+                       f"param of this file (controller.NAME)")
+        return kind == "plant" and bool(name)
 
     def _predicate(self, node: Expr):
         """Comparisons over plant and controller signals; names are resolved at run time."""

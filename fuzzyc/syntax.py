@@ -369,7 +369,17 @@ class ToSyntax(Transformer):
 
     @v_args(meta=True)
     def loop_vary(self, meta, items):
-        return self._stmt("vary", meta, {"key": items[0], "range": items[1]})
+        return self._stmt("vary", meta, {"key": items[0], "range": items[1],
+                                         "before": items[2] if len(items) > 2 else None})
+
+    def step_window(self, items):
+        return (items[0], items[1] if len(items) > 1 else None)
+
+    @v_args(meta=True)
+    def loop_fault(self, meta, items):
+        unit = items[3] if len(items) > 3 else None
+        return self._stmt("fault", meta, {"signal": items[0], "kind": str(items[1]),
+                                          "seconds": items[2], "unit": unit})
 
     @v_args(meta=True)
     def always(self, meta, items):

@@ -101,23 +101,29 @@ def sos_response(sos: np.ndarray, f_hz: np.ndarray, fs: float) -> np.ndarray:
 class SOSFilter:
     """A batched cascade of biquads: a runtime block `input_name -> output_name`.
 
-    The first sample initialises the state to the steady state of that sample (unit DC gain),
-    so a filter started on a constant signal does not ring. NaN samples are held out: the
-    previous output is repeated and the state is left unchanged.
+    The first finite sample of each loop initialises its state to the steady state of that
+    sample (unit DC gain), so a filter started on a constant signal does not ring. NaN samples
+    are held out: the previous output is repeated and the state is left unchanged, for at most
+    `max_hold` samples in a row (assumption: 5, i.e. a dropped sample or a few are bridged).
+    A longer outage is a failed sensor: the output reads NaN, so the controller sees "unknown"
+    rather than a frozen voltage that would keep the servo advancing (found by `fuzzyc verify`
+    with `fault measured_voltage nan`), and the loop restarts at the next finite sample as at
+    its first. Before a loop's first finite sample the output is NaN, never a made-up 0 V.
     """
     sos: np.ndarray
     input_name: str
     output_name: str
+    max_hold: int = 5
 
     def __post_init__(self) -> None:
         self.input_names = [self.input_name]
         self.output_names = [self.output_name]
-        self._state: np.ndarray | None = None
-        self._last: np.ndarray | None = None
 
     def reset(self, batch: int) -> None:
-        self._state = None
-        self._last = np.zeros(batch)
+        self._state = np.zeros((batch, len(self.sos), 2))
+        self._last = np.full(batch, np.nan)
+        self._started = np.zeros(batch, bool)
+        self._missing = np.zeros(batch, int)      # non-finite samples in a row
 
     def _steady_state(self, x: np.ndarray) -> np.ndarray:
         b, a = self.sos[:, :3], self.sos[:, 3:]
@@ -127,13 +133,14 @@ class SOSFilter:
         return np.stack([s1, s2], axis=-1)
 
     def step(self, signals: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        x = np.asarray(signals[self.input_name], float)
+        x = np.broadcast_to(np.asarray(signals[self.input_name], float), self._last.shape)
         finite = np.isfinite(x)
         x = np.where(finite, x, 0.0)
-        if self._state is None:
-            self._state = self._steady_state(x)
-            self._last = np.where(finite, x, 0.0)
+        fresh = finite & ~self._started
         state = self._state.copy()
+        if fresh.any():
+            state[fresh] = self._steady_state(x[fresh])
+            self._started |= fresh
         y = x
         for s, (b0, b1, b2, _, a1, a2) in enumerate(self.sos):  # a few sections, not the batch
             s1, s2 = state[:, s, 0], state[:, s, 1]
@@ -142,7 +149,10 @@ class SOSFilter:
             state[:, s, 1] = b2 * y - a2 * out
             y = out
         self._state = np.where(finite[:, None, None], state, self._state)
-        self._last = np.where(finite, y, self._last)
+        self._missing = np.where(finite, 0, self._missing + 1)
+        failed = self._missing > self.max_hold
+        self._started &= ~failed
+        self._last = np.where(finite, y, np.where(failed, np.nan, self._last))
         return {self.output_name: self._last.copy()}
 
 

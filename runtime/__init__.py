@@ -18,6 +18,8 @@ Blocks (runtime.blocks) have input_names, output_names, reset(batch), step(signa
         put on the bus, e.g. e1, e2
     FunctionBlock(fn, input_names, output_names)               fn(**inputs) -> dict
     ScheduleBlock(output, [(t0, v0), (t1, v1), ...])           piecewise-constant signal
+    SensorFault(signal, start, length, stuck) (runtime.faults)  a measurement reads NaN or
+        sticks over a per-loop window; the true value stays on the bus as `signal@plant`
   The bus also carries floats `t` (start of the period, s) and `dt` (the period, s).
   A block with `initial_outputs() -> dict` seeds the bus before the first period.
 
@@ -44,7 +46,9 @@ Scenarios (runtime.simulate, with fuzzyc.plants.scenario.load(name_or_path, over
   of delay from measurement to actuation, as on the machine.
 """
 from .blocks import ControllerBlock, FunctionBlock, PlantBlock, ScheduleBlock
+from .faults import SensorFault
 from .loop import run
 from .trace import Trace
 
-__all__ = ["ControllerBlock", "FunctionBlock", "PlantBlock", "ScheduleBlock", "Trace", "run"]
+__all__ = ["ControllerBlock", "FunctionBlock", "PlantBlock", "ScheduleBlock", "SensorFault",
+           "Trace", "run"]

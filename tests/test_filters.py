@@ -61,6 +61,29 @@ def test_block_starts_at_steady_state_and_holds_through_nan():
     np.testing.assert_allclose(held, x, atol=1e-9)
 
 
+def test_before_its_first_finite_sample_a_loop_reads_nan_not_zero():
+    # a sensor that fails from the start must not look like a 0-V short to the servo; the
+    # first finite sample then starts that loop at its steady state (no ringing)
+    block = filters.lowpass("v", "vf", 4, 200.0, FS)
+    block.reset(2)
+    first = block.step({"v": np.array([np.nan, 40.0])})["vf"]
+    assert np.isnan(first[0]) and first[1] == pytest.approx(40.0)
+    for _ in range(3):
+        np.testing.assert_allclose(block.step({"v": np.array([45.0, 40.0])})["vf"],
+                                   [45.0, 40.0], atol=1e-9)
+
+
+def test_a_long_outage_reads_nan_and_restarts_at_steady_state():
+    # 5 missing samples are bridged with the last output, the 6th reads NaN (a failed sensor
+    # must not look like a frozen voltage); the next finite sample restarts that loop
+    block = filters.lowpass("v", "vf", 4, 200.0, FS)
+    block.reset(1)
+    block.step({"v": np.array([50.0])})
+    outputs = [block.step({"v": np.array([np.nan])})["vf"][0] for _ in range(6)]
+    assert outputs[:5] == pytest.approx([50.0] * 5) and np.isnan(outputs[5])
+    assert block.step({"v": np.array([30.0])})["vf"][0] == pytest.approx(30.0)
+
+
 def test_bad_edges_are_rejected():
     with pytest.raises(ValueError):
         filters.butter_lowpass_sos(2, 600.0, FS)

@@ -17,9 +17,13 @@ Meaning of the properties (the choices a user should know):
 - closed_loop SCENARIO: `set a.b = v` overrides the scenario; `set learn.cycles = N` (and
   learn.eta, learn.rho) first trains the file's learnable weights on N cycles of the scenario;
   `vary plant.P in [lo, hi]` draws P per loop, and a varied plant input (e.g. height) may also
-  get a step at a drawn time. In a check, `t` is the time (s) and `baseline_X` is signal X
-  of the scenario's baseline controller run on the same cases (e.g. the corner controller's
-  error against normal machining).
+  get a step at a drawn time; `vary controller.P in [lo, hi]` does the same for a param of the
+  file (set-point changes); `steps before T` bounds the step times. `fault S nan|stuck for T`:
+  in some loops the measured plant output S reads NaN or sticks for T from a drawn time, for
+  every block after the plant; checks read S's true value (the sensor's is `sensed_S`).
+  In a check, `t` is the time (s) and `baseline_X` is signal X of the scenario's baseline
+  controller run on the same cases (e.g. the corner controller's error against normal
+  machining).
 """
 from __future__ import annotations
 

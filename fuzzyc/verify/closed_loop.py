@@ -1,7 +1,14 @@
-"""Closed-loop search (method 3): hypothesis draws plant parameters and disturbance steps, the
-whole set runs as ONE batch of loops (the runtime is batched), the temporal checks are
-evaluated on every trace, and a failing case is shrunk toward the scenario's nominal values in
-batched rounds (each round simulates every simpler candidate at once)."""
+"""Closed-loop search (method 3): hypothesis draws plant parameters, set points, disturbance
+steps and sensor faults, the whole set runs as ONE batch of loops (the runtime is batched), the
+temporal checks are evaluated on every trace, and a failing case is shrunk toward the
+scenario's nominal values in batched rounds (each round simulates every simpler candidate at
+once).
+
+A case is a dict: `plant.P` / `controller.P` -> value for the whole run; `step` -> None or
+(key, time, value), one varied plant input or controller param stepping to a new value;
+`fault` -> None or (signal, kind, start, length), one measured plant output reading NaN or
+stuck. Checks read the process (a faulty signal's true value); what the sensor said is
+recorded as `sensed_SIGNAL`."""
 from __future__ import annotations
 
 import copy
@@ -17,6 +24,7 @@ from . import temporal
 from .result import Evidence, Status
 
 BASELINE = "baseline_"   # a check's `baseline_X`: signal X of the scenario's baseline controller
+SENSED = "sensed_"       # `sensed_X`: what a faulty sensor said of plant output X
 
 
 def check(model: Model, prop: Property, checks: list[Property], options) -> list[list[Evidence]]:
@@ -25,16 +33,9 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     learning = {k.split(".", 1)[1]: v for k, v in a["set"].items() if k.startswith("learn.")}
     overrides = {k: str(v) for k, v in a["set"].items() if not k.startswith("learn.")}
     scen = scenarios.load(a["scenario"], overrides)
-    bad = [k for k in a["vary"] if not k.startswith("plant.")]
-    if bad:
-        return [[Evidence("closed-loop", Status.UNDECIDED, f"`vary {bad[0]}`: only plant "
-                          f"parameters (plant.NAME) can vary")] for _ in checks]
-    if options.backend == "c":
-        try:
-            from fuzzyc.backends.cload import CController  # noqa: F401
-        except ImportError as exc:
-            return [[Evidence("closed-loop", Status.UNDECIDED, f"--backend c: the C back end "
-                              f"cannot be loaded ({exc})")] for _ in checks]
+    problem = _unsupported(scen, a, options.backend)
+    if problem:
+        return [[Evidence("closed-loop", Status.UNDECIDED, problem)] for _ in checks]
     with_baseline = any(n.startswith(BASELINE) for c in checks for n in temporal.names_in(c))
     if with_baseline and not scen.baseline:
         return [[Evidence("closed-loop", Status.UNDECIDED, f"`{BASELINE}...` signals need a "
@@ -43,7 +44,7 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     loop.with_baseline = with_baseline
     loop.progress = None if options.progress else False   # the runtime's bar, on a terminal
     learned = loop.learn(**learning) if learning else ""
-    cases = _draw_cases(loop, a["vary"], options.max_examples, options.seed)
+    cases = _draw_cases(loop, a, options.max_examples, options.seed)
     try:
         time, signals = loop.run(cases)
     except (ValueError, TypeError) as exc:   # e.g. a plant that cannot take a param per loop
@@ -68,13 +69,12 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
             continue
         case, trace = shrunk[i]
         detail = (f"{int(violated.sum())} of {len(cases)} loops break it; shrunk case: "
-                  + (", ".join(f"{k}={v:.6g}" for k, v in case.items() if k != "step")
-                     or "nominal plant") + _step_text(case) + learned)
+                  + (", ".join(f"{k}={v:.6g}" for k, v in _values(case).items())
+                     or "nominal plant") + _event_text(case) + learned)
         if options.report_dir:
             from .report import plot_trace
             name = re.sub(r"[^A-Za-z0-9]+", "_", f"{model.name}_{c.text}").strip("_")[:80]
-            shown = temporal.names_in(c) + [o.name for o in model.outputs] + sorted(
-                {s[0] for s in [case.get("step")] if s})
+            shown = temporal.names_in(c) + [o.name for o in model.outputs] + _event_signals(case)
             trace["plot"] = str(plot_trace(trace, shown, f"{model.name}: {c.text}",
                                            os.path.join(options.report_dir, name + ".png")))
         results.append([Evidence("closed-loop", Status.VIOLATED, detail, cases=len(cases),
@@ -86,9 +86,56 @@ def _column(time, signals, k: int):
     return time, {name: v[:, k:k + 1] for name, v in signals.items()}
 
 
-def _step_text(case: dict) -> str:
-    step = case.get("step")
-    return "" if not step else f"; step of {step[0]} to {step[2]:.6g} at t={step[1]:.6g} s"
+def _unsupported(scen, args: dict, backend: str) -> str:
+    """Why this closed loop cannot be searched as written ('' if it can)."""
+    setpoints = [k.split(".", 1)[1] for k in args["vary"] if k.startswith("controller.")]
+    scheduled = [n for n in setpoints if n in scen.schedules]
+    if scheduled:
+        return (f"`vary controller.{scheduled[0]}`: scenario {scen.name} already schedules "
+                f"`{scheduled[0]}`; vary a set point on a scenario that holds it")
+    inputs = set(getattr(scen.plant_module(), "INPUTS", ()))
+    fixed = [k for k in args.get("steps_before", {})
+             if k.startswith("plant.") and k.split(".", 1)[1] not in inputs]
+    if fixed:
+        return (f"`vary {fixed[0]} ... steps before`: the plant of {scen.name} reads "
+                f"`{fixed[0].split('.', 1)[1]}` only at the start; it cannot step")
+    outputs = set(getattr(scen.plant_module(), "OUTPUTS", ()))
+    unknown = [f[0] for f in args.get("faults", []) if f[0] not in outputs]
+    if unknown:
+        return (f"`fault {unknown[0]}`: a fault corrupts a measured plant output; the plant of "
+                f"{scen.name} has {', '.join(sorted(outputs))}")
+    if backend != "c":
+        return ""
+    if setpoints:
+        return (f"--backend c compiles `{setpoints[0]}` in; a set point that varies per loop "
+                f"needs --backend numpy")
+    try:
+        from fuzzyc.backends.cload import CController  # noqa: F401
+    except ImportError as exc:
+        return f"--backend c: the C back end cannot be loaded ({exc})"
+    return ""
+
+
+def _values(case: dict) -> dict[str, float]:
+    return {k: v for k, v in case.items() if k not in ("step", "fault")}
+
+
+def _event_text(case: dict) -> str:
+    """The shrunk case's step and fault, as the report prints them."""
+    text, step, fault = "", case.get("step"), case.get("fault")
+    if step:
+        text += f"; step of {step[0]} to {step[2]:.6g} at t={step[1]:.6g} s"
+    if fault:
+        text += (f"; {fault[0]} sensor {'stuck' if fault[1] == 'stuck' else 'reads NaN'} "
+                 f"from t={fault[2]:.6g} s for {fault[3]:g} s")
+    return text
+
+
+def _event_signals(case: dict) -> list[str]:
+    """Signals a plot of the case should show besides the check's: what stepped, what failed."""
+    step, fault = case.get("step"), case.get("fault")
+    return ([step[0].split(".", 1)[1]] if step else []) + (
+        [fault[0], SENSED + fault[0]] if fault else [])
 
 
 class _Loop:
@@ -128,7 +175,13 @@ class _Loop:
                 f"{result.pi[-1]:.4g})")
 
     def nominal_value(self, key: str) -> float:
-        return float(getattr(self.nominal, key.split(".", 1)[1]))
+        kind, name = key.split(".", 1)
+        return float(self.params[name] if kind == "controller" else getattr(self.nominal, name))
+
+    def steppable(self, key: str) -> bool:
+        """A set point, or a plant parameter the plant also reads as an input (height)."""
+        kind, name = key.split(".", 1)
+        return kind == "controller" or name in self.plant_inputs
 
     def run(self, cases: list[dict]):
         """Time and signals of every case; with_baseline adds `baseline_X` for each signal X of
@@ -142,53 +195,93 @@ class _Loop:
         else:
             from fuzzyc.controller import Controller
             controller = Controller(model, batch)
-        time, signals = self._run_with(controller, cases)
+        time, signals = self._run_with(controller, cases, follow=True)
         if self.with_baseline:
             baseline = self.scen.make("baseline", self.scen.baseline)
             baseline.reset(batch)
-            _, theirs = self._run_with(baseline, cases)
+            _, theirs = self._run_with(baseline, cases, follow=False)
             signals.update({BASELINE + name: v for name, v in theirs.items()})
         return time, signals
 
-    def _run_with(self, controller, cases: list[dict]):
-        from fuzzyc.runtime import FunctionBlock, PlantBlock, run
+    def _run_with(self, controller, cases: list[dict], follow: bool):
+        """One batch: plant parameters per loop; a schedule block per stepped or varied key
+        before the plant; a sensor-fault block per faulty signal right after it. follow: the
+        controller's set points follow their schedules (the baseline has no such params)."""
+        from fuzzyc.runtime import ControllerBlock, PlantBlock, run
         from fuzzyc.runtime.simulate import build
         batch = len(cases)
         blocks = build(self.scen, controller, batch, self.seed)
         k = next(i for i, b in enumerate(blocks) if isinstance(b, PlantBlock))
-        varied = {key.split(".", 1)[1]: np.array([c[key] for c in cases], dtype=float)
-                  for key in cases[0] if key != "step"}
-        blocks[k].params = dataclasses.replace(blocks[k].params, **varied)
-        steps = [c.get("step") for c in cases]
-        for name in sorted({s[0] for s in steps if s}):
-            blocks.insert(k, _disturbance(name, steps, varied, self.nominal, FunctionBlock))
+        keys = [key for key in cases[0] if key not in ("step", "fault")]
+        blocks[k].params = dataclasses.replace(blocks[k].params, **{
+            key.split(".", 1)[1]: np.array([c[key] for c in cases], dtype=float)
+            for key in keys if key.startswith("plant.")})
+        scheduled = sorted({c["step"][0] for c in cases if c.get("step")}
+                           | {key for key in keys if key.startswith("controller.")})
+        faults = sorted({c["fault"][0] for c in cases if c.get("fault")})
+        for name in faults:
+            blocks.insert(k + 1, _fault(name, cases))
+        for key in scheduled:
+            blocks.insert(k, _schedule(key, cases, self.nominal_value(key)))
+        setpoints = [key.split(".", 1)[1] for key in scheduled if key.startswith("controller.")]
+        if follow and setpoints:
+            c = next(i for i, b in enumerate(blocks) if isinstance(b, ControllerBlock))
+            blocks[c] = dataclasses.replace(blocks[c],
+                                            param_inputs=blocks[c].param_inputs + setpoints)
         trace = run(blocks, self.scen.period, self.duration, batch,
                     initial=self.scen.data.get("initial"), progress=self.progress)
-        return trace.time, dict(trace.signals)
+        signals = dict(trace.signals)
+        for name in faults:   # checks judge the process; the sensor's reading is kept beside
+            signals[SENSED + name] = signals[name]
+            signals[name] = signals.pop(f"{name}@plant")
+        return trace.time, signals
 
 
-def _disturbance(name, steps, varied, nominal, FunctionBlock):
-    """A per-loop step of a plant input: its varied (or nominal) value, then the step value."""
-    before = varied.get(name, np.full(len(steps), float(getattr(nominal, name))))
-    at = np.array([s[1] if s and s[0] == name else np.inf for s in steps])
-    after = np.array([s[2] if s and s[0] == name else 0.0 for s in steps])
+def _schedule(key: str, cases: list[dict], nominal: float):
+    """A per-loop value of a plant input or a set point: the case's value (or the nominal one)
+    and, in a case that steps this key, the step value from the step time on."""
+    from fuzzyc.runtime import FunctionBlock
+    name = key.split(".", 1)[1]
+    steps = [c.get("step") if c.get("step") and c["step"][0] == key else None for c in cases]
+    before = np.array([c.get(key, nominal) for c in cases], dtype=float)
+    at = np.array([s[1] if s else np.inf for s in steps])
+    after = np.array([s[2] if s else 0.0 for s in steps])
 
     def value(t):
         return {name: np.where(t >= at, after, before)}
-    return FunctionBlock(value, ["t"], [name], name=f"step {name}")
+    return FunctionBlock(value, ["t"], [name], name=f"schedule {name}")
 
 
-def _draw_cases(loop: _Loop, vary: dict, n: int, seed: int) -> list[dict]:
-    """n cases from hypothesis: a value per varied parameter and, for a varied parameter the
-    plant also reads as an input (e.g. workpiece height), maybe a step to a new value."""
+def _fault(signal: str, cases: list[dict]):
+    from fuzzyc.runtime import SensorFault
+    faults = [c.get("fault") if c.get("fault") and c["fault"][0] == signal else None
+              for c in cases]
+    return SensorFault(signal, start=np.array([f[2] if f else np.inf for f in faults]),
+                       length=np.array([f[3] if f else 0.0 for f in faults]),
+                       stuck=np.array([bool(f) and f[1] == "stuck" for f in faults]),
+                       name=f"fault {signal}")
+
+
+def _draw_cases(loop: _Loop, args: dict, n: int, seed: int) -> list[dict]:
+    """n cases from hypothesis: a value per varied key; maybe a step of one steppable key (a
+    set point, or a plant parameter the plant also reads as an input, e.g. the workpiece
+    height) to a new value at a drawn time (before its `steps before` time, if given); maybe
+    one of the declared sensor faults, starting at a drawn time."""
+    vary, faults = args["vary"], args.get("faults", [])
     fields = {k: st.floats(lo, hi, allow_nan=False) for k, (lo, hi) in vary.items()}
-    steppable = [k for k in vary if k.split(".", 1)[1] in loop.plant_inputs]
-    step = st.none()
+    steppable = [k for k in vary if loop.steppable(k)]
+    latest = {k: min(loop.duration, args.get("steps_before", {}).get(k, np.inf))
+              for k in steppable}
+    step = fault = st.none()
     if steppable:
         step = st.one_of(st.none(), st.sampled_from(steppable).flatmap(
-            lambda k: st.tuples(st.just(k.split(".", 1)[1]), st.floats(0, loop.duration),
+            lambda k: st.tuples(st.just(k), st.floats(0, latest[k]),
                                 st.floats(*vary[k], allow_nan=False))))
-    strategy = st.fixed_dictionaries({**fields, "step": step})
+    if faults:
+        fault = st.one_of(st.none(), st.tuples(st.sampled_from(faults),
+                                               st.floats(0, loop.duration)).map(
+            lambda f: (f[0][0], f[0][1], f[1], f[0][2])))
+    strategy = st.fixed_dictionaries({**fields, "step": step, "fault": fault})
     drawn: list[dict] = []
 
     @hseed(seed)
@@ -200,7 +293,7 @@ def _draw_cases(loop: _Loop, vary: dict, n: int, seed: int) -> list[dict]:
             drawn.append(case)
 
     collect()
-    return drawn or [{"step": None}]
+    return drawn or [{"step": None, "fault": None}]
 
 
 def _shrink(loop: _Loop, checks: list[Property], cases: dict[int, dict],
@@ -229,11 +322,13 @@ def _shrink(loop: _Loop, checks: list[Property], cases: dict[int, dict],
     for i, case in cases.items():
         time, signals = runs[i]
         _, when = temporal.evaluate(checks[i], time, signals, loop.params)
-        # keep what the check reads, the controller's outputs and the plant's inputs
+        # keep what the check reads, the controller's outputs, the plant's inputs, the set
+        # points and what stepped or failed
         kept = set(temporal.names_in(checks[i])) | set(loop.plant_inputs) | {
-            o.name for o in loop.model.outputs}
-        out[i] = (case, {"case": {k: v for k, v in case.items() if k != "step"},
-                         "step": case.get("step"),
+            o.name for o in loop.model.outputs} | set(_event_signals(case)) | {
+            k.split(".", 1)[1] for k in vary if k.startswith("controller.")}
+        out[i] = (case, {"case": _values(case), "step": case.get("step"),
+                         "fault": case.get("fault"),
                          "violated_at": None if np.isnan(when[0]) else float(when[0]),
                          "t": time, "signals": {k: v[:, 0] for k, v in signals.items()
                                                 if k in kept}})
@@ -242,8 +337,9 @@ def _shrink(loop: _Loop, checks: list[Property], cases: dict[int, dict],
 
 def _simpler(loop: _Loop, case: dict, vary: dict) -> list[dict]:
     out = []
-    if case.get("step"):
-        out.append({**case, "step": None})
+    for event in ("fault", "step"):
+        if case.get(event):
+            out.append({**case, event: None})
     for key, (lo, hi) in vary.items():
         target = min(max(loop.nominal_value(key), lo), hi)
         if abs(case[key] - target) > 1e-9 * max(1.0, abs(target)):

@@ -43,6 +43,10 @@ def trace_summary(trace: dict) -> str:
     if trace.get("step"):
         name, at, value = trace["step"]
         parts.append(f"{name} steps to {value:g} at t={at:g} s")
+    if trace.get("fault"):
+        signal, kind, start, length = trace["fault"]
+        parts.append(f"{signal} sensor {'stuck' if kind == 'stuck' else 'reads NaN'} from "
+                     f"t={start:g} s for {length:g} s")
     if trace.get("plot"):
         parts.append(f"plot {trace['plot']}")
     if "violated_at" in trace:
