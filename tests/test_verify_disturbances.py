@@ -123,7 +123,7 @@ def test_a_stuck_sensor_is_found_and_shrunk(toy_plant, scenario, tmp_path):
     assert (tmp_path / trace["plot"].split("/")[-1]).exists()
 
 
-def test_a_set_point_the_scenario_schedules_cannot_also_vary():
+def test_a_set_point_the_scenario_changes_cannot_also_vary():
     from fuzzyc.parser import load
     model = load("rulebases/wedm_three_region.fz")
     loop = next(p for p in model.properties if p.kind == "closed_loop")
@@ -131,7 +131,7 @@ def test_a_set_point_the_scenario_schedules_cannot_also_vary():
     model.properties = [loop]
     results = verify_model(model, Options(max_examples=2))
     assert all(r.status == Status.UNDECIDED for r in results)
-    assert "already schedules `Yr2`" in results[0].evidence[0].detail
+    assert "already changes `Yr2` on a schedule" in results[0].evidence[0].detail
 
 
 def test_a_fault_on_a_signal_the_plant_does_not_measure_is_undecided(toy_plant, scenario):

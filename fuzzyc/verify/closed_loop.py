@@ -89,10 +89,10 @@ def _column(time, signals, k: int):
 def _unsupported(scen, args: dict, backend: str) -> str:
     """Why this closed loop cannot be searched as written ('' if it can)."""
     setpoints = [k.split(".", 1)[1] for k in args["vary"] if k.startswith("controller.")]
-    scheduled = [n for n in setpoints if n in scen.schedules]
-    if scheduled:
-        return (f"`vary controller.{scheduled[0]}`: scenario {scen.name} already schedules "
-                f"`{scheduled[0]}`; vary a set point on a scenario that holds it")
+    changing = [n for n in setpoints if len({v for _, v in scen.schedules.get(n, [])}) > 1]
+    if changing:
+        return (f"`vary controller.{changing[0]}`: scenario {scen.name} already changes "
+                f"`{changing[0]}` on a schedule; vary a set point on a scenario that holds it")
     inputs = set(getattr(scen.plant_module(), "INPUTS", ()))
     fixed = [k for k in args.get("steps_before", {})
              if k.startswith("plant.") and k.split(".", 1)[1] not in inputs]
@@ -207,12 +207,15 @@ class _Loop:
         """One batch: plant parameters per loop; a schedule block per stepped or varied key
         before the plant; a sensor-fault block per faulty signal right after it. follow: the
         controller's set points follow their schedules (the baseline has no such params)."""
-        from fuzzyc.runtime import ControllerBlock, PlantBlock, run
+        from fuzzyc.runtime import ControllerBlock, PlantBlock, ScheduleBlock, run
         from fuzzyc.runtime.simulate import build
         batch = len(cases)
-        blocks = build(self.scen, controller, batch, self.seed)
-        k = next(i for i, b in enumerate(blocks) if isinstance(b, PlantBlock))
         keys = [key for key in cases[0] if key not in ("step", "fault")]
+        drawn = {key.split(".", 1)[1] for key in keys if key.startswith("controller.")}
+        # a set point the scenario holds constant on a schedule is drawn instead
+        blocks = [b for b in build(self.scen, controller, batch, self.seed)
+                  if not (isinstance(b, ScheduleBlock) and b.output in drawn)]
+        k = next(i for i, b in enumerate(blocks) if isinstance(b, PlantBlock))
         blocks[k].params = dataclasses.replace(blocks[k].params, **{
             key.split(".", 1)[1]: np.array([c[key] for c in cases], dtype=float)
             for key in keys if key.startswith("plant.")})
@@ -223,11 +226,11 @@ class _Loop:
             blocks.insert(k + 1, _fault(name, cases))
         for key in scheduled:
             blocks.insert(k, _schedule(key, cases, self.nominal_value(key)))
-        setpoints = [key.split(".", 1)[1] for key in scheduled if key.startswith("controller.")]
-        if follow and setpoints:
-            c = next(i for i, b in enumerate(blocks) if isinstance(b, ControllerBlock))
+        c = next(i for i, b in enumerate(blocks) if isinstance(b, ControllerBlock))
+        unfollowed = sorted(drawn - set(blocks[c].param_inputs))
+        if follow and unfollowed:
             blocks[c] = dataclasses.replace(blocks[c],
-                                            param_inputs=blocks[c].param_inputs + setpoints)
+                                            param_inputs=blocks[c].param_inputs + unfollowed)
         trace = run(blocks, self.scen.period, self.duration, batch,
                     initial=self.scen.data.get("initial"), progress=self.progress)
         signals = dict(trace.signals)
