@@ -14,6 +14,8 @@ from typing import Any, Callable
 
 import numpy as np
 
+from .noise import KeyedNoise
+
 
 def column(value: Any, batch: int) -> np.ndarray:
     """A scalar or (N,) value as a fresh float (N,) array."""
@@ -36,6 +38,8 @@ class PlantBlock:
     on the bus is not passed, so the plant uses its params, e.g. a fixed workpiece height);
     None passes every array signal on the bus.
     outputs: the output names the plant returns. `seed` makes the plant's noise reproducible.
+    noise_keys, noise_width: loop i draws the noise of loop noise_keys[i] of a batch of
+    noise_width loops (runtime.noise.KeyedNoise; the verifier's shrinking keeps a loop's noise).
     """
     plant: ModuleType
     params: Any
@@ -43,6 +47,8 @@ class PlantBlock:
     outputs: list[str]
     seed: int | None = 0
     name: str = "plant"
+    noise_keys: np.ndarray | None = None
+    noise_width: int = 0
 
     def __post_init__(self) -> None:
         self.input_names = list(self.inputs or [])
@@ -50,7 +56,8 @@ class PlantBlock:
         self.state: dict[str, np.ndarray] = {}
 
     def reset(self, batch: int) -> None:
-        self.rng = np.random.default_rng(self.seed)
+        self.rng = (np.random.default_rng(self.seed) if self.noise_keys is None
+                     else KeyedNoise(self.seed, self.noise_keys, self.noise_width))
         self.state = self.plant.initial_state(self.params, batch, self.rng)
 
     def step(self, signals: dict) -> dict[str, np.ndarray]:
