@@ -176,3 +176,27 @@ def test_bad_envelopes_are_refused_at_their_place(item, column, message):
 def test_an_unknown_fault_kind_is_a_syntax_error():
     with pytest.raises(FuzzycError, match=r"servo.fz:\d+:\d+: error"):
         parse(_with_loop("      fault gap_voltage broken for 1 s\n"), "servo.fz")
+
+
+def test_a_shrunk_case_fails_alone_with_its_own_noise():
+    # the EDM servo with spark noise and a stuck sensor: the shrunk case, re-run as a batch of
+    # one, sees the noise of the loop it came from and fails at the same moment
+    from fuzzyc.parser import load
+    from fuzzyc.plants import scenario as scenarios
+    from fuzzyc.verify import temporal
+    model = load("rulebases/edm_sink_gap.fz")
+    model.properties = [p for p in model.properties
+                        if p.kind == "closed_loop" and p.args["faults"]]
+    (result,) = verify_model(model, Options(max_examples=20, seed=0))
+    assert result.status == Status.VIOLATED
+    trace = result.violation.trace
+    loop = closed_loop._Loop(model, scenarios.load("edm_sink"), 3.0, "numpy", 0)
+    loop.noise_width = 20
+    case = {**trace["case"], "step": trace["step"], "fault": trace["fault"],
+            "noise": trace["noise"]}
+    time, signals = loop.run([case])
+    violated, when = temporal.evaluate(result.prop, time, signals, loop.params)
+    assert violated[0] and when[0] == trace["violated_at"]
+    # the same noisy voltage, sample for sample, as in the reported trace
+    np.testing.assert_array_equal(signals["measured_voltage"][:, 0],
+                                  trace["signals"]["measured_voltage"])

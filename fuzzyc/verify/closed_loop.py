@@ -7,8 +7,9 @@ once).
 A case is a dict: `plant.P` / `controller.P` -> value for the whole run; `step` -> None or
 (key, time, value), one varied plant input or controller param stepping to a new value;
 `fault` -> None or (signal, kind, start, length), one measured plant output reading NaN or
-stuck. Checks read the process (a faulty signal's true value); what the sensor said is
-recorded as `sensed_SIGNAL`."""
+stuck; `noise` -> the index of the drawn case it comes from: a shrunk variant keeps the plant
+noise of its original loop (runtime.noise), so it fails for the same reason. Checks read the
+process (a faulty signal's true value); what the sensor said is recorded as `sensed_SIGNAL`."""
 from __future__ import annotations
 
 import copy
@@ -25,6 +26,7 @@ from .result import Evidence, Status
 
 BASELINE = "baseline_"   # a check's `baseline_X`: signal X of the scenario's baseline controller
 SENSED = "sensed_"       # `sensed_X`: what a faulty sensor said of plant output X
+EVENTS = ("step", "fault", "noise")   # the entries of a case that are not drawn values
 
 
 def check(model: Model, prop: Property, checks: list[Property], options) -> list[list[Evidence]]:
@@ -45,6 +47,7 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     loop.progress = None if options.progress else False   # the runtime's bar, on a terminal
     learned = loop.learn(**learning) if learning else ""
     cases = _draw_cases(loop, a, options.max_examples, options.seed)
+    loop.noise_width = len(cases)
     try:
         time, signals = loop.run(cases)
     except (ValueError, TypeError) as exc:   # e.g. a plant that cannot take a param per loop
@@ -117,7 +120,7 @@ def _unsupported(scen, args: dict, backend: str) -> str:
 
 
 def _values(case: dict) -> dict[str, float]:
-    return {k: v for k, v in case.items() if k not in ("step", "fault")}
+    return {k: v for k, v in case.items() if k not in EVENTS}
 
 
 def _event_text(case: dict) -> str:
@@ -150,6 +153,7 @@ class _Loop:
         self.nominal = scen.plant_params(1)
         self.plant_inputs = set(getattr(self.module, "INPUTS", ()))
         self.params = self._controller_model().symbol_values()
+        self.noise_width = 0
 
     def _controller_model(self) -> Model:
         model = copy.deepcopy(self.model)
@@ -210,7 +214,7 @@ class _Loop:
         from fuzzyc.runtime import ControllerBlock, PlantBlock, ScheduleBlock, run
         from fuzzyc.runtime.simulate import build
         batch = len(cases)
-        keys = [key for key in cases[0] if key not in ("step", "fault")]
+        keys = list(_values(cases[0]))
         drawn = {key.split(".", 1)[1] for key in keys if key.startswith("controller.")}
         # a set point the scenario holds constant on a schedule is drawn instead
         blocks = [b for b in build(self.scen, controller, batch, self.seed)
@@ -219,6 +223,9 @@ class _Loop:
         blocks[k].params = dataclasses.replace(blocks[k].params, **{
             key.split(".", 1)[1]: np.array([c[key] for c in cases], dtype=float)
             for key in keys if key.startswith("plant.")})
+        if self.noise_width:
+            blocks[k].noise_keys = np.array([c["noise"] for c in cases])
+            blocks[k].noise_width = self.noise_width
         scheduled = sorted({c["step"][0] for c in cases if c.get("step")}
                            | {key for key in keys if key.startswith("controller.")})
         faults = sorted({c["fault"][0] for c in cases if c.get("fault")})
@@ -296,7 +303,8 @@ def _draw_cases(loop: _Loop, args: dict, n: int, seed: int) -> list[dict]:
             drawn.append(case)
 
     collect()
-    return drawn or [{"step": None, "fault": None}]
+    return [{**case, "noise": i} for i, case in enumerate(drawn or [{"step": None,
+                                                                     "fault": None}])]
 
 
 def _shrink(loop: _Loop, checks: list[Property], cases: dict[int, dict],
@@ -331,7 +339,7 @@ def _shrink(loop: _Loop, checks: list[Property], cases: dict[int, dict],
             o.name for o in loop.model.outputs} | set(_event_signals(case)) | {
             k.split(".", 1)[1] for k in vary if k.startswith("controller.")}
         out[i] = (case, {"case": _values(case), "step": case.get("step"),
-                         "fault": case.get("fault"),
+                         "fault": case.get("fault"), "noise": case.get("noise"),
                          "violated_at": None if np.isnan(when[0]) else float(when[0]),
                          "t": time, "signals": {k: v[:, 0] for k, v in signals.items()
                                                 if k in kept}})
