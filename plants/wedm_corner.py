@@ -3,30 +3,60 @@
 The corner controller lowers the feed by y % near each corner; this plant says what that does to
 the corner error and to the machining time.
 
-Corner error model, from the paper's physics and fitted to its Table 2 (SKD-11, 0.25 mm wire,
-950 gf). The wire lags its guides by the static deflection of eq. 3,
-    lag = D + d = q0 h H / (2F) + q0 h^2 / (8F) = Q (H/2 + h/8) / F,   Q = q0 h,
-and the total pulling-back force Q is "roughly proportional to the energy invested in the
-erosion", i.e. to the removal rate, i.e. to the feed f (mm^2/min). So lag ~ f (H/2 + h/8) / F.
-At a corner of angle theta the lag cuts the corner short by g(theta) * lag, and the edge effects
-of section 2 (enhanced sparking at a sharp edge, < 30 deg; vibration at 30-135 deg) add an error
-E0(theta) that does not scale with the feed (Table 2 keeps ~110-140 um at 30 deg even at
-40 mm^2/min). Hence, per angle column of Table 2, a straight line in x = f (H/2 + h/8):
+What the controller changes. It raises the pulse OFF-TIME of the iso-energy generator (section
+4.1, 4.3.3): every discharge keeps its energy, the discharge frequency falls, and with it the mean
+sparking force on the wire and the removal rate, i.e. the feed, all by the same factor
+keep = 1 - y/100 ("machining speed and sparking frequency ... computing one of them can get
+another two values", section 3.2). Table 2 was measured by turning the same knob ("variations of
+sparking forces can be accomplished by means of changing machining speed"), so its rows are the
+steady corner error at each sparking force.
+
+Steady corner error, from Table 2 (SKD-11, 0.25 mm wire, 950 gf), per angle column a straight
+line in x = f (H/2 + h/8):
     E(f, h, theta) = E0(theta) + s(theta) * f * (H/2 + h/8)
+- s * x is the force-driven part. Eq. 3: the wire lags its guides by lag = Q (H/2 + h/8) / F with
+  Q = q0 h proportional to the sparking force, i.e. to f. A lagging wire follows its guides on a
+  pursuit curve (a tractrix: it moves towards the guides along its own deflection) and cuts the
+  corner short; `pursuit_tip` gives by how much. The 150 deg column (class 1 of section 2.4, "the
+  main cause is the wire lag") sets the lag: about 50 um at 160 mm^2/min, 50 mm. With that lag
+  the pursuit geometry alone predicts the 30 deg slope within 6 %, while the 60, 90 and 120 deg
+  slopes (class 2) are 19-89 % larger: the vibration and asymmetric load of section 2.2, also
+  driven by the sparking force, hence also proportional to f.
+- E0 does not fall with the sparking force, and the physics says it cannot: with iso-energy
+  pulses the removal per discharge is fixed, so the number of discharges per millimetre of path
+  is the same at every off-time; the edge effects of section 2.3 (field concentration at a sharp
+  edge) take their share of exactly those discharges. Table 2 shows this floor directly: at
+  40 mm^2/min the 30 deg error is 130-138 um at both 21 and 50 mm, where the lag part would
+  differ by 46 %.
 E0 and s are fitted per measured angle by least squares, H (guide-to-workpiece distance, not in
-the paper) is fitted once over the whole table; between the measured angles both are
-interpolated linearly, at 180 deg (no corner) both are 0, below 30 deg the 30 deg values hold.
+the paper) once over the whole table; between measured angles both are interpolated linearly, at
+180 deg (no corner) both are 0, below 30 deg the 30 deg values hold.
 
-Corner zone (assumption): the feed reduction acts while the wire is within one kerf width of the
-corner vertex, before and after it (kerf = wire 0.25 mm + 2 x 0.03 mm spark gap): that is where
-the asymmetric load of section 2.2 acts. The error of a corner is set by the feed at the vertex.
-`step` moves the wire exactly (zone edges inside a period included), so a run of the loop and
-`evaluate_path` (closed form over the whole path) agree to the period's time resolution.
+Controlled corner. The controller acts in a block before the vertex (x1 of Fig. 8, `zone_before`)
+and after it (x2, `zone_after`); outside them the feed is normal. Within the zones the wire moves
+at keep times its speed. The lag follows the force, but not at once: the wire can only straighten
+by eroding the bowed front ahead of it, which it does by sparking preferentially where it comes
+closer than the normal gap, so the lag relaxes towards keep * lag over a travel of `RELAX` (one
+spark gap, assumption). The force-driven error of the corner is s * x scaled by the pursuit's
+corner cut with that lag history (before the vertex: how far the lag has relaxed; after it: the
+wire still finishes the turn while the lag may grow back when x2 ends too early), relative to the
+steady pursuit's. With the default zones (one kerf width each side, far longer than RELAX and the
+~2 lag lengths the pursuit needs after the vertex) this is keep * s * x; shorter zones lose part
+of the gain. The error of a corner is computed as the wire passes its vertex, with the reduction
+then held through x2 (as the 27-rule controller does: its inputs do not change within a corner).
 
-What this model cannot give: the paper's headline (corner errors below 50 % of normal machining
-at <= 10 % more time). The edge error E0 does not fall with the feed (Table 2 itself says so),
-so slowing down only removes the lag part; with the 27-rule controller the path's summed error
-falls to about 67-75 % for the rough cuts at 5-7 % more time.
+Machining time follows the material: inside a zone the removal rate is keep times normal, over
+the zone plus the (1 - keep) * lag the wire has to catch up (`catch_up`).
+
+What this gives (measured in tests/test_corner.py, rough cuts of Table 2, 50/43/30/21 mm): the
+27-rule controller brings the path's summed corner error to 67-75 % of normal machining at
++5-7 % time. The floor E0 is 42 % of the summed error at 160 mm^2/min, 50 mm; Table 2 alone (no
+model) leaves 55-68 % even when every corner is cut as the slowest normal cut (a quarter of the
+rough feed); the best per-corner reductions within +10 % time reach 61-67 % with kerf-wide
+zones and 52-59 % with the least zones the lag needs (3 RELAX each side, feed down to 10 %). So
+the paper's "below 50 %" cannot hold for the summed error of the path by lowering the sparking
+force; it holds per corner for the 60 and 90 deg corners (43-49 % and 31-34 % with those best
+reductions; class 2, "the most important one" industrially), not for 30, 120 and 150 deg.
 
 Test path: the ISO program of section 3.2 (incremental G01 moves, F in mm/min), which cuts the
 five angles 150, 120, 90, 60, 30 deg on each side of a symmetric part.
@@ -61,7 +91,16 @@ TEST_PROGRAM = """G01X-5. G01Y4. G01X-4.6189Y8. G01X-8. G01Y-8. G01X-13.856Y8. G
 G01X-4.6189Y8. G01Y-24. G01X4.6189Y8. G01Y-8. G01X13.856Y8. G01Y-8. G01X8. G01X4.6189Y8.
 G01Y4."""
 
-KERF = 0.25 + 2 * 0.03   # mm, assumption: wire diameter plus two spark gaps
+SPARK_GAP = 0.03           # mm, assumption: a usual rough-cut side gap for a 0.25 mm wire
+KERF = 0.25 + 2 * SPARK_GAP   # mm: wire diameter plus two spark gaps
+# assumption: the lag relaxes over one spark gap of travel. Where the wire comes closer to the
+# front than the normal gap, discharges concentrate there (a gap change of one gap width changes
+# the local discharge rate by order one), so the bowed front straightens within about a gap.
+RELAX = SPARK_GAP
+# the pursuit is integrated in its own "time" S = integral of dsigma / lag, in which the lag's
+# angle to the new direction has the closed form tan(psi/2) = tan(turn/2) exp(-S); up to S = 8
+# the angle has fallen to e^-8 of its start, long after any corner cut is over
+PURSUIT_SPAN, PURSUIT_STEP = 8.0, 0.01
 
 INPUTS = ("reduction",)
 OUTPUTS = ("feed", "thickness", "angle", "in_corner", "feed_actual", "corner_error",
@@ -146,16 +185,125 @@ class CornerParams:
     thickness: float | np.ndarray = 50.0      # mm
     path: ToolPath = field(default_factory=test_path)
     fit: CornerFit = FIT
-    zone: float = KERF                        # reduction acts within this distance of a vertex
+    # the blocks x1, x2 of Fig. 8 (lengths not in the text, the figure is lost). assumption: one
+    # kerf width each side, where the asymmetric load of section 2.2 acts; it is ten RELAX and
+    # over six lag lengths, so the lag has relaxed before the vertex and the turn is finished
+    # before the feed comes back (shorter zones: `corner_errors`)
+    zone_before: float = KERF                 # mm before the vertex
+    zone_after: float = KERF                  # mm after the vertex
+    relax: float = RELAX                      # mm of travel for the lag to follow the force
 
 
 def corner_error(fit: CornerFit, feed, thickness, angle) -> np.ndarray:
-    """Corner error (um) at feed f (mm^2/min), thickness h (mm), included angle (deg)."""
+    """Steady corner error (um) at feed f (mm^2/min), thickness h (mm), included angle (deg)."""
+    edge, slope = _edge_and_slope(fit, angle)
+    return edge + slope * lag_factor(feed, thickness, fit.guide_gap)
+
+
+def _edge_and_slope(fit: CornerFit, angle) -> tuple[np.ndarray, np.ndarray]:
     angle = np.clip(np.asarray(angle, float), fit.angles[0], 180.0)
     knots = np.append(fit.angles, 180.0)
-    edge = np.interp(angle, knots, np.append(fit.edge, 0.0))
-    slope = np.interp(angle, knots, np.append(fit.slope, 0.0))
-    return edge + slope * lag_factor(feed, thickness, fit.guide_gap)
+    return (np.interp(angle, knots, np.append(fit.edge, 0.0)),
+            np.interp(angle, knots, np.append(fit.slope, 0.0)))
+
+
+def lag_profile(sigma, lag, keep, before, after, relax) -> np.ndarray:
+    """Wire lag (mm) at sigma >= 0 mm of guide travel past the vertex.
+
+    lag: the steady lag of normal machining; the force is keep times normal from `before` mm
+    ahead of the vertex to `after` mm past it, and the lag relaxes towards lag * force over
+    `relax` mm of travel (exponentially, from normal at the start of the zone)."""
+    at_vertex = keep + (1.0 - keep) * np.exp(-before / relax)
+    inside = keep + (at_vertex - keep) * np.exp(-np.minimum(sigma, after) / relax)
+    past = 1.0 + (inside - 1.0) * np.exp(-np.maximum(sigma - after, 0.0) / relax)
+    return lag * np.where(sigma <= after, inside, past)
+
+
+def pursuit_tip(turn, lag, keep=1.0, before=np.inf, after=np.inf, relax=RELAX) -> np.ndarray:
+    """How far (mm) a lagging wire cuts a corner short, along the corner's bisector.
+
+    turn: change of direction at the vertex (rad, = pi - included angle); the other arguments
+    as in `lag_profile`, all broadcast to one shape (K,). The guides go straight through the
+    vertex and on along the new direction; the wire trails them by the lag and moves towards
+    them along its deflection (a pursuit curve). In the frame of the new direction, with the
+    guides at (sigma, 0): wire = (sigma - lag cos psi, lag sin psi), psi the deflection's angle
+    to the new direction, tan(psi/2) = tan(turn/2) exp(-S), dS = dsigma / lag. The wire starts
+    on the old edge (polar angle = the included angle) and ends on the new one (angle 0); the
+    cut is its distance from the vertex where it crosses the bisector. With a constant lag it is
+    lag times a function of the angle: 1.86 at 30 deg, 0.68 at 90 deg, 0.20 at 150 deg.
+    """
+    turn, lag, keep, before, after, relax = np.broadcast_arrays(
+        *(np.asarray(a, float) for a in (turn, lag, keep, before, after, relax)))
+    bisector = (np.pi - turn) / 2
+    start = np.tan(turn / 2)
+    sigma = np.zeros(turn.shape)
+    lag0 = lag_profile(sigma, lag, keep, before, after, relax)
+    prev = np.stack([-lag0 * np.cos(turn), lag0 * np.sin(turn)])
+    prev_angle = np.pi - turn
+    tip = np.full(turn.shape, np.nan)
+    h = PURSUIT_STEP
+    for k in range(1, int(round(PURSUIT_SPAN / h)) + 1):    # steps in S, not over the batch
+        half = sigma + 0.5 * h * lag_profile(sigma, lag, keep, before, after, relax)
+        sigma = sigma + h * lag_profile(half, lag, keep, before, after, relax)
+        psi = 2.0 * np.arctan(start * np.exp(-k * h))
+        now_lag = lag_profile(sigma, lag, keep, before, after, relax)
+        here = np.stack([sigma - now_lag * np.cos(psi), now_lag * np.sin(psi)])
+        angle = np.arctan2(here[1], here[0])
+        crossed = np.isnan(tip) & (angle <= bisector)
+        if crossed.any():
+            frac = (prev_angle - bisector) / np.maximum(prev_angle - angle, 1e-300)
+            point = prev + frac * (here - prev)
+            tip = np.where(crossed, np.hypot(point[0], point[1]), tip)
+            if not np.isnan(tip).any():
+                break
+        prev, prev_angle = here, angle
+    return tip
+
+
+def steady_lag(fit: CornerFit, feed, thickness) -> np.ndarray:
+    """The wire lag of normal machining, mm (eq. 3), from the lag-only 150 deg column.
+
+    Section 2.4: above 135 deg "the main cause of the geometrical error is the wire lag", so
+    s(150) x = pursuit_tip(30 deg turn) per unit lag * lag."""
+    slope = _edge_and_slope(fit, 150.0)[1]
+    return 1e-3 * slope * lag_factor(feed, thickness, fit.guide_gap) / TIP_150
+
+
+TIP_150 = float(pursuit_tip(np.radians(30.0), 1.0))    # cut per unit lag at 150 deg: 0.1958
+
+
+def corner_errors(params: CornerParams, keep, angle=None) -> np.ndarray:
+    """Corner errors (um) with the force at keep (0-1) of normal in the corner zones.
+
+    keep and the result: (N, C) for N cuts (params' feed and thickness, scalars or (N,)) and the
+    C corners of the path (or of `angle`, (C,) deg); a leading grid axis (G, N, C) also works.
+    """
+    angle = params.path.corner_angle if angle is None else np.asarray(angle, float)
+    feed = np.asarray(params.feed, float)
+    thickness = np.asarray(params.thickness, float)
+    if feed.ndim or thickness.ndim:
+        feed, thickness = feed.reshape(-1, 1), thickness.reshape(-1, 1)
+    return controlled_error(params, feed, thickness, angle, keep)
+
+
+def controlled_error(params: CornerParams, feed, thickness, angle, keep) -> np.ndarray:
+    """Error (um) of corners of `angle` (deg) cut at steady `feed`, `thickness` with the force at
+    keep of normal in the zones (all broadcast together): the force-driven part s x of the
+    steady error scaled by the pursuit's corner cut with the lag history over that without."""
+    edge, slope = _edge_and_slope(params.fit, angle)
+    force_part = slope * lag_factor(feed, thickness, params.fit.guide_gap)
+    keep = np.clip(np.asarray(keep, float), 1e-9, 1.0)
+    shape = np.broadcast_shapes(keep.shape, force_part.shape)
+    turn = np.broadcast_to(np.radians(180.0 - np.asarray(angle, float)), shape)
+    keep = np.broadcast_to(keep, shape)
+    act = (keep < 1.0) & (turn > 0)
+    ratio = np.ones(shape)
+    if act.any():
+        lag = np.broadcast_to(steady_lag(params.fit, feed, thickness), shape)[act]
+        controlled = pursuit_tip(turn[act], lag, keep[act], params.zone_before,
+                                 params.zone_after, params.relax)
+        ratio[act] = controlled / pursuit_tip(turn[act], lag)
+    return edge + force_part * ratio
 
 
 def linear_speed(params: CornerParams) -> np.ndarray:
@@ -163,22 +311,67 @@ def linear_speed(params: CornerParams) -> np.ndarray:
     return np.asarray(params.feed, float) / np.asarray(params.thickness, float) / 60.0
 
 
+def catch_up(params: CornerParams, keep, per_corner: bool = True) -> np.ndarray:
+    """Extra length (mm) cut at the reduced rate per corner: (1 - keep) * lag.
+
+    Time follows the material: the wire removes at keep times the normal rate from where it is
+    when the zone starts (lag behind the guides) to where it is when the zone ends (keep * lag
+    behind), a strip longer than the zone by (1 - keep) * lag. (The guides wait while the wire
+    erodes its way forward, and jump ahead when the force comes back and it bows back.)
+    keep: (N, C) per corner (or (G, N, C)), or with per_corner=False (N,) per cut."""
+    keep = np.clip(np.asarray(keep, float), 0.0, 1.0)
+    feed = np.asarray(params.feed, float)
+    thickness = np.asarray(params.thickness, float)
+    if per_corner and (feed.ndim or thickness.ndim):
+        feed, thickness = feed.reshape(-1, 1), thickness.reshape(-1, 1)
+    return (1.0 - keep) * steady_lag(params.fit, feed, thickness)
+
+
+def machining_time(params: CornerParams, keep) -> np.ndarray:
+    """Time (s) to cut the path with the speed at keep (N, C) of normal in each corner's zones
+    (zones of neighbouring corners taken as disjoint: true on the test path, >= 4 mm apart)."""
+    keep = np.clip(np.asarray(keep, float), 1e-9, 1.0)
+    strip = params.zone_before + params.zone_after + catch_up(params, keep)
+    slow = np.sum(strip / keep - strip, axis=-1)
+    return (params.path.length + slow) / linear_speed(params)
+
+
 def evaluate_path(params: CornerParams, reduction: np.ndarray) -> dict[str, np.ndarray]:
     """Closed form for a whole path: reduction (N, C) in % per corner (0 = no corner control).
 
-    Returns the corner errors (N, C) in um and the machining time (N,) in s. Zones of
-    neighbouring corners are taken as disjoint (true on the test path: >= 4 mm between corners).
+    Returns the corner errors (N, C) in um and the machining time (N,) in s."""
+    keep = 1.0 - np.clip(np.asarray(reduction, float), 0.0, 100.0) / 100.0
+    return {"errors": corner_errors(params, keep), "time": machining_time(params, keep)}
+
+
+def best_reductions(params: CornerParams, time_ratio: float = 1.10, keep_min: float = 0.1,
+                    grid: int = 361) -> np.ndarray:
+    """The per-corner reductions (N, C) in % that give the least summed corner error of the
+    path within `time_ratio` times normal machining, with keep >= keep_min everywhere.
+
+    Lagrangian: at a price mu (um per mm of extra path-equivalent travel) every corner takes the
+    keep on a grid that minimises error + mu * extra travel; mu is bisected (in log, per cut) to
+    the cheapest price whose plan fits the budget. The extra travel of a corner is
+    (zone + catch-up) (1/keep - 1), the budget (time_ratio - 1) * path length: time is travel /
+    speed.
     """
-    path = params.path
-    reduction = np.asarray(reduction, float)
-    keep = 1.0 - np.clip(reduction, 0.0, 100.0) / 100.0
-    feed = np.asarray(params.feed, float)[..., None]
-    thickness = np.asarray(params.thickness, float)[..., None]
-    errors = corner_error(params.fit, feed * keep, thickness, path.corner_angle)
-    v = linear_speed(params)
-    zone_length = 2 * params.zone
-    slow = np.sum(zone_length / np.maximum(keep, 1e-9) - zone_length, axis=-1)
-    return {"errors": errors, "time": (path.length + slow) / v}
+    n = np.broadcast(np.asarray(params.feed), np.asarray(params.thickness)).size
+    corners = len(params.path.corner_angle)
+    keeps = np.linspace(keep_min, 1.0, grid)
+    errors = corner_errors(params, keeps[:, None, None] * np.ones((1, n, corners)))
+    grid_keep = keeps[:, None, None] * np.ones((1, n, 1))
+    strip = params.zone_before + params.zone_after + catch_up(params, grid_keep)
+    extra = np.broadcast_to(strip * (1.0 / grid_keep - 1.0), (grid, n, 1))   # mm per corner
+    budget = (time_ratio - 1.0) * params.path.length
+    lo, hi = np.full(n, -6.0), np.full(n, 6.0)                           # log10 mu
+    cuts = np.arange(n)[:, None]
+    for _ in range(60):                      # bisection steps, each over all cuts at once
+        mid = 0.5 * (lo + hi)
+        pick = np.argmin(errors + 10.0 ** mid[None, :, None] * extra, axis=0)      # (N, C)
+        over = extra[pick, cuts, 0].sum(axis=1) > budget
+        lo, hi = np.where(over, mid, lo), np.where(over, hi, mid)
+    pick = np.argmin(errors + 10.0 ** hi[None, :, None] * extra, axis=0)
+    return 100.0 * (1.0 - keeps[pick])
 
 
 def initial_state(params: CornerParams, batch: int, rng: np.random.Generator | None = None
@@ -191,6 +384,7 @@ def step(params: CornerParams, state: dict[str, np.ndarray], inputs: dict[str, n
          t: float, dt: float, rng: np.random.Generator | None = None
          ) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
     """Advance the wire by one period. Input `reduction` (%) acts only inside a corner zone.
+    The error of a corner is set as its vertex is passed, with the reduction then.
 
     Outputs: `feed` (steady feed, what the controller's feed input sees), `thickness`,
     `angle` (of the nearest corner), `in_corner`, `feed_actual`, `corner_error` (um, the last
@@ -201,15 +395,19 @@ def step(params: CornerParams, state: dict[str, np.ndarray], inputs: dict[str, n
     reduction = np.nan_to_num(np.asarray(inputs["reduction"], float), nan=0.0)
     keep = np.broadcast_to(1.0 - np.clip(reduction, 0.0, 100.0) / 100.0, s.shape)
     s_new = _advance(params, s, keep, dt)
-    # corners whose vertex was passed in this step get the error of the feed used there
+    # corners whose vertex was passed in this step get the error of the force used there
     passed = (path.corner_at[None, :] > s[:, None]) & (path.corner_at[None, :] <= s_new[:, None])
     feed = np.broadcast_to(np.asarray(params.feed, float), s.shape)
     thickness = np.broadcast_to(np.asarray(params.thickness, float), s.shape)
-    now = corner_error(params.fit, (feed * keep)[:, None], thickness[:, None], path.corner_angle)
-    errors = np.where(passed, now, state["errors"])
+    errors = state["errors"].copy()
+    rows, cols = np.nonzero(passed)
+    if len(rows):
+        errors[rows, cols] = controlled_error(params, feed[rows], thickness[rows],
+                                              path.corner_angle[cols], keep[rows])
     last = np.searchsorted(path.corner_at, s_new, side="right") - 1
     ahead = _nearest_corner(path, s_new)
-    in_zone = np.abs(path.corner_at[ahead] - s_new) <= params.zone
+    in_zone = _in_zone(params, s_new[:, None], np.broadcast_to(
+        catch_up(params, keep, per_corner=False), s.shape))[:, 0]
     outputs = {"feed": feed.copy(), "thickness": thickness.copy(),
                "angle": path.corner_angle[ahead],
                "in_corner": in_zone.astype(float),
@@ -223,24 +421,37 @@ def step(params: CornerParams, state: dict[str, np.ndarray], inputs: dict[str, n
 def _advance(params: CornerParams, s: np.ndarray, keep: np.ndarray, dt: float) -> np.ndarray:
     """Path position after dt, exact: speed v*keep inside corner zones, v outside.
 
-    The time to reach a position is piecewise linear in it, with knots at the zone edges;
-    invert it per batch element at the start time + dt.
+    The time to reach a position is piecewise linear in it, with knots at the zone edges (per
+    batch element: the slow stretch of a corner ends x2 + catch-up past the vertex, which takes
+    the catch-up's time as `machining_time` does); invert it at the start time + dt.
     """
     path = params.path
-    knots = np.unique(np.clip(np.concatenate([[0.0, path.length], path.corner_at - params.zone,
-                                              path.corner_at + params.zone]), 0.0, path.length))
-    middle = 0.5 * (knots[1:] + knots[:-1])
-    zone = np.abs(path.corner_at[_nearest_corner(path, middle)] - middle) <= params.zone
+    extra = np.broadcast_to(catch_up(params, keep, per_corner=False), s.shape)
+    count = 2 + 2 * len(path.corner_at)
+    knots = np.sort(np.clip(np.concatenate([
+        np.broadcast_to([0.0, path.length], (len(s), 2)),
+        np.broadcast_to(path.corner_at - params.zone_before, (len(s), count // 2 - 1)),
+        path.corner_at[None, :] + params.zone_after + extra[:, None]], axis=1),
+        0.0, path.length), axis=1)
+    zone = _in_zone(params, 0.5 * (knots[:, 1:] + knots[:, :-1]), extra)
     v = np.broadcast_to(linear_speed(params), s.shape)[:, None]
-    pace = np.where(zone[None, :], 1.0 / (v * np.maximum(keep, 1e-9)[:, None]), 1.0 / v)  # s/mm
-    elapsed = np.concatenate([np.zeros((len(s), 1)), np.cumsum(np.diff(knots) * pace, axis=1)],
-                             axis=1)
+    pace = np.where(zone, 1.0 / (v * np.maximum(keep, 1e-9)[:, None]), 1.0 / v)   # s/mm
+    elapsed = np.concatenate([np.zeros((len(s), 1)),
+                              np.cumsum(np.diff(knots, axis=1) * pace, axis=1)], axis=1)
     rows = np.arange(len(s))
-    here = np.clip(np.searchsorted(knots, s, side="right") - 1, 0, len(knots) - 2)
-    target = elapsed[rows, here] + (s - knots[here]) * pace[rows, here] + dt
-    there = np.clip(np.sum(elapsed <= target[:, None], axis=1) - 1, 0, len(knots) - 2)
-    return np.minimum(knots[there] + (target - elapsed[rows, there]) / pace[rows, there],
+    here = np.clip(np.sum(knots <= s[:, None], axis=1) - 1, 0, count - 2)
+    target = elapsed[rows, here] + (s - knots[rows, here]) * pace[rows, here] + dt
+    there = np.clip(np.sum(elapsed <= target[:, None], axis=1) - 1, 0, count - 2)
+    return np.minimum(knots[rows, there] + (target - elapsed[rows, there]) / pace[rows, there],
                       path.length)
+
+
+def _in_zone(params: CornerParams, s: np.ndarray, extra) -> np.ndarray:
+    """Whether path positions s (N, M) lie in some corner's slow stretch [vertex - x1,
+    vertex + x2 + extra], extra (N,) the catch-up."""
+    at = params.path.corner_at
+    after = at + params.zone_after + np.asarray(extra)[:, None, None]
+    return np.any((s[..., None] >= at - params.zone_before) & (s[..., None] <= after), axis=-1)
 
 
 def _nearest_corner(path: ToolPath, s: np.ndarray) -> np.ndarray:
