@@ -17,7 +17,8 @@ line in x = f (H/2 + h/8):
 - s * x is the force-driven part. Eq. 3: the wire lags its guides by lag = Q (H/2 + h/8) / F with
   Q = q0 h proportional to the sparking force, i.e. to f. A lagging wire follows its guides on a
   pursuit curve (a tractrix: it moves towards the guides along its own deflection) and cuts the
-  corner short; `pursuit_tip` gives by how much. The 150 deg column (class 1 of section 2.4, "the
+  corner short; `pursuit_tip` gives by how much (assumption: the corner error of Fig. 6, lost,
+  is the distance from the ideal vertex to the cut along the bisector). The 150 deg column (class 1 of section 2.4, "the
   main cause is the wire lag") sets the lag: about 50 um at 160 mm^2/min, 50 mm. With that lag
   the pursuit geometry alone predicts the 30 deg slope within 6 %, while the 60, 90 and 120 deg
   slopes (class 2) are 19-89 % larger: the vibration and asymmetric load of section 2.2, also
@@ -194,7 +195,7 @@ class CornerParams:
     # before the feed comes back (shorter zones: `corner_errors`)
     zone_before: float = KERF                 # mm before the vertex
     zone_after: float = KERF                  # mm after the vertex
-    relax: float = RELAX                      # mm of travel for the lag to follow the force
+    relax: float = RELAX                      # mm of travel for the lag to follow the force (> 0)
 
 
 def corner_error(fit: CornerFit, feed, thickness, angle) -> np.ndarray:
