@@ -74,6 +74,7 @@ class CompiledRuleBase:
         self.key = _fingerprint(rb)
         self.defuzzifiers = [OutputDefuzzifier(v, rb.inference, len(rb.inputs))
                              for v in rb.outputs]
+        self.linear_terms = any(d.linear is not None for d in self.defuzzifiers)
         self.partitions = self._sparse_partitions(rb) if allow_sparse else None
         self.sparse = self.partitions is not None
         n_candidates = rb.n_rules
@@ -146,6 +147,7 @@ class CompiledRuleBase:
         return (mu if self.unit_weights else mu * self.weights[rid]), rid
 
     def evaluate_chunk(self, x: np.ndarray) -> np.ndarray:
+        """x (N, I) -> y (N, O)."""
         y = np.empty((x.shape[0], len(self.defuzzifiers)))
         if self.grid is not None:
             alpha = self.grid(x)
@@ -156,6 +158,20 @@ class CompiledRuleBase:
         for o, defuzzify in enumerate(self.defuzzifiers):
             J = self.rb.consequents[:, o] if rid is None else self.consequents[rid, o]
             y[:, o] = defuzzify(act, J, x)
+        return y
+
+
+    def evaluate_rows(self, xt: np.ndarray) -> np.ndarray:
+        """xt (I, N), one row per input -> y (O, N): evaluate_chunk for callers that hold
+        their signals as rows (the controller), without transposing on the way in or out."""
+        if self.grid is None:
+            return self.evaluate_chunk(xt.T).T
+        alpha = self.grid.rows(xt)
+        # linear terms get x (N, I) laid out as evaluate_chunk's callers pass it (same BLAS path)
+        x = np.ascontiguousarray(xt.T) if self.linear_terms else None
+        y = np.empty((len(self.defuzzifiers), xt.shape[1]))
+        for o, defuzzify in enumerate(self.defuzzifiers):
+            y[o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T, x)
         return y
 
 

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .expr import clip
 from .membership import LocalPartition
 from .model import Aggregation, RuleBase, TNorm
 
@@ -36,6 +37,7 @@ class GridStrengths:
         self.n_seg = np.array([len(p.breaks) + 1 for p in partitions])
         self.depth = lookup.shape[1]
         self._build(rb, lookup, radix)
+        self._fuse_partitions()
 
     @staticmethod
     def fits(rb: RuleBase, partitions: list[LocalPartition], depth: int) -> bool:
@@ -69,27 +71,64 @@ class GridStrengths:
         self.unit_weights = bool(np.all(rb.weights == 1.0))
         self.stride = np.concatenate([np.cumprod(self.n_seg[::-1])[::-1][1:], [1]])
 
+    def _fuse_partitions(self) -> None:
+        """One table for all inputs' segments, so locating a sample takes a few numpy calls
+        for all inputs together instead of a few per input (the same arithmetic as
+        `LocalPartition.locate`, hence the same bits)."""
+        parts = self.partitions
+        self.lo = np.array([[p.breaks[0]] for p in parts])
+        self.hi = np.array([[p.breaks[-1]] for p in parts])
+        self.segment_base = np.concatenate([[0], np.cumsum(self.n_seg)[:-1]])[:, None]
+        self.segment_table = np.concatenate([p.columns for p in parts], axis=1)  # (6, segs)
+        self._n = -1
+
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """x (N, I) -> alpha (width, N): strength of every output term, term-major."""
-        n = x.shape[0]
-        cell = np.zeros(n, dtype=np.intp)
-        act = np.ones((1, n))
+        return self.rows(np.asarray(x, dtype=float).T)
+
+    def rows(self, xt: np.ndarray) -> np.ndarray:
+        """xt (I, N), one row per input -> alpha (width, N) (see __call__)."""
+        n = xt.shape[1]
+        # As LocalPartition.locate: clipping to the outermost break points changes no
+        # membership and keeps infinities out; a NaN sits in segment 0 with memberships 0.
+        xc = clip(xt, self.lo, self.hi, order="C")
+        has_nan = np.isnan(xc.sum())      # one pass; an inf - inf false alarm only costs time
+        if has_nan:
+            nan = np.isnan(xc)
+            xc[nan] = np.broadcast_to(self.lo, xc.shape)[nan]
+        seg = np.empty(xc.shape, dtype=np.intp)
         for i, part in enumerate(self.partitions):
-            seg, mu = part.locate(x[:, i])
-            cell += seg * self.stride[i]
+            seg[i] = np.searchsorted(part.breaks, xc[i], side="right")
+        if has_nan:
+            seg[nan] = 0
+        cell = seg[0] * self.stride[0] if len(seg) > 1 else seg[0].copy()
+        for i in range(1, len(seg)):
+            cell += seg[i] * self.stride[i]
+        seg += self.segment_base
+        row = self.segment_table.take(seg, axis=1)                          # (6, I, N)
+        mu = (xc - row[0:2]) / row[2:4] + row[4:6]                          # (2, I, N)
+        if has_nan:
+            mu[:, nan] = 0.0
+        # corner activations, first input's slot the most significant bit of the corner;
+        # T(1, m) = m exactly for these memberships (0 <= m <= 1), so no row of ones
+        act = mu[:, 0]
+        for i in range(1, len(seg)):
             if self.product:
-                act = (act[:, None] * mu[None]).reshape(-1, n)
+                act = (act[:, None] * mu[None, :, i]).reshape(2 * len(act), n)
             else:
-                act = np.minimum(act[:, None], mu[None]).reshape(-1, n)
+                act = np.minimum(act[:, None], mu[None, :, i]).reshape(2 * len(act), n)
         if self.depth > 1:
             act = np.repeat(act, self.depth, axis=0)
         if not self.unit_weights:
             act = act * self.weights.take(cell, axis=1)
-        index = self.columns.take(cell, axis=1)                             # (O * K, N)
-        index *= n
-        index += np.arange(n)
+        if self._n != n:                  # tables in flat positions of a batch of n
+            self._n, self._scaled, self._arange = n, self.columns * n, np.arange(n)
+        index = self._scaled.take(cell, axis=1)                             # (O * K, N)
+        index += self._arange
         alpha = np.zeros(self.width * n)
         act = act.reshape(-1)
-        for rows in index.reshape(len(self.slices), -1):       # one scatter per output
+        # one scatter per output: numpy 2.4's ufunc.at reads garbage when the values are
+        # broadcast against a 2-D index, so the values are never broadcast
+        for rows in index.reshape(len(self.slices), -1):
             self.scatter.at(alpha, rows, act)
         return alpha.reshape(self.width, n)

@@ -1,0 +1,111 @@
+"""The closed loop's fast paths give the very same numbers as the paths they shortcut.
+
+- the grid's fused input location (all inputs in a few numpy calls) against the per-input
+  `LocalPartition.locate` it replaces, bit for bit;
+- `evaluate_rows` (signals as rows, the controller's layout) against `evaluate_chunk`;
+- the controller's unmasked steps and outputs (once every memory is finite) against traces
+  computed by hand, with a NaN arriving after the memories are primed;
+- clamp compiled to one clip against the Min/Max it stands for.
+"""
+import math
+
+import numpy as np
+import pytest
+import sympy
+
+from fuzzyc.controller import Controller
+from fuzzyc.engine import CompiledRuleBase
+from fuzzyc.expr import compile_expr
+from fuzzyc.model import Aggregation, Defuzzifier, Implication, TNorm
+from test_controller import model
+from test_engine_core import SINGLE_OUT, TRI_OUT, random_inputs, wedm_like
+
+
+def per_input_strengths(grid, x: np.ndarray) -> np.ndarray:
+    """The grid's strengths located one input at a time (the path before the fused one)."""
+    n = x.shape[0]
+    cell = np.zeros(n, dtype=np.intp)
+    act = np.ones((1, n))
+    for i, part in enumerate(grid.partitions):
+        seg, mu = part.locate(x[:, i])
+        cell += seg * grid.stride[i]
+        act = (act[:, None] * mu[None]).reshape(2 * len(act), n) if grid.product else \
+            np.minimum(act[:, None], mu[None]).reshape(2 * len(act), n)
+    if grid.depth > 1:
+        act = np.repeat(act, grid.depth, axis=0)
+    if not grid.unit_weights:
+        act = act * grid.weights.take(cell, axis=1)
+    index = grid.columns.take(cell, axis=1) * n + np.arange(n)
+    alpha = np.zeros(grid.width * n)
+    for rows in index.reshape(len(grid.slices), -1):
+        grid.scatter.at(alpha, rows, act.reshape(-1))
+    return alpha.reshape(grid.width, n)
+
+
+CASES = [(TNorm.MIN, Implication.MIN, Aggregation.MAX, 1, False),
+         (TNorm.PRODUCT, Implication.PRODUCT, Aggregation.SUM, 2, True),
+         (TNorm.PRODUCT, Implication.PRODUCT, Aggregation.MAX, 1, True)]
+
+
+@pytest.mark.parametrize("tnorm, imp, agg, depth, weights", CASES)
+def test_fused_location_equals_the_per_input_one(tnorm, imp, agg, depth, weights):
+    rb = wedm_like(TRI_OUT, depth=depth, weights=weights, and_=tnorm, implication=imp,
+                   aggregation=agg, defuzzifier=Defuzzifier.CENTROID)
+    grid = CompiledRuleBase(rb).grid
+    x = random_inputs(700)                      # NaN, +-inf and exact break points included
+    x[7] = np.nan                               # a sample with every input NaN
+    for batch in (x, x[:1], x[:0], x[10:11]):   # the batch-size tables follow n
+        np.testing.assert_array_equal(grid(batch), per_input_strengths(grid, batch))
+    assert not grid(x[7:8]).any()
+
+
+@pytest.mark.parametrize("outputs", [TRI_OUT, SINGLE_OUT], ids=["triangles", "singletons"])
+@pytest.mark.parametrize("sparse", [True, False], ids=["grid", "dense"])
+def test_evaluate_rows_is_evaluate_chunk_transposed(outputs, sparse):
+    rb = wedm_like(outputs, defuzzifier=Defuzzifier.CENTER_OF_AREA)
+    engine = CompiledRuleBase(rb, allow_sparse=sparse)
+    assert (engine.grid is not None) == sparse
+    x = random_inputs(300)
+    np.testing.assert_array_equal(engine.evaluate_rows(np.ascontiguousarray(x.T)),
+                                  engine.evaluate_chunk(x).T)
+
+
+def test_nan_after_the_memories_are_primed_holds_them():
+    # x = [0.2, 0.4], [nan, 0.6], [0.5, 0.1]; d = delta(x), p = prev(x), l = 0.75 l + 0.25 x
+    c = Controller(model(), batch=2)
+    sig = []
+    for xs in ([0.2, 0.4], [np.nan, 0.6], [0.5, 0.1]):
+        c.step({"x": np.array(xs)})
+        sig.append(dict(c.signals))
+    np.testing.assert_allclose([s["d"] for s in sig], [[0, 0], [np.nan, 0.2], [0.3, -0.5]],
+                               rtol=0, atol=1e-15)
+    # prev holds 0.2 through the NaN: 0.2 is still the last finite sample of loop 0
+    np.testing.assert_array_equal([s["p"] for s in sig], [[0.2, 0.4], [0.2, 0.4], [0.2, 0.6]])
+    # l: [0.2, 0.4]; [nan, 0.75*0.4 + 0.25*0.6 = 0.45]; [0.75*0.2 + 0.25*0.5 = 0.275,
+    #    0.75*0.45 + 0.25*0.1 = 0.3625]
+    np.testing.assert_allclose([s["l"] for s in sig],
+                               [[0.2, 0.4], [np.nan, 0.45], [0.275, 0.3625]], rtol=1e-15)
+    # u holds on the NaN sample (du = 0 there); both loops stay finite
+    assert np.all(np.isfinite(sig[1]["u"])) and np.all(np.isfinite(sig[1]["t"]))
+
+
+def test_a_memory_is_not_the_callers_array():
+    # prev(x) and delta(x) of an input: the caller may reuse its array for the next sample
+    c = Controller(model())
+    x = np.array([0.2])
+    c.step({"x": x})
+    x[0] = 0.6
+    c.step({"x": x})
+    assert c.signals["p"][0] == 0.2 and c.signals["d"][0] == pytest.approx(0.4)
+
+
+def test_clamp_runs_as_clip_with_the_same_values():
+    x = sympy.Symbol("x")
+    values = np.array([np.nan, -np.inf, np.inf, -3.0, -1.0, -0.0, 0.0, 0.3, 1.0, 5.0])
+    for lo, hi in ((-1, 1), (-0.5, 2), (0, 1), (-1, 0)):
+        expr = sympy.Min(sympy.Max(2 * x, lo), hi)
+        got = compile_expr(expr)({"x": values})
+        want = np.minimum(float(hi), np.maximum(float(lo), 2 * values))
+        np.testing.assert_array_equal(got, want)
+        np.testing.assert_array_equal(np.signbit(got), np.signbit(want))
+    assert math.isclose(compile_expr(sympy.Min(sympy.Max(2 * x, -1), 1))({"x": 0.3}), 0.6)
