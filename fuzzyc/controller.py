@@ -18,6 +18,7 @@ takes effect at the next `reset()`; `params` are read every step (schedules chan
 from __future__ import annotations
 
 import numpy as np
+import sympy
 
 from .engine import compiled
 from .expr import clip, compile_value
@@ -42,9 +43,12 @@ class Controller:
         n = self.batch
         # NaN memory = "no sample yet"; only finite values are ever stored.
         self._memory = {s.name: np.full(n, np.nan) for s in self.model.steps if s.op != Op.ASSIGN}
+        self._primed: set[str] = set()     # the steps whose memory is finite for every loop
         self._state = {o.name: np.full(n, self._initial_state(o)) for o in self.model.outputs}
         self.signals = {}
-        self._steps = [(s, compile_value(s.expr)) for s in self.model.steps]
+        # a bare name returns the caller's array itself: a memory keeps a copy of it
+        self._steps = [(s, compile_value(s.expr), isinstance(s.expr, sympy.Symbol))
+                       for s in self.model.steps]
         self._outputs = [(o, compile_value(o.expr), self._state_limits(o))
                          for o in self.model.outputs]
         self._rb_inputs = [v.name for v in self.rulebase.inputs]
@@ -81,23 +85,41 @@ class Controller:
         env: dict = dict(self.params)
         env.update({name: self._column(inputs[name], n) for name in self.input_names})
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            for s, value in self._steps:
-                env[s.name] = self._run_step(s, self._column(value(env), n))
+            for s, value, alias in self._steps:
+                env[s.name] = self._run_step(s, self._column(value(env), n), alias)
             if self._engine is None:        # the consequents were set since the last step
                 self._engine = compiled(self.rulebase)
-            x = np.stack([env[name] for name in self._rb_inputs], axis=1)
-            y = self._engine.evaluate_chunk(x) if n else np.empty((0, len(self._rb_outputs)))
-            env.update({name: y[:, o] for o, name in self._rb_outputs})
+            # the rule base's inputs as rows (I, N), its outputs as rows (O, N)
+            x = np.stack([env[name] for name in self._rb_inputs])
+            y = self._engine.evaluate_rows(x) if n else np.empty((len(self._rb_outputs), 0))
+            env.update({name: y[o] for o, name in self._rb_outputs})
             outputs = {o.name: self._run_output(o, self._column(value(env), n), limits)
                        for o, value, limits in self._outputs}
         env.update(outputs)
         self.signals = {k: v for k, v in env.items() if k not in self.params}
         return outputs
 
-    def _run_step(self, s, arg: np.ndarray) -> np.ndarray:
+    def _run_step(self, s, arg: np.ndarray, alias: bool = False) -> np.ndarray:
         if s.op == Op.ASSIGN:
             return arg
         mem = self._memory[s.name]
+        if s.name in self._primed:
+            # no loop is fresh (the usual case after the first sample): the branches of the
+            # general case below without their masks, the same values
+            if s.op == Op.DELTA:
+                value, keep = arg - mem, arg
+            elif s.op == Op.PREV:
+                value, keep = mem, arg
+            else:
+                a, b = s.coeffs
+                value = a * mem + b * arg
+                keep = value
+            # a sum is finite only if every term is (one that overflows only costs time)
+            if np.isfinite(keep.sum()):
+                self._memory[s.name] = keep.copy() if alias and keep is arg else keep
+            else:
+                self._memory[s.name] = np.where(np.isfinite(keep), keep, mem)
+            return value
         fresh = np.isnan(mem)
         if s.op == Op.DELTA:
             value = np.where(fresh, np.where(np.isnan(arg), np.nan, 0.0), arg - mem)
@@ -110,16 +132,21 @@ class Controller:
             value = np.where(fresh, arg, a * mem + b * arg)
             keep = value
         self._memory[s.name] = np.where(np.isfinite(keep), keep, mem)
+        if not np.isnan(self._memory[s.name]).any():
+            self._primed.add(s.name)
         return value
 
     def _run_output(self, out, value: np.ndarray, limits: tuple[float, float]) -> np.ndarray:
         state = self._state[out.name]
-        finite = np.isfinite(value)
+        # every loop finite (the usual case): the masks below change nothing
+        finite = True if np.isfinite(value.sum()) else np.isfinite(value)
         if out.kind == OutputKind.DIRECT:
-            state = np.where(finite, clip(value, *limits), state)
+            state = clip(value, *limits) if finite is True else \
+                np.where(finite, clip(value, *limits), state)
             self._state[out.name] = state
             return state.copy()
-        state = clip(state + np.where(finite, value, 0.0), *limits)
+        state = clip(state + (value if finite is True else np.where(finite, value, 0.0)),
+                     *limits)
         self._state[out.name] = state
         if out.kind == OutputKind.INCREMENT:
             return state.copy()

@@ -57,6 +57,10 @@ def compile_expr(expr: sympy.Expr) -> Compiled:
     if expr.is_number:
         value = float(expr)
         return lambda env: value
+    clamp = _clamp_bounds(expr)
+    if clamp is not None:
+        inner, lo, hi = clamp
+        return lambda env: clip(inner(env), lo, hi)
     args = [compile_expr(a) for a in expr.args]
     for kind, fn in _NARY.items():
         if isinstance(expr, kind):
@@ -72,6 +76,27 @@ def compile_expr(expr: sympy.Expr) -> Compiled:
         base, exponent = args
         return lambda env: _power(base(env), exponent(env))
     raise ValueError(f"cannot evaluate `{expr}`: {type(expr).__name__} is not supported")
+
+
+def _clamp_bounds(expr: sympy.Expr) -> tuple[Compiled, float, float] | None:
+    """clamp(e, lo, hi) as the language builds it, Min(hi, Max(lo, e)) with number bounds:
+    (e compiled, lo, hi), to run as one clip instead of a maximum and a minimum.  clip is
+    min(max(e, lo), hi) element by element, NaN propagating, so the values are the same; only
+    for nonzero bounds, where no tie between 0.0 and -0.0 can pick a different zero."""
+    if not isinstance(expr, sympy.Min) or len(expr.args) != 2:
+        return None
+    numbers = [a for a in expr.args if a.is_number]
+    inner = [a for a in expr.args if isinstance(a, sympy.Max) and len(a.args) == 2]
+    if len(numbers) != 1 or len(inner) != 1:
+        return None
+    lows = [a for a in inner[0].args if a.is_number]
+    rest = [a for a in inner[0].args if not a.is_number]
+    if len(lows) != 1 or len(rest) != 1:
+        return None
+    lo, hi = float(lows[0]), float(numbers[0])
+    if lo == 0.0 or hi == 0.0 or not (np.isfinite(lo) and np.isfinite(hi)):
+        return None
+    return compile_expr(rest[0]), lo, hi
 
 
 def compile_value(expr: "sympy.Expr | float") -> Compiled:
