@@ -106,8 +106,15 @@ class ControllerBlock:
     def step(self, signals: dict) -> dict[str, np.ndarray]:
         for name in self.param_inputs:
             self.controller.params[name] = signals[name]
-        inputs = _read(signals, list(self.controller.input_names), self.name)
-        outputs = {self.rename.get(k, k): v for k, v in self.controller.step(inputs).items()}
+        try:
+            inputs = {n: signals[n] for n in self.controller.input_names}
+        except KeyError:        # say which ones, and what to do
+            inputs = _read(signals, list(self.controller.input_names), self.name)
+        outputs = self.controller.step(inputs)
+        outputs = {self.rename.get(k, k): v for k, v in outputs.items()} if self.rename \
+            else dict(outputs)
+        if not self.expose:
+            return outputs
         internal = getattr(self.controller, "signals", {})
         missing = [n for n in self.expose if n not in internal]
         if missing:
@@ -158,10 +165,17 @@ class ScheduleBlock:
     def reset(self, batch: int) -> None:
         self.batch = batch
         self._held: tuple[float, np.ndarray] | None = None
+        self._since, self._until = np.inf, -np.inf     # where value_at gives the held value
 
     def step(self, signals: dict) -> dict[str, np.ndarray]:
-        # the same array while the value holds (blocks never write into the bus's arrays)
-        value = self.value_at(signals["t"])
-        if self._held is None or self._held[0] != value:
-            self._held = (value, np.full(self.batch, value))
+        # the same array while the value holds (blocks never write into the bus's arrays);
+        # value_at's search only when t leaves the interval between the points around it
+        t = signals["t"] + 1e-12
+        if not self._since <= t < self._until:
+            k = int(np.searchsorted(self._times, t, side="right"))    # points at or before t
+            self._since = self._times[k - 1] if k > 0 else -np.inf
+            self._until = self._times[k] if k < len(self._times) else np.inf
+            value = float(self._values[max(k - 1, 0)])
+            if self._held is None or self._held[0] != value:
+                self._held = (value, np.full(self.batch, value))
         return {self.output: self._held[1]}
