@@ -2,8 +2,9 @@
 
 Reports simulated controller+plant steps per second (loop periods x batch / wall time) at
 batch 1 and 1,000 (randomized plant parameters), the median of repeated runs, and the ratio
-to batch 1 measured in the same run; and the engine's share of the loop's time (rule-base
-evaluation, measured in one more run whose engine calls are timed). Markdown to
+to batch 1 measured in the same run; and the shares of the loop's time taken by the engine
+(rule-base evaluation) and by the plant's step, measured in one more run whose engine and
+plant calls are timed.  The load average before and after goes with the numbers. Markdown to
 benchmarks/results/loop.md (atomic).
 Run: python3 benchmarks/bench_loop.py [--repeats 5] [--seconds 20]
 """
@@ -37,11 +38,17 @@ def _scenario(seconds: float, batch: int):
     return scenario, load_controller(scenario, batch)
 
 
-def _run_loop(scenario, controller, batch: int, seed: int):
-    """One timed run (s): the blocks are built and the rule base compiled before the clock."""
+def _run_loop(scenario, controller, batch: int, seed: int, wrap_plant=None):
+    """One timed run (s): the blocks are built and the rule base compiled before the clock.
+    wrap_plant(module) -> a stand-in for the plant module (to time its steps)."""
+    from fuzzyc.runtime.blocks import PlantBlock
     from fuzzyc.runtime.loop import run
     from fuzzyc.runtime.simulate import build
     blocks = build(scenario, controller, batch, seed, randomize=batch > 1)
+    if wrap_plant is not None:
+        for block in blocks:
+            if isinstance(block, PlantBlock):
+                block.plant = wrap_plant(block.plant)
     start = time.perf_counter()
     trace = run(blocks, scenario.period, scenario.duration, batch,
                 initial=scenario.data.get("initial"), record=["abnormal_ratio"])
@@ -58,37 +65,44 @@ def steps_per_second(batch: int, seconds: float, repeats: int) -> tuple[float, f
     return statistics.median(rates), min(rates)
 
 
-class _TimedEngine:
-    """The engine's tables with their evaluation timed."""
+class _Timed:
+    """A stand-in that times the calls of some of its target's methods (the rest pass)."""
 
-    def __init__(self, engine):
-        self.engine, self.seconds = engine, 0.0
+    def __init__(self, target, methods: tuple[str, ...]):
+        self.target, self.seconds = target, 0.0
+        for name in methods:
+            setattr(self, name, self._timed(getattr(target, name)))
 
-    def evaluate_rows(self, x):
-        start = time.perf_counter()
-        y = self.engine.evaluate_rows(x)
-        self.seconds += time.perf_counter() - start
-        return y
+    def _timed(self, method):
+        def call(*args):
+            start = time.perf_counter()
+            out = method(*args)
+            self.seconds += time.perf_counter() - start
+            return out
+        return call
 
-    def evaluate_chunk(self, x):
-        start = time.perf_counter()
-        y = self.engine.evaluate_chunk(x)
-        self.seconds += time.perf_counter() - start
-        return y
+    def __getattr__(self, name):
+        return getattr(self.target, name)
 
 
-def engine_share(batch: int, seconds: float) -> float:
-    """The rule-base evaluation's share of one run's wall time (its calls timed)."""
+def shares(batch: int, seconds: float) -> tuple[float, float]:
+    """(rule-base evaluation, plant step) shares of one run's wall time, their calls timed.
+
+    The engine is the controller's rule base (`fuzzyc.controller.compiled`); the plant is the
+    plant module's `step` (plants/wedm_gap.py, with its noise draws)."""
     import fuzzyc.controller as C
     scenario, controller = _scenario(seconds, batch)
-    timed: list[_TimedEngine] = []
+    engines: list[_Timed] = []
+    plants: list[_Timed] = []
     plain = C.compiled
-    C.compiled = lambda rb: timed.append(_TimedEngine(plain(rb))) or timed[-1]
+    C.compiled = lambda rb: engines.append(
+        _Timed(plain(rb), ("evaluate_chunk", "evaluate_rows"))) or engines[-1]
     try:
-        elapsed, _ = _run_loop(scenario, controller, batch, 0)
+        elapsed, _ = _run_loop(scenario, controller, batch, 0,
+                               lambda m: plants.append(_Timed(m, ("step",))) or plants[-1])
     finally:
         C.compiled = plain
-    return sum(t.seconds for t in timed) / elapsed
+    return (sum(t.seconds for t in engines) / elapsed, sum(t.seconds for t in plants) / elapsed)
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -98,24 +112,32 @@ def main(argv: list[str] | None = None) -> int:
     args = ap.parse_args(argv)
     _import_paths()
     from fuzzyc.atomic import write_text
+    load_before = os.getloadavg()[0]
     rows = []
     for batch in (1, 1000):
         median, worst = steps_per_second(batch, args.seconds, args.repeats)
-        share = engine_share(batch, args.seconds)
-        rows.append((batch, median, worst, share))
+        engine, plant = shares(batch, args.seconds)
+        rows.append((batch, median, worst, engine, plant))
         print(f"batch {batch:5d}: {median:12,.0f} steps/s (median of {args.repeats}; "
-              f"slowest {worst:,.0f}); engine {100 * share:.0f} % of the time")
+              f"slowest {worst:,.0f}); engine {100 * engine:.0f} %, plant {100 * plant:.0f} % "
+              "of the time")
+    load_after = os.getloadavg()[0]
+    print(f"load average (1 min) {load_before:.1f} before, {load_after:.1f} after, "
+          f"on {os.cpu_count()} cores")
     base = rows[0][1]
     lines = ["# Closed-loop speed: WEDM test 1 (three-region rule base + gap plant)", "",
              f"{args.seconds:g} simulated s at 40 ms per run, median of {args.repeats} runs; "
              f"{platform.python_version()}, {platform.machine()}. Target at batch 1,000: "
-             f">= 2,000,000 steps/s. Wall time: the machine's load average when the run "
-             f"started was {os.getloadavg()[0]:.1f} on {os.cpu_count()} cores (other work "
-             "slows every number here alike).", "",
-             "| batch | steps/s (median) | slowest run | vs batch 1 | engine share |",
-             "|---|---|---|---|---|"]
-    lines += [f"| {b} | {m:,.0f} | {w:,.0f} | {m / base:.0f}x | {100 * e:.0f} % |"
-              for b, m, w, e in rows]
+             f">= 2,000,000 steps/s. Wall time: the machine's load average was "
+             f"{load_before:.1f} when the run started and {load_after:.1f} when it ended, on "
+             f"{os.cpu_count()} cores (other work slows every number here alike). Engine: the "
+             "rule-base evaluation; plant: the plant model's step (its noise included); the "
+             "rest is the controller's signal chain and the loop.", "",
+             "| batch | steps/s (median) | slowest run | vs batch 1 | engine share | "
+             "plant share |",
+             "|---|---|---|---|---|---|"]
+    lines += [f"| {b} | {m:,.0f} | {w:,.0f} | {m / base:.0f}x | {100 * e:.0f} % | "
+              f"{100 * p:.0f} % |" for b, m, w, e, p in rows]
     write_text(ROOT / "benchmarks" / "results" / "loop.md", "\n".join(lines) + "\n")
     print(f"wrote {ROOT / 'benchmarks' / 'results' / 'loop.md'}")
     return 0

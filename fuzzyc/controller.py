@@ -90,7 +90,7 @@ class Controller:
             if self._engine is None:        # the consequents were set since the last step
                 self._engine = compiled(self.rulebase)
             # the rule base's inputs as rows (I, N), its outputs as rows (O, N)
-            x = np.stack([env[name] for name in self._rb_inputs])
+            x = np.array([env[name] for name in self._rb_inputs])     # each one (N,) float
             y = self._engine.evaluate_rows(x) if n else np.empty((len(self._rb_outputs), 0))
             env.update({name: y[o] for o, name in self._rb_outputs})
             outputs = {o.name: self._run_output(o, self._column(value(env), n), limits)
