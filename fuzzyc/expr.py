@@ -61,6 +61,17 @@ def compile_expr(expr: sympy.Expr) -> Compiled:
     if clamp is not None:
         inner, lo, hi = clamp
         return lambda env: clip(inner(env), lo, hi)
+    negated = _negated(expr)
+    if isinstance(expr, sympy.Add) and len(expr.args) == 2 and \
+            sum(_negated(a) is not None for a in expr.args) == 1:
+        # a - b, which sympy holds as a + (-1) b: a + (-b) is a - b exactly, in one call
+        (b,) = [_negated(a) for a in expr.args if _negated(a) is not None]
+        (a,) = [a for a in expr.args if _negated(a) is None]
+        first, second = compile_expr(a), compile_expr(b)
+        return lambda env: np.subtract(first(env), second(env))
+    if negated is not None:
+        arg = compile_expr(negated)
+        return lambda env: np.negative(arg(env))
     args = [compile_expr(a) for a in expr.args]
     for kind, fn in _NARY.items():
         if isinstance(expr, kind):
@@ -76,6 +87,13 @@ def compile_expr(expr: sympy.Expr) -> Compiled:
         base, exponent = args
         return lambda env: _power(base(env), exponent(env))
     raise ValueError(f"cannot evaluate `{expr}`: {type(expr).__name__} is not supported")
+
+
+def _negated(expr: sympy.Expr) -> sympy.Expr | None:
+    """b for an expression -b (sympy's Mul(-1, b)), else None."""
+    if isinstance(expr, sympy.Mul) and len(expr.args) == 2 and expr.args[0] == -1:
+        return expr.args[1]
+    return None
 
 
 def _clamp_bounds(expr: sympy.Expr) -> tuple[Compiled, float, float] | None:

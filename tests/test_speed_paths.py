@@ -109,3 +109,21 @@ def test_clamp_runs_as_clip_with_the_same_values():
         np.testing.assert_array_equal(got, want)
         np.testing.assert_array_equal(np.signbit(got), np.signbit(want))
     assert math.isclose(compile_expr(sympy.Min(sympy.Max(2 * x, -1), 1))({"x": 0.3}), 0.6)
+
+
+def test_differences_run_as_subtract_with_the_same_values():
+    # sympy holds a - b as a + (-1) b; a + (-b) and a - b are the same IEEE operation
+    a, b = sympy.symbols("a b")
+    va = np.array([1.0, -0.0, 0.0, -0.0, np.inf, -np.inf, np.nan, 3.5, 0.1])
+    vb = np.array([1.0, 0.0, -0.0, -0.0, np.inf, 2.0, 1.0, -1e-300, 0.3])
+    env = {"a": va, "b": vb}
+    with np.errstate(invalid="ignore"):
+        cases = {a - b: va + (-1.0 * vb), b - a: (-1.0 * va) + vb, -a: -1.0 * va,
+                 2 - a: 2.0 + (-1.0 * va), -a - b: (-1.0 * va) + (-1.0 * vb),
+                 a - 2 * b: va + (-2.0 * vb)}
+        for expr, want in cases.items():
+            got = compile_expr(expr)(env)
+            np.testing.assert_array_equal(got, want, err_msg=str(expr))
+            real = ~np.isnan(want)              # a NaN's sign bit carries no value
+            np.testing.assert_array_equal(np.signbit(got)[real], np.signbit(want)[real],
+                                          err_msg=str(expr))
