@@ -14,6 +14,8 @@ Speed: the model is read at `reset()` (expressions compiled to closures, the eng
 fetched, saturation limits taken), so a step does only the batch's arithmetic.  A model
 changed in place other than through `set_consequent_values` (a term moved, a limit changed)
 takes effect at the next `reset()`; `params` are read every step (schedules change them).
+Once every memory holds a finite value and a step's values are all finite (the usual case), the
+steps and outputs skip their masks: the same arithmetic on the values the masks would keep.
 """
 from __future__ import annotations
 

@@ -6,9 +6,10 @@ a cell each input has two slots (terms that can be positive there), so a sample 
 2**I term tuples, the corners of its cell, and which rules those are is the same for every sample
 of the cell.  Built once per rule base: per cell and candidate k (corner k // depth, k-th rule of
 that corner) the rule's weight and, per output, the column of its consequent in a flat row of all
-outputs' strengths.  Per sample: one segment lookup per input, the corner activations by
-broadcasting the t-norm, one gather of the cell's columns and one scatter (max or sum) into the
-strength row.  The arithmetic per activation is the sparse path's, so results are identical.
+outputs' strengths.  Per sample: one segment lookup per input, the memberships of all inputs
+from one gather in a joint segment table, the corner activations by broadcasting the t-norm, one
+gather of the cell's columns and one scatter (max or sum) per output into the strength row.  The
+arithmetic per activation is the sparse path's, so results are identical.
 """
 from __future__ import annotations
 
