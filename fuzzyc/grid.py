@@ -99,7 +99,10 @@ class GridStrengths:
             xc[nan] = np.broadcast_to(self.lo, xc.shape)[nan]
         seg = np.empty(xc.shape, dtype=np.intp)
         for i, part in enumerate(self.partitions):
-            seg[i] = np.searchsorted(part.breaks, xc[i], side="right")
+            # the breaks at or below x (LocalPartition.locate: counting beats a binary search
+            # for a few breaks, whose branches mispredict on data that changes every call)
+            seg[i] = (xc[i] >= part.column_breaks).sum(axis=0) if part.count_breaks else \
+                np.searchsorted(part.breaks, xc[i], side="right")
         if has_nan:
             seg[nan] = 0
         cell = seg[0] * self.stride[0] if len(seg) > 1 else seg[0].copy()

@@ -190,6 +190,8 @@ class LocalPartition:
 
     def __post_init__(self):
         self.columns = np.ascontiguousarray(self.table[:, :6].T)  # anchor, width, offset
+        self.count_breaks = len(self.breaks) <= LINEAR_SEARCH_BREAKS
+        self.column_breaks = self.breaks[:, None]
 
     @classmethod
     def build(cls, var: Variable) -> "LocalPartition | None":
@@ -232,8 +234,8 @@ class LocalPartition:
         # Outside the outermost break points every term is constant, so clipping changes no
         # membership and keeps infinities out of the arithmetic.
         xc = np.clip(x, self.breaks[0], self.breaks[-1])
-        if len(self.breaks) <= LINEAR_SEARCH_BREAKS:   # counting beats a binary search here
-            seg = (xc >= self.breaks[:, None]).sum(axis=0)
+        if self.count_breaks:       # counting beats a binary search here
+            seg = (xc >= self.column_breaks).sum(axis=0)
         else:
             seg = np.searchsorted(self.breaks, xc, side="right")
         has_nan = np.isnan(xc.sum())      # one pass; an inf - inf false alarm only costs time
