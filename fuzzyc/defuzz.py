@@ -49,7 +49,7 @@ def term_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
 
 def _safe_ratio(num: np.ndarray, den: np.ndarray, default: float) -> np.ndarray:
     """num / den where den > 0, else default."""
-    if np.size(den) and np.min(den) > 0:    # every den positive (a NaN min is not): no mask
+    if np.size(den) and den.min() > 0:      # every den positive (a NaN min is not): no mask
         return num / den
     ok = den > 0
     return np.where(ok, num / np.where(ok, den, 1.0), default)

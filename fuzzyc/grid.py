@@ -83,6 +83,12 @@ class GridStrengths:
         self.segment_table = np.concatenate([p.columns for p in parts], axis=1)  # (6, segs)
         self._n = -1
 
+    def _batch_tables(self, n: int) -> None:
+        """The clip bounds at full size, and the columns as flat positions in a batch of n."""
+        self._n, self._scaled, self._arange = n, self.columns * n, np.arange(n)
+        self._lo_n = np.ascontiguousarray(np.broadcast_to(self.lo, (len(self.lo), n)))
+        self._hi_n = np.ascontiguousarray(np.broadcast_to(self.hi, (len(self.hi), n)))
+
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """x (N, I) -> alpha (width, N): strength of every output term, term-major."""
         return self.rows(np.asarray(x, dtype=float).T)
@@ -92,7 +98,9 @@ class GridStrengths:
         n = xt.shape[1]
         # As LocalPartition.locate: clipping to the outermost break points changes no
         # membership and keeps infinities out; a NaN sits in segment 0 with memberships 0.
-        xc = clip(xt, self.lo, self.hi, order="C")
+        if self._n != n:                  # tables for a batch of n (most calls repeat n)
+            self._batch_tables(n)
+        xc = clip(xt, self._lo_n, self._hi_n, order="C")   # full-size bounds: the fast loop
         has_nan = np.isnan(xc.sum())      # one pass; an inf - inf false alarm only costs time
         if has_nan:
             nan = np.isnan(xc)
@@ -125,8 +133,6 @@ class GridStrengths:
             act = np.repeat(act, self.depth, axis=0)
         if not self.unit_weights:
             act = act * self.weights.take(cell, axis=1)
-        if self._n != n:                  # tables in flat positions of a batch of n
-            self._n, self._scaled, self._arange = n, self.columns * n, np.arange(n)
         index = self._scaled.take(cell, axis=1)                             # (O * K, N)
         index += self._arange
         alpha = np.zeros(self.width * n)
