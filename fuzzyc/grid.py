@@ -81,13 +81,16 @@ class GridStrengths:
         self.hi = np.array([[p.breaks[-1]] for p in parts])
         self.segment_base = np.concatenate([[0], np.cumsum(self.n_seg)[:-1]])[:, None]
         self.segment_table = np.concatenate([p.columns for p in parts], axis=1)  # (6, segs)
-        self._n = -1
+        self._tables: tuple = (-1,)
 
-    def _batch_tables(self, n: int) -> None:
-        """The clip bounds at full size, and the columns as flat positions in a batch of n."""
-        self._n, self._scaled, self._arange = n, self.columns * n, np.arange(n)
-        self._lo_n = np.ascontiguousarray(np.broadcast_to(self.lo, (len(self.lo), n)))
-        self._hi_n = np.ascontiguousarray(np.broadcast_to(self.hi, (len(self.hi), n)))
+    def _batch_tables(self, n: int) -> tuple:
+        """(n, the columns as flat positions in a batch of n, arange(n), the clip bounds at
+        full size (I, n))."""
+        shape = (len(self.lo), n)
+        self._tables = (n, self.columns * n, np.arange(n),
+                        np.ascontiguousarray(np.broadcast_to(self.lo, shape)),
+                        np.ascontiguousarray(np.broadcast_to(self.hi, shape)))
+        return self._tables
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """x (N, I) -> alpha (width, N): strength of every output term, term-major."""
@@ -98,9 +101,11 @@ class GridStrengths:
         n = xt.shape[1]
         # As LocalPartition.locate: clipping to the outermost break points changes no
         # membership and keeps infinities out; a NaN sits in segment 0 with memberships 0.
-        if self._n != n:                  # tables for a batch of n (most calls repeat n)
-            self._batch_tables(n)
-        xc = clip(xt, self._lo_n, self._hi_n, order="C")   # full-size bounds: the fast loop
+        tables = self._tables             # one tuple: a concurrent call cannot mix two n
+        if tables[0] != n:                # tables for a batch of n (most calls repeat n)
+            tables = self._batch_tables(n)
+        _, scaled, arange, lo, hi = tables
+        xc = clip(xt, lo, hi, order="C")  # full-size bounds: clip's fast loop
         has_nan = np.isnan(xc.sum())      # one pass; an inf - inf false alarm only costs time
         if has_nan:
             nan = np.isnan(xc)
@@ -133,8 +138,8 @@ class GridStrengths:
             act = np.repeat(act, self.depth, axis=0)
         if not self.unit_weights:
             act = act * self.weights.take(cell, axis=1)
-        index = self._scaled.take(cell, axis=1)                             # (O * K, N)
-        index += self._arange
+        index = scaled.take(cell, axis=1)                                   # (O * K, N)
+        index += arange
         alpha = np.zeros(self.width * n)
         act = act.reshape(-1)
         # one scatter per output: numpy 2.4's ufunc.at reads garbage when the values are
