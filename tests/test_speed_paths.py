@@ -127,3 +127,16 @@ def test_differences_run_as_subtract_with_the_same_values():
             real = ~np.isnan(want)              # a NaN's sign bit carries no value
             np.testing.assert_array_equal(np.signbit(got)[real], np.signbit(want)[real],
                                           err_msg=str(expr))
+
+
+def test_schedule_holds_between_points_and_switches_at_them():
+    from fuzzyc.runtime.blocks import ScheduleBlock
+    block = ScheduleBlock("sp", [(0.0, 1.0), (0.12, 2.0), (0.2, 2.0), (0.3, -1.0)])
+    block.reset(3)
+    times = [k * 0.04 for k in range(12)]        # 0.12 = 3 * 0.04 only up to rounding
+    got = [block.step({"t": t})["sp"] for t in times]
+    assert [float(v[0]) for v in got] == [block.value_at(t) for t in times]
+    assert [float(v[0]) for v in got] == [1, 1, 1, 2, 2, 2, 2, 2, -1, -1, -1, -1]
+    assert got[3] is got[7]                       # one array while the value holds
+    block.reset(3)                                # and from the start again after a reset
+    assert float(block.step({"t": 0.0})["sp"][0]) == 1.0
