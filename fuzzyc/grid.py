@@ -81,6 +81,14 @@ class GridStrengths:
         self.hi = np.array([[p.breaks[-1]] for p in parts])
         self.segment_base = np.concatenate([[0], np.cumsum(self.n_seg)[:-1]])[:, None]
         self.segment_table = np.concatenate([p.columns for p in parts], axis=1)  # (6, segs)
+        # all inputs' breaks counted in one comparison, padded with +inf (never at or below a
+        # clipped x); a partition with many breaks keeps its binary search
+        self.padded_breaks = None
+        if all(p.count_breaks for p in parts):
+            width = max(len(p.breaks) for p in parts)
+            self.padded_breaks = np.full((len(parts), width, 1), np.inf)
+            for i, p in enumerate(parts):
+                self.padded_breaks[i, :len(p.breaks), 0] = p.breaks
         self._tables: tuple = (-1,)
 
     def _batch_tables(self, n: int) -> tuple:
@@ -110,17 +118,18 @@ class GridStrengths:
         if has_nan:
             nan = np.isnan(xc)
             xc[nan] = np.broadcast_to(self.lo, xc.shape)[nan]
-        seg = np.empty(xc.shape, dtype=np.intp)
-        for i, part in enumerate(self.partitions):
-            # the breaks at or below x (LocalPartition.locate: counting beats a binary search
-            # for a few breaks, whose branches mispredict on data that changes every call)
-            seg[i] = (xc[i] >= part.column_breaks).sum(axis=0) if part.count_breaks else \
-                np.searchsorted(part.breaks, xc[i], side="right")
+        # the breaks at or below x (LocalPartition.locate: counting beats a binary search for
+        # a few breaks, whose branches mispredict on data that changes every call)
+        if self.padded_breaks is not None:
+            seg = (xc[:, None, :] >= self.padded_breaks).sum(axis=1)       # (I, N)
+        else:
+            seg = np.empty(xc.shape, dtype=np.intp)
+            for i, part in enumerate(self.partitions):
+                seg[i] = (xc[i] >= part.column_breaks).sum(axis=0) if part.count_breaks \
+                    else np.searchsorted(part.breaks, xc[i], side="right")
         if has_nan:
             seg[nan] = 0
-        cell = seg[0] * self.stride[0] if len(seg) > 1 else seg[0].copy()
-        for i in range(1, len(seg)):
-            cell += seg[i] * self.stride[i]
+        cell = self.stride @ seg                                            # exact (integers)
         seg += self.segment_base
         row = self.segment_table.take(seg, axis=1)                          # (6, I, N)
         mu = (xc - row[0:2]) / row[2:4] + row[4:6]                          # (2, I, N)

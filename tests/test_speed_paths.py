@@ -18,7 +18,8 @@ from fuzzyc.engine import CompiledRuleBase
 from fuzzyc.expr import compile_expr
 from fuzzyc.model import Aggregation, Defuzzifier, Implication, TNorm
 from test_controller import model
-from test_engine_core import SINGLE_OUT, TRI_OUT, random_inputs, wedm_like
+from test_engine_core import (LABELS5, SINGLE_OUT, TRI_OUT, random_inputs, rulebase,
+                              uniform, wedm_like)
 
 
 def per_input_strengths(grid, x: np.ndarray) -> np.ndarray:
@@ -52,11 +53,27 @@ def test_fused_location_equals_the_per_input_one(tnorm, imp, agg, depth, weights
     rb = wedm_like(TRI_OUT, depth=depth, weights=weights, and_=tnorm, implication=imp,
                    aggregation=agg, defuzzifier=Defuzzifier.CENTROID)
     grid = CompiledRuleBase(rb).grid
+    assert grid.padded_breaks is not None       # every input counted in one comparison
     x = random_inputs(700)                      # NaN, +-inf and exact break points included
     x[7] = np.nan                               # a sample with every input NaN
     for batch in (x, x[:1], x[:0], x[10:11]):   # the batch-size tables follow n
         np.testing.assert_array_equal(grid(batch), per_input_strengths(grid, batch))
     assert not grid(x[7:8]).any()
+
+
+def test_many_breaks_keep_their_binary_search():
+    # 17 terms 0.125 apart (exact in binary): 17 breaks, more than LINEAR_SEARCH_BREAKS, so
+    # the fused count is not taken
+    fine = uniform("x", [f"T{k}" for k in range(17)])
+    coarse = uniform("y", LABELS5)
+    rng = np.random.default_rng(3)
+    rules = [([a, b], [LABELS5[rng.integers(0, 5)]]) for a in fine.names for b in coarse.names]
+    rb = rulebase([fine, coarse], [TRI_OUT[0]], rules, defuzzifier=Defuzzifier.CENTROID)
+    grid = CompiledRuleBase(rb).grid
+    assert grid is not None and grid.padded_breaks is None
+    x = random_inputs(500)[:, :2]
+    x[::7, 0] = np.linspace(-1, 1, 17)[np.arange(0, 500, 7) % 17]      # on the breaks
+    np.testing.assert_array_equal(grid(x), per_input_strengths(grid, x))
 
 
 @pytest.mark.parametrize("outputs", [TRI_OUT, SINGLE_OUT], ids=["triangles", "singletons"])
