@@ -23,7 +23,7 @@ import numpy as np
 from .defuzz import OutputDefuzzifier
 from .grid import GridStrengths
 from .membership import LocalPartition, apply_hedges, memberships
-from .model import Connective, Hedge, RuleBase, TNorm
+from .model import Connective, Defuzzifier, Hedge, RuleBase, TNorm
 from .norms import combine
 
 MAX_LOOKUP_CELLS = 1 << 21
@@ -75,6 +75,11 @@ class CompiledRuleBase:
         self.defuzzifiers = [OutputDefuzzifier(v, rb.inference, len(rb.inputs))
                              for v in rb.outputs]
         self.linear_terms = any(d.linear is not None for d in self.defuzzifiers)
+        # every output a ratio of its peaks weighted by the strengths (COA, weighted average)
+        self.peak_ratio = not self.linear_terms and all(
+            d.use_peaks and rb.inference.defuzzifier != Defuzzifier.WEIGHTED_SUM
+            for d in self.defuzzifiers)
+        self.defaults = np.array([[float(v.default)] for v in rb.outputs])
         self.partitions = self._sparse_partitions(rb) if allow_sparse else None
         self.sparse = self.partitions is not None
         n_candidates = rb.n_rules
@@ -167,12 +172,29 @@ class CompiledRuleBase:
         if self.grid is None:
             return self.evaluate_chunk(xt.T).T
         alpha = self.grid.rows(xt)
+        if self.peak_ratio:
+            return self._peak_ratios(alpha)
         # linear terms get x (N, I) laid out as evaluate_chunk's callers pass it (same BLAS path)
         x = np.ascontiguousarray(xt.T) if self.linear_terms else None
         y = np.empty((len(self.defuzzifiers), xt.shape[1]))
         for o, defuzzify in enumerate(self.defuzzifiers):
             y[o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T, x)
         return y
+
+    def _peak_ratios(self, alpha: np.ndarray) -> np.ndarray:
+        """Every output's sum(alpha z) / sum(alpha) (OutputDefuzzifier.from_strengths of a
+        peak-based ratio, the same calls on the same arrays) with one check of the
+        denominators for all outputs."""
+        n = alpha.shape[1]
+        num, den = np.empty((len(self.defuzzifiers), n)), np.empty((len(self.defuzzifiers), n))
+        for o, (d, rows) in enumerate(zip(self.defuzzifiers, self.grid.slices)):
+            strengths = alpha[rows].T
+            np.matmul(strengths, d.peaks, out=num[o])
+            strengths.sum(axis=1, out=den[o])
+        if n and den.min() > 0:
+            return num / den
+        ok = den > 0
+        return np.where(ok, num / np.where(ok, den, 1.0), self.defaults)
 
 
 _CACHE: dict[int, CompiledRuleBase] = {}

@@ -77,14 +77,27 @@ def test_many_breaks_keep_their_binary_search():
 
 
 @pytest.mark.parametrize("outputs", [TRI_OUT, SINGLE_OUT], ids=["triangles", "singletons"])
+@pytest.mark.parametrize("method", list(Defuzzifier))
 @pytest.mark.parametrize("sparse", [True, False], ids=["grid", "dense"])
-def test_evaluate_rows_is_evaluate_chunk_transposed(outputs, sparse):
-    rb = wedm_like(outputs, defuzzifier=Defuzzifier.CENTER_OF_AREA)
+def test_evaluate_rows_is_evaluate_chunk_transposed(outputs, method, sparse):
+    rb = wedm_like(outputs, defuzzifier=method)
     engine = CompiledRuleBase(rb, allow_sparse=sparse)
     assert (engine.grid is not None) == sparse
     x = random_inputs(300)
+    x[:40] = 5.0            # beyond every term's support on the e1 side: nothing fires
+    x[:40, 0] = np.nan
     np.testing.assert_array_equal(engine.evaluate_rows(np.ascontiguousarray(x.T)),
                                   engine.evaluate_chunk(x).T)
+    np.testing.assert_array_equal(engine.evaluate_rows(np.ascontiguousarray(x[:1].T)),
+                                  engine.evaluate_chunk(x[:1]).T)
+
+
+def test_peak_ratio_path_is_taken_for_center_of_area_only_where_it_applies():
+    assert CompiledRuleBase(wedm_like(SINGLE_OUT, defuzzifier=Defuzzifier.CENTER_OF_AREA)
+                            ).peak_ratio
+    assert not CompiledRuleBase(wedm_like(SINGLE_OUT, defuzzifier=Defuzzifier.WEIGHTED_SUM)
+                                ).peak_ratio
+    assert not CompiledRuleBase(wedm_like(TRI_OUT, defuzzifier=Defuzzifier.CENTROID)).peak_ratio
 
 
 def test_nan_after_the_memories_are_primed_holds_them():
