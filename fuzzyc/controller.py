@@ -19,6 +19,8 @@ steps and outputs skip their masks: the same arithmetic on the values the masks 
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import sympy
 
@@ -81,11 +83,13 @@ class Controller:
     def step(self, inputs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """One sample for every loop: raw inputs (N,) each -> controller outputs (N,) each."""
         n = self.batch
-        missing = [name for name in self.input_names if name not in inputs]
-        if missing:
-            raise KeyError(f"no value for input(s): {', '.join(missing)}")
         env: dict = dict(self.params)
-        env.update({name: self._column(inputs[name], n) for name in self.input_names})
+        try:
+            for name in self.input_names:
+                env[name] = self._column(inputs[name], n)
+        except KeyError:
+            missing = [name for name in self.input_names if name not in inputs]
+            raise KeyError(f"no value for input(s): {', '.join(missing)}") from None
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             for s, value, alias in self._steps:
                 env[s.name] = self._run_step(s, self._column(value(env), n), alias)
@@ -98,7 +102,9 @@ class Controller:
             outputs = {o.name: self._run_output(o, self._column(value(env), n), limits)
                        for o, value, limits in self._outputs}
         env.update(outputs)
-        self.signals = {k: v for k, v in env.items() if k not in self.params}
+        for name in self.params:    # env holds every param: what is left are the signals
+            del env[name]
+        self.signals = env
         return outputs
 
     def _run_step(self, s, arg: np.ndarray, alias: bool = False) -> np.ndarray:
@@ -117,7 +123,7 @@ class Controller:
                 value = a * mem + b * arg
                 keep = value
             # a sum is finite only if every term is (one that overflows only costs time)
-            if np.isfinite(keep.sum()):
+            if math.isfinite(np.add.reduce(keep)):
                 self._memory[s.name] = keep.copy() if alias and keep is arg else keep
             else:
                 self._memory[s.name] = np.where(np.isfinite(keep), keep, mem)
@@ -141,7 +147,7 @@ class Controller:
     def _run_output(self, out, value: np.ndarray, limits: tuple[float, float]) -> np.ndarray:
         state = self._state[out.name]
         # every loop finite (the usual case): the masks below change nothing
-        finite = True if np.isfinite(value.sum()) else np.isfinite(value)
+        finite = True if math.isfinite(np.add.reduce(value)) else np.isfinite(value)
         if out.kind == OutputKind.DIRECT:
             state = clip(value, *limits) if finite is True else \
                 np.where(finite, clip(value, *limits), state)
