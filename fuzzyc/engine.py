@@ -171,7 +171,6 @@ class CompiledRuleBase:
             y[:, o] = defuzzify(act, J, x)
         return y
 
-
     def evaluate_rows(self, xt: np.ndarray) -> np.ndarray:
         """xt (I, N), one row per input -> y (O, N): evaluate_chunk for callers that hold
         their signals as rows (the controller), without transposing on the way in or out."""
