@@ -21,6 +21,7 @@ import numpy as np
 from hypothesis import HealthCheck, Phase, given, seed as hseed, settings, strategies as st
 
 from ..model import Model, Property
+from .draws import without_local_constants
 from . import temporal
 from .result import Evidence, Status
 
@@ -302,7 +303,8 @@ def _draw_cases(loop: _Loop, args: dict, n: int, seed: int) -> list[dict]:
         if len(drawn) < n:
             drawn.append(case)
 
-    collect()
+    with without_local_constants():
+        collect()
     return [{**case, "noise": i} for i, case in enumerate(drawn or [{"step": None,
                                                                      "fault": None}])]
 

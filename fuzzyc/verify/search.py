@@ -9,6 +9,7 @@ from hypothesis import HealthCheck, given, seed as hseed, settings, strategies a
 
 from .. import engine
 from ..model import RuleBase
+from .draws import without_local_constants
 from .result import Evidence, Status
 from .space import dense_grid, tensor_points
 
@@ -35,7 +36,8 @@ def _hypothesis(check, strategy, max_examples: int, seed: int):
             raise AssertionError(message)
 
     try:
-        run()
+        with without_local_constants():
+            run()
     except AssertionError:
         return failures[-1]     # hypothesis replays the minimal example last
     return None
