@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import copy
 import pathlib
+import platform
 import sys
 import time
 
@@ -91,7 +92,8 @@ def main(quick: bool = False) -> str:
             "baselines and the engine are timed in turn within each repeat and \"vs\" is "
             "the median of the per-repeat speed-ups (the machine's load varies: on a shared 2-core "
             "machine single rates moved by up to 2x between runs). Peak memory by "
-            "tracemalloc, including the result itself (N x 2 float64 = 15.3 MiB at 1e6).\n\n"
+            "tracemalloc, including the result itself (N x 2 float64 = 15.3 MiB at 1e6). "
+            f"numpy {np.__version__}, CPython {platform.python_version()}.\n\n"
             "- COA: the paper's eq. 2 (max-min, center of area over the output terms' peaks).\n"
             "- centroid: the same rule base with uniform triangle output terms (same peaks), "
             "exact centroid of the max-min aggregate.\n\n" + markdown_table(header, rows))
