@@ -49,6 +49,39 @@ def test_fig3_removal_rate_peaks_then_falls_with_feed():
     assert np.all(np.diff(out["abnormal_ratio"]) > 0)     # abnormal ratio rises with feed
 
 
+def fig3_map(feeds):
+    """The static map at Yan & Liao's Fig. 3/4 conditions (t_on 0.5 us, t_off 11.2 us, 30 mm,
+    7 m/min, 600 gf, 2 bar), each feed held 120 s: the last outputs."""
+    _, out, _ = hold(W.WedmGapParams(tension=600, noise=0), feeds, 11.2, 120)
+    return out
+
+
+@pytest.mark.xfail(strict=True, reason="finding: the map reaches 40 % at 0.72 mm/min and 18.5 "
+                   "kHz. Lowering k_arc 10 -> 7.3 puts it at 0.92 mm/min, 23.9 kHz (and 54 % at "
+                   "1.2 mm/min), but then test 3's off-time ends at 10.3 us and test 2 meets Yr1 "
+                   "before 55 % (test 1 settles in ~98 s); see the h-wedm2 report")
+def test_fig3_spark_frequency_at_40_percent_is_yr1_less_three_std():
+    # Yan & Liao took Yr1 = 30 kHz as the mean + 3 std of the spark frequency at the 40 %
+    # operating point of this cut. The 40-ms count alone has std sqrt(m x 0.04 s)/0.04 s:
+    # m + 3 sqrt(m / 0.04 s) = 30 kHz gives m = 27.5 kHz (std 0.83 kHz); process spread on
+    # top only lowers the mean: 24 kHz for a 2 kHz std. So 24 <= mean at 40 % <= 27.5 kHz.
+    feeds = np.linspace(0.2, 2.0, 91)
+    out = fig3_map(feeds)
+    below = out["abnormal_ratio"] < 0.7          # the branch before the cliff
+    f40 = np.interp(0.40, out["abnormal_ratio"][below], out["spark_freq"][below])
+    assert 24.0 <= f40 <= 27.5
+
+
+@pytest.mark.xfail(strict=True, reason="finding: at 1.2 mm/min the map reads 68 % abnormal (54 % "
+                   "is reached at ~0.98 mm/min); its peak is a cliff where arcs starve the "
+                   "erosion, so the ratio at the peak stays at 63-72 % for k_arc 5-10")
+def test_fig3_abnormal_ratio_is_54_percent_at_1_2_mm_min():
+    # "it reaches the maximum value when the abnormal ratio is 54 %. Once the feedrate is
+    # increased to more than 1.2 mm/min, the MRR starts to decrease": 54 % +- 5 % at 1.2
+    out = fig3_map(np.array([1.2]))
+    assert out["abnormal_ratio"][0] == pytest.approx(0.54, abs=0.05)
+
+
 def test_arcing_above_50_percent_breaks_the_wire_after_60_s():
     # feed 1.5 at t_off 11.2 holds the ratio above 50 %: the second mechanism fires once per
     # 60 s of it (the first ~10 s are the gap closing in)
