@@ -66,8 +66,12 @@ def test_finish_reaches_40_percent_within_200_s(finish):
     assert finish_settling_time(finish) <= 150.0 + 50.0
 
 
-@pytest.mark.xfail(strict=True, reason="finding: our plant's process dynamics are faster than "
-                   "the machine's: the ratio settles in about 70 s, not 150 s +- 50 s")
+@pytest.mark.xfail(strict=True, reason="finding: the ratio settles in about 70 s, not 150 s +- "
+                   "50 s. The time is the integrators' travel, not the plant's lag: 40 % is "
+                   "reached after feed +0.28 mm/min (62 s at 1.8e-4 per 40 ms) with the off-time "
+                   "32 -> 8 us. Plants with fewer arcs at this cut's 800 gf / 0.5 us travel "
+                   "further (96-133 s) but lose test 2, test 3's off-time, the Fig. 3 map or "
+                   "the off-time surge (branch h-wedm2)")
 def test_finish_settling_time_is_the_papers_150_s(finish):
     assert 150.0 - 50.0 <= finish_settling_time(finish) <= 150.0 + 50.0
 
