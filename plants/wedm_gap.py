@@ -219,7 +219,9 @@ def _wire(p: WedmGapParams, state: dict, fq, energy, ratio, height, dt):
     heat = state["heat"] + (dt / p.tau_wire) * (load - state["heat"])
     limit = p.q_rupture_per_speed * p.wire_speed * (800.0 / p.tension)
     arc_time = np.where(ratio > p.arc_rupture_ratio, state["arc_time"] + dt, 0.0)
-    broken = (heat > limit) | (arc_time >= p.arc_rupture_time)
+    # half a period of slack: 1500 additions of 0.04 s sum to 59.99999999999, and the 60-s
+    # rule would otherwise fire one period late
+    broken = (heat > limit) | (arc_time >= p.arc_rupture_time - dt / 2)
     # re-threaded: a broken wire starts cold and with a fresh arc clock
     return np.where(broken, 0.0, heat), np.where(broken, 0.0, arc_time), broken.astype(float)
 
