@@ -59,7 +59,7 @@ def fig3_map(feeds):
 @pytest.mark.xfail(strict=True, reason="finding: the map reaches 40 % at 0.72 mm/min and 18.5 "
                    "kHz. Lowering k_arc 10 -> 7.3 puts it at 0.92 mm/min, 23.9 kHz (and 54 % at "
                    "1.2 mm/min), but then test 3's off-time ends at 10.3 us and test 2 meets Yr1 "
-                   "before 55 % (test 1 settles in ~98 s); see the h-wedm2 report")
+                   "before 55 % (test 1 settles in ~98 s); see README, Closed loop")
 def test_fig3_spark_frequency_at_40_percent_is_yr1_less_three_std():
     # Yan & Liao took Yr1 = 30 kHz as the mean + 3 std of the spark frequency at the 40 %
     # operating point of this cut. The 40-ms count alone has std sqrt(m x 0.04 s)/0.04 s:

@@ -71,7 +71,7 @@ def test_finish_reaches_40_percent_within_200_s(finish):
                    "reached after feed +0.28 mm/min (62 s at 1.8e-4 per 40 ms) with the off-time "
                    "32 -> 8 us. Plants with fewer arcs at this cut's 800 gf / 0.5 us travel "
                    "further (96-133 s) but lose test 2, test 3's off-time, the Fig. 3 map or "
-                   "the off-time surge (branch h-wedm2)")
+                   "the off-time surge (README, Closed loop)")
 def test_finish_settling_time_is_the_papers_150_s(finish):
     assert 150.0 - 50.0 <= finish_settling_time(finish) <= 150.0 + 50.0
 
