@@ -158,9 +158,13 @@ class ScheduleBlock:
         self.input_names: list[str] = []
         self.output_names = [self.output]
 
+    def _points_up_to(self, t: float) -> int:
+        """How many points lie at or before t (a float step landing a hair before a point
+        counts as on it)."""
+        return int(np.searchsorted(self._times, t + 1e-12, side="right"))
+
     def value_at(self, t: float) -> float:
-        k = int(np.searchsorted(self._times, t + 1e-12, side="right")) - 1
-        return float(self._values[max(k, 0)])
+        return float(self._values[max(self._points_up_to(t) - 1, 0)])
 
     def reset(self, batch: int) -> None:
         self.batch = batch
@@ -172,10 +176,10 @@ class ScheduleBlock:
         # value_at's search only when t leaves the interval between the points around it
         t = signals["t"] + 1e-12
         if not self._since <= t < self._until:
-            k = int(np.searchsorted(self._times, t, side="right"))    # points at or before t
+            k = self._points_up_to(signals["t"])
             self._since = self._times[k - 1] if k > 0 else -np.inf
             self._until = self._times[k] if k < len(self._times) else np.inf
-            value = float(self._values[max(k - 1, 0)])
+            value = self.value_at(signals["t"])
             if self._held is None or self._held[0] != value:
                 self._held = (value, np.full(self.batch, value))
         return {self.output: self._held[1]}
