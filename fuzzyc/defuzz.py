@@ -47,8 +47,8 @@ def term_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
     return out.reshape(n, n_terms + 1)[:, :n_terms]
 
 
-def _safe_ratio(num: np.ndarray, den: np.ndarray, default: float) -> np.ndarray:
-    """num / den where den > 0, else default."""
+def safe_ratio(num: np.ndarray, den: np.ndarray, default) -> np.ndarray:
+    """num / den where den > 0, else default (a number, or an array broadcast against them)."""
     if np.size(den) and den.min() > 0:      # every den positive (a NaN min is not): no mask
         return num / den
     ok = den > 0
@@ -157,7 +157,7 @@ class OutputDefuzzifier:
             den = alpha.sum(axis=1)
             if method == Defuzzifier.WEIGHTED_SUM:
                 return np.where(den > 0, num, var.default)
-            return _safe_ratio(num, den, var.default)
+            return safe_ratio(num, den, var.default)
         if self.closed_form is not None:
             return self.closed_form(alpha)
         # max_r IMP(act_r, mu_j) = IMP(max_r act_r, mu_j); sum_r act_r mu_j = (sum act_r) mu_j
@@ -231,7 +231,7 @@ def _area_defuzzify(method: Defuzzifier, x: np.ndarray, f: np.ndarray,
     area = piece_area.sum(axis=1)
     if method == Defuzzifier.CENTROID:
         moment = (dx * (f0 * (2 * x0 + x1) + f1 * (x0 + 2 * x1)) / 6.0).sum(axis=1)
-        return _safe_ratio(moment, area, default)
+        return safe_ratio(moment, area, default)
     if method == Defuzzifier.BISECTOR:
         return np.where(area > 0, _bisector(x0, dx, f0, f1, piece_area, area), default)
     return _mean_of_maximum(x, f, default)

@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .defuzz import OutputDefuzzifier
+from .defuzz import OutputDefuzzifier, safe_ratio
 from .grid import GridStrengths
 from .membership import LocalPartition, apply_hedges, memberships
 from .model import Connective, Defuzzifier, Hedge, RuleBase, TNorm
@@ -196,10 +196,7 @@ class CompiledRuleBase:
             strengths = alpha[rows].T
             np.matmul(strengths, d.peaks, out=num[o])
             strengths.sum(axis=1, out=den[o])
-        if n and den.min() > 0:
-            return num / den
-        ok = den > 0
-        return np.where(ok, num / np.where(ok, den, 1.0), self.defaults)
+        return safe_ratio(num, den, self.defaults)
 
 
 _CACHE: dict[int, CompiledRuleBase] = {}
