@@ -1,5 +1,5 @@
 """Other tools' rule-base formats: import fuzzylite FLL, IEC 61131-7 FCL and MATLAB FIS into the
-model; export the model's rule base to .fz, FLL and FCL.
+model; export the model's rule base to .fz, FLL, FCL and MATLAB FIS.
 
 Importers give the Model the .fz front end would give for the same rule base: one raw input per
 rule-base input (same name), one DIRECT output `NAME_out` per rule-base output, saturated to its
@@ -15,15 +15,15 @@ from ..atomic import write_text
 from ..errors import Diagnostic, FuzzycError
 from ..model import Model
 from .fcl import read_fcl, write_fcl
-from .fis import read_fis
+from .fis import read_fis, write_fis
 from .fll import read_fll, write_fll
 from .fz import write_fz
 
 READERS = {".fll": read_fll, ".fcl": read_fcl, ".fis": read_fis}
-WRITERS = {".fz": write_fz, ".fll": write_fll, ".fcl": write_fcl}
+WRITERS = {".fz": write_fz, ".fll": write_fll, ".fcl": write_fcl, ".fis": write_fis}
 
 __all__ = ["load_any", "save", "read_fll", "write_fll", "read_fcl", "write_fcl", "read_fis",
-           "write_fz", "READERS", "WRITERS"]
+           "write_fis", "write_fz", "READERS", "WRITERS"]
 
 
 def load_any(path: str | Path) -> Model:
@@ -44,12 +44,12 @@ def load_any(path: str | Path) -> Model:
 
 
 def save(model: Model, path: str | Path) -> list[str]:
-    """Write the model to .fz, .fll or .fcl (by extension), atomically; returns the warnings
+    """Write the model to .fz, .fll, .fcl or .fis (by extension), atomically; returns the warnings
     (what the file does not carry).  FuzzycError when the format cannot say the rule base."""
     suffix = Path(path).suffix.lower()
     if suffix not in WRITERS:
         raise FuzzycError([Diagnostic(None, f"cannot write `{path}`: unknown extension "
-                                            f"`{suffix}` (known: .fz .fll .fcl)")])
+                                            f"`{suffix}` (known: .fz .fll .fcl .fis)")])
     warnings: list[str] = []
     text = WRITERS[suffix](model, warnings)
     write_text(path, text)

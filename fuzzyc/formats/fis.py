@@ -10,17 +10,41 @@ wtaver, wtsum.  MATLAB evaluates Mamdani outputs on 101 points of the range; the
 integrates exactly.  Rules: `i1 i2, o1 (w) : c` with 0 = any, a negative index = NOT,
 c = 1 (and) or 2 (or).  Not carried, reported: other MF types (dsigmf, psigmf, gauss2mf),
 som/lom, probor aggregation, custom functions, negated consequents.
+When no rule fires, MATLAB's evalfis sets an output to the middle of its range (with a
+warning): the imported output's default is that middle, so both give the same number.
+
+Export (`write_fis`) is the exact inverse of that mapping, with these choices:
+- Mamdani for centroid, bisector and mean of maximum over area terms; Sugeno for the weighted
+  average/sum, whose constant terms are the output terms' peaks (`export.peaks_instead`), and
+  for center of area (and any method over all-singleton outputs), which is MATLAB's wtaver only
+  when no two rules conclude the same term or the aggregation is a sum: the model's max over the
+  rules concluding one term has no FIS word, so such a rule base is refused.  Sugeno files get
+  ImpMethod='prod' and AggMethod='sum', the only ones MATLAB's Sugeno systems have (the weighted
+  defuzzifiers do not use them).
+- Shoulders (infinite break points) are written as trapmf flat to the end of the range
+  ([lo lo c d], [a b hi hi]): the same membership on the range, 0 instead of 1 beyond it.
+- MATLAB evaluates Mamdani outputs on 101 points of the range; fuzzyc integrates exactly, so
+  MATLAB's numbers differ by that sampling error (said in a warning).  The round-trip tests
+  compare fuzzyc on the re-imported file, not MATLAB.
+- Refused: hedges (the file has none), spike/cosine/concave terms, singleton inputs, rules
+  without a clause or a conclusion, an and/or operator MATLAB lacks that a rule needs, singleton
+  terms beside area terms of a Mamdani output.  A rule mixing `and` and `or` cannot occur (the
+  model has one connective per rule, as the file does).
 """
 from __future__ import annotations
 
 import math
 import re
 
+import numpy as np
+
 from ..builder import RuleSpec
 from ..errors import Reporter
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, SNorm,
-                     SourceLoc, TermKind, TNorm)
+                     SourceLoc, TermKind, TNorm, Variable)
+from ..membership import linear_coefficients
 from .common import Collected, TermSpec, VarSpec, plain_shape_or_none, shape, trapezoid_or_none
+from .export import left_out, num, peaks_instead, refuse, unsayable_hedges
 
 SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")
 KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$")
@@ -59,6 +83,8 @@ class _FisReader:
                 self._line(number, body)
         for is_input, var in self.variables:
             self.got.declare(var, is_input)
+            if not is_input and var.lo is not None:
+                var.default = 0.5 * (var.lo + var.hi)   # evalfis: no rule fired -> mid-range
         for number, body in self.pending_rules:
             self._rule(number, body)
         self._check_sugeno()
@@ -247,3 +273,205 @@ def _numbers(value: str) -> list[float] | None:
 def read_fis(text: str, path: str = "<string>") -> Model:
     """A MATLAB .fis system as a Model; raises FuzzycError listing what it cannot carry."""
     return _FisReader(text, path).read(text)
+
+
+# ---------------------------------------------------------------------- export
+FIS_WORDS = {field: {v: k for k, v in table.items()} for field, table in SETTINGS.values()}
+AREA_METHODS = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
+MATLAB_POINTS = 101   # evalfis's default number of sample points of a Mamdani output range
+# (TermKind, MATLAB name, the model's params -> MATLAB's parameter order): the reader inverted
+FIS_SHAPES = {
+    TermKind.GAUSSIAN: ("gaussmf", lambda a, b, c, d: (b, a)),        # (mean, sigma) -> [sigma c]
+    TermKind.BELL: ("gbellmf", lambda a, b, c, d: (b, c, a)),         # (c, a, b) -> [a b c]
+    TermKind.SIGMOID: ("sigmf", lambda a, b, c, d: (b, a)),           # (c, a) -> [a c]
+    TermKind.SSHAPE: ("smf", lambda a, b, c, d: (a, b)),
+    TermKind.ZSHAPE: ("zmf", lambda a, b, c, d: (a, b)),
+    TermKind.PISHAPE: ("pimf", lambda a, b, c, d: (a, b, c, d)),
+}
+
+
+def write_fis(model: Model, warnings: list[str] | None = None) -> str:
+    """The model's rule base as a MATLAB/Octave .fis file; what is left out or evaluated
+    differently by MATLAB is appended to `warnings`.  Raises FuzzycError when the rule base
+    cannot be said in FIS (see the module docstring for the mapping)."""
+    rb = model.rulebase
+    notes = left_out(model)
+    problems = unsayable_hedges(model, {}, "FIS")
+    kind, outputs, methods = _fis_system(model, problems, notes)
+    lines = [f"% {text}" for text in (model.title, *model.notes) if text]
+    lines += ["[System]", f"Name={_quote(model.name, problems)}", f"Type='{kind}'",
+              "Version=2.0", f"NumInputs={len(rb.inputs)}", f"NumOutputs={len(outputs)}",
+              f"NumRules={rb.n_rules}",
+              *(f"{key}='{word}'" for key, word in methods), ""]
+    for section, variables in (("Input", rb.inputs), ("Output", outputs)):
+        for n, var in enumerate(variables, start=1):
+            lines += [f"[{section}{n}]", f"Name={_quote(var.name, problems)}",
+                      f"Range=[{num(var.lo)} {num(var.hi)}]", f"NumMFs={var.n_terms}",
+                      *_fis_terms(var, section == "Input", len(rb.inputs), problems, notes), ""]
+            if section == "Output":
+                _fis_default(var, notes)
+    lines.append("[Rules]")
+    lines += [_fis_rule(rb, r, problems) for r in range(rb.n_rules)]
+    refuse(model, "FIS", problems)
+    if warnings is not None:
+        warnings.extend(notes)
+    return "\n".join(lines) + "\n"
+
+
+def _fis_system(model: Model, problems: list[str], notes: list[str]):
+    """(type, output variables to write, [(key, word)] of the five methods)."""
+    rb = model.rulebase
+    inf = rb.inference
+    method = inf.defuzzifier
+    singletons = [bool(np.all(v.kinds == TermKind.SINGLETON)) for v in rb.outputs]
+    operators = [("AndMethod", _fis_operator(rb, "and_", Connective.AND, "min", problems, notes)),
+                 ("OrMethod", _fis_operator(rb, "or_", Connective.OR, "max", problems, notes))]
+    if method in AREA_METHODS and not any(singletons):
+        for v in rb.outputs:
+            for name in np.asarray(v.names)[v.kinds == TermKind.SINGLETON]:
+                problems.append(f"singleton term `{name}` of `{v.name}` under "
+                                f"{method.name.lower()}: MATLAB's Mamdani outputs have no "
+                                "constant terms (and a singleton has no area in fuzzyc)")
+        notes.append(f"MATLAB evaluates Mamdani outputs on {MATLAB_POINTS} points of the range "
+                     f"({FIS_WORDS['defuzzifier'][method]} of the sampled aggregate); fuzzyc "
+                     "integrates exactly: MATLAB's numbers differ by that sampling error")
+        return "mamdani", rb.outputs, [
+            *operators, ("ImpMethod", FIS_WORDS["implication"][inf.implication]),
+            ("AggMethod", FIS_WORDS["aggregation"][inf.aggregation]),
+            ("DefuzzMethod", FIS_WORDS["defuzzifier"][method])]
+    if method in AREA_METHODS and not all(singletons):
+        problems.append(f"{method.name.lower()} over outputs of which some are all singletons "
+                        "(a peak ratio in fuzzyc) and some are not: one FIS is Mamdani or "
+                        "Sugeno for all its outputs")
+    if method not in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM):
+        _check_peak_ratio(model, problems, notes)
+    outputs, changed = peaks_instead(model, "FIS")
+    notes.extend(changed)
+    if (inf.implication, inf.aggregation) != (Implication.PRODUCT, Aggregation.SUM) and \
+            method in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM):
+        notes.append(f"implication {inf.implication.name.lower()} and aggregation "
+                     f"{inf.aggregation.name.lower()} are written as prod and sum, the only "
+                     "ones of MATLAB's Sugeno systems (the weighted "
+                     f"{'sum' if method == Defuzzifier.WEIGHTED_SUM else 'average'} "
+                     "does not use them)")
+    word = "wtsum" if method == Defuzzifier.WEIGHTED_SUM else "wtaver"
+    return "sugeno", outputs, [*operators, ("ImpMethod", "prod"), ("AggMethod", "sum"),
+                               ("DefuzzMethod", word)]
+
+
+def _check_peak_ratio(model: Model, problems: list[str], notes: list[str]) -> None:
+    """Center of area (or an area method over singletons) = sum_j z_j alpha_j / sum_j alpha_j
+    with alpha_j the aggregation of the rules concluding term j; MATLAB's wtaver sums per rule.
+    The same when the aggregation is a sum, or when no two rules conclude one term."""
+    rb = model.rulebase
+    what = rb.inference.defuzzifier.name.lower()
+    if rb.inference.aggregation == Aggregation.SUM:
+        notes.append(f"{what} with sum aggregation is written as Sugeno wtaver over the "
+                     "terms' peaks (the same numbers)")
+        return
+    shared = []
+    for o, v in enumerate(rb.outputs):
+        counts = np.bincount(rb.consequents[:, o][rb.consequents[:, o] >= 0],
+                             minlength=v.n_terms)
+        shared += [f"`{v.names[j]}` of `{v.name}` ({counts[j]} rules)"
+                   for j in np.flatnonzero(counts > 1)]
+    if shared:
+        more = f" and {len(shared) - 3} more" if len(shared) > 3 else ""
+        problems.append(f"{what} with max aggregation takes the strongest of the rules that "
+                        f"conclude the same term ({', '.join(shared[:3])}{more}); MATLAB's "
+                        "wtaver (Sugeno) sums over rules and its Mamdani outputs have no "
+                        "peak-based defuzzifier: FIS cannot say it")
+    else:
+        notes.append(f"{what} with max aggregation is written as Sugeno wtaver over the "
+                     "terms' peaks: the same numbers, as no two rules conclude the same term")
+
+
+def _fis_operator(rb, field: str, connective: Connective, fallback: str,
+                  problems: list[str], notes: list[str]) -> str:
+    """MATLAB's word for the and/or operator; one it lacks is refused when a rule with two
+    clauses needs it, else written as the fallback with a warning."""
+    value = getattr(rb.inference, field)
+    words = FIS_WORDS[field]
+    if value in words:
+        return words[value]
+    key = "AndMethod" if connective == Connective.AND else "OrMethod"
+    used = (rb.connective == connective) & ((rb.antecedents >= 0).sum(axis=1) > 1)
+    if np.any(used):
+        problems.append(f"{key} {value.name.lower()} (used by rule "
+                        f"{int(np.flatnonzero(used)[0]) + 1}) has no MATLAB word (MATLAB has "
+                        f"{', '.join(words.values())})")
+    else:
+        notes.append(f"{key}: the model's {value.name.lower()} is used by no rule with two "
+                     f"clauses; written as {fallback}")
+    return fallback
+
+
+def _fis_terms(var: Variable, is_input: bool, n_inputs: int, problems: list[str],
+               notes: list[str]) -> list[str]:
+    lines = []
+    linear = None if is_input else linear_coefficients(var, n_inputs)
+    for t, (name, kind, p) in enumerate(zip(var.names, var.kinds, var.params)):
+        kind = TermKind(int(kind))
+        a, b, c, d = (float(x) for x in p)
+        if kind == TermKind.TRAPEZOID:
+            word, values = _fis_trapezoid(var, name, (a, b, c, d), problems, notes)
+        elif kind == TermKind.SINGLETON and not is_input:
+            word, values = "constant", (a,)
+        elif kind == TermKind.LINEAR:   # MATLAB writes the constant last
+            word, values = "linear", (*linear[t, 1:], linear[t, 0])
+        elif kind in FIS_SHAPES:
+            word, order = FIS_SHAPES[kind]
+            values = order(a, b, c, d)
+        else:
+            problems.append(f"term `{name}` of `{var.name}` ({kind.name.lower()}) has no FIS "
+                            "membership function")
+            continue
+        lines.append(f"MF{t + 1}={_quote(name, problems)}:'{word}',"
+                     f"[{' '.join(num(x) for x in values)}]")
+    return lines
+
+
+def _fis_trapezoid(var: Variable, name: str, p: tuple, problems: list[str],
+                   notes: list[str]) -> tuple[str, tuple]:
+    a, b, c, d = p
+    if a == b == -math.inf:
+        a = b = min(var.lo, c)
+    if c == d == math.inf:
+        c = d = max(var.hi, b)
+    word, values = ("trimf", (a, b, d)) if b == c else ("trapmf", (a, b, c, d))
+    if not all(map(math.isfinite, (a, b, c, d))):
+        problems.append(f"term `{name}` of `{var.name}` ({', '.join(map(num, p))}) has no FIS "
+                        "membership function")
+    elif (a, b, c, d) != p:
+        notes.append(f"shoulder `{name}` of `{var.name}` is written as {word} "
+                     f"[{' '.join(map(num, values))}] (FIS has no infinite break points): "
+                     f"the same on [{num(var.lo)}, {num(var.hi)}], 0 instead of 1 beyond it")
+    return word, values
+
+
+def _fis_default(var: Variable, notes: list[str]) -> None:
+    middle = 0.5 * (var.lo + var.hi)
+    if var.default != middle:
+        notes.append(f"`{var.name}`'s default {num(var.default)} (when no rule fires): FIS has "
+                     f"none; MATLAB gives the middle of the range, {num(middle)}")
+
+
+def _fis_rule(rb, r: int, problems: list[str]) -> str:
+    """`i1 i2, o1 (w) : c`: 1-based term indices, 0 = any, negative = NOT; c 1 = and, 2 = or."""
+    ins = [0 if t < 0 else (-(t + 1) if neg else t + 1)
+           for t, neg in zip(rb.antecedents[r].tolist(), rb.negated[r].tolist())]
+    outs = [t + 1 if t >= 0 else 0 for t in rb.consequents[r].tolist()]
+    if not any(ins) or not any(outs):
+        problems.append(f"rule {r + 1} has no {'clause' if not any(ins) else 'conclusion'}, "
+                        "which a FIS rule row cannot say")
+    if not 0.0 <= rb.weights[r] <= 1.0:
+        problems.append(f"rule {r + 1}'s weight {num(rb.weights[r])} lies outside [0, 1]")
+    connective = 2 if rb.connective[r] == Connective.OR else 1
+    return (f"{' '.join(map(str, ins))}, {' '.join(map(str, outs))} "
+            f"({num(rb.weights[r])}) : {connective}")
+
+
+def _quote(name: str, problems: list[str]) -> str:
+    if "'" in name or "%" in name:
+        problems.append(f"the name {name!r} cannot be quoted in a FIS file")
+    return f"'{name}'"
