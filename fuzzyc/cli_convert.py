@@ -1,4 +1,4 @@
-"""`fuzzyc convert IN OUT`: import .fz/.fll/.fcl/.fis, export .fz/.fll/.fcl (by extension).
+"""`fuzzyc convert IN OUT`: import .fz/.fll/.fcl/.fis, export .fz/.fll/.fcl/.fis (by extension).
 
 What the output file cannot carry is printed as warnings (the bare rule base is still written);
 a rule base the target format cannot say at all, or a bad input file, exits with status 2.
@@ -11,10 +11,10 @@ from pathlib import Path
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
-        "convert", help="convert between .fz, fuzzylite .fll, IEC 61131-7 .fcl (both ways) and "
-                        "MATLAB .fis (import only)")
+        "convert", help="convert between .fz, fuzzylite .fll, IEC 61131-7 .fcl and MATLAB .fis "
+                        "(both ways)")
     p.add_argument("input", metavar="IN", help="a .fz, .fll, .fcl or .fis file")
-    p.add_argument("output", metavar="OUT", help="a .fz, .fll or .fcl file to write")
+    p.add_argument("output", metavar="OUT", help="a .fz, .fll, .fcl or .fis file to write")
     p.add_argument("--strict", action="store_true",
                    help="refuse (exit 2) instead of writing when something would be left out")
     p.set_defaults(run=run)

@@ -20,7 +20,7 @@ CORPUS = Path(__file__).parent / "format_corpus"
 
 # 2 inputs, 1 output, 3 rules: one NOT (rule 1), one input left out (= 0, rule 2), an or-rule
 # with a weight (rule 3); a shoulder, a gaussian and a bell to pin MATLAB's parameter orders.
-SMALL_FZ = """controller small "a hand-written FIS export: shoulder, gaussmf, gbellmf, NOT, any, or, weight" {
+SMALL_FZ = """controller small "pinned: shoulder, gaussmf, gbellmf, NOT, any, or, weight" {
   input x in [0, 10]
   input e in [-1, 1]
   terms x : low = lshoulder(2, 5), mid = tri(2, 5, 8), high = gauss(10, 2)
@@ -33,7 +33,7 @@ SMALL_FZ = """controller small "a hand-written FIS export: shoulder, gaussmf, gb
   rule if x is mid or e is pos then y is big with 0.5
   output y_out in [0, 1] = y
 }
-"""  # noqa: E501
+"""
 
 
 def fis(text: str, warnings: list[str] | None = None) -> str:

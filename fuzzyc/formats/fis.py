@@ -1,4 +1,4 @@
-"""MATLAB/Octave Fuzzy Logic Toolbox text files (.fis): import.
+"""MATLAB/Octave Fuzzy Logic Toolbox text files (.fis): import and export.
 
 The format is line-oriented (`[Section]` headers, `Key=value` lines, numeric rule rows), so it is
 read line by line with a regular expression per line kind, every value keeping its column.
@@ -19,8 +19,9 @@ Export (`write_fis`) is the exact inverse of that mapping, with these choices:
   for center of area (and any method over all-singleton outputs), which is MATLAB's wtaver only
   when no two rules conclude the same term or the aggregation is a sum: the model's max over the
   rules concluding one term has no FIS word, so such a rule base is refused.  Sugeno files get
-  ImpMethod='prod' and AggMethod='sum', the only ones MATLAB's Sugeno systems have (the weighted
-  defuzzifiers do not use them).
+  ImpMethod='prod' and AggMethod='sum', MATLAB's Sugeno defaults (its manual: a Sugeno system's
+  implication is a product and its aggregation includes every singleton); fuzzyc's weighted
+  defuzzifiers do not depend on them.
 - Shoulders (infinite break points) are written as trapmf flat to the end of the range
   ([lo lo c d], [a b hi hi]): the same membership on the range, 0 instead of 1 beyond it.
 - MATLAB evaluates Mamdani outputs on 101 points of the range; fuzzyc integrates exactly, so
@@ -350,10 +351,10 @@ def _fis_system(model: Model, problems: list[str], notes: list[str]):
     if (inf.implication, inf.aggregation) != (Implication.PRODUCT, Aggregation.SUM) and \
             method in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM):
         notes.append(f"implication {inf.implication.name.lower()} and aggregation "
-                     f"{inf.aggregation.name.lower()} are written as prod and sum, the only "
-                     "ones of MATLAB's Sugeno systems (the weighted "
+                     f"{inf.aggregation.name.lower()} are written as prod and sum, MATLAB's "
+                     "Sugeno defaults (the weighted "
                      f"{'sum' if method == Defuzzifier.WEIGHTED_SUM else 'average'} "
-                     "does not use them)")
+                     "does not depend on them)")
     word = "wtsum" if method == Defuzzifier.WEIGHTED_SUM else "wtaver"
     return "sugeno", outputs, [*operators, ("ImpMethod", "prod"), ("AggMethod", "sum"),
                                ("DefuzzMethod", word)]
