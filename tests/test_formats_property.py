@@ -1,5 +1,6 @@
 """Random rule bases survive every writer -> reader pair unchanged (hypothesis): term shapes,
-hedges, negations, wildcards, weights, connectives and the inference choices."""
+hedges, negations, wildcards, weights, connectives and the inference choices.  FIS keeps what a
+.fis file carries (see test_formats_roundtrip.same_rulebase_fis) and the same outputs."""
 from __future__ import annotations
 
 import math
@@ -10,13 +11,15 @@ from hypothesis import strategies as st
 
 from fuzzyc.builder import RuleSpec
 from fuzzyc.errors import Reporter
-from fuzzyc.formats import read_fcl, read_fll, write_fcl, write_fll, write_fz
+from fuzzyc.engine import evaluate
+from fuzzyc.formats import (read_fcl, read_fis, read_fll, write_fcl, write_fis, write_fll,
+                            write_fz)
 from fuzzyc.formats.common import Collected, TermSpec, VarSpec
 from fuzzyc.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
                           SNorm, TermKind, TNorm)
 from fuzzyc.parser import parse
 
-from test_formats_roundtrip import same_rulebase
+from test_formats_roundtrip import same_rulebase, same_rulebase_fis
 
 INF = math.inf
 grid = st.integers(0, 20).map(lambda k: k / 2)     # break points on [0, 10], exactly readable
@@ -56,28 +59,32 @@ def rule_base(draw, fmt: str):
     defuzz = {"fz": list(Defuzzifier), "fll": [Defuzzifier.CENTER_OF_AREA, *AREA,
                                                Defuzzifier.WEIGHTED_AVERAGE,
                                                Defuzzifier.WEIGHTED_SUM],
-              "fcl": [Defuzzifier.CENTER_OF_AREA, *AREA]}[fmt]
-    # FCL (IEC 61131-7) names three t-norms and three s-norms; the other formats name them all
-    tnorms, snorms = ([TNorm.MIN, TNorm.PRODUCT, TNorm.BOUNDED_DIFFERENCE],
-                      [SNorm.MAX, SNorm.PROBSUM, SNorm.BOUNDED_SUM]) if fmt == "fcl" \
-        else (list(TNorm), list(SNorm))
+              "fcl": [Defuzzifier.CENTER_OF_AREA, *AREA],
+              "fis": [*AREA, Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM]}[fmt]
+    # FCL (IEC 61131-7) names three t-norms and three s-norms, MATLAB two; the others name all
+    tnorms, snorms = {"fcl": ([TNorm.MIN, TNorm.PRODUCT, TNorm.BOUNDED_DIFFERENCE],
+                              [SNorm.MAX, SNorm.PROBSUM, SNorm.BOUNDED_SUM]),
+                      "fis": ([TNorm.MIN, TNorm.PRODUCT], [SNorm.MAX, SNorm.PROBSUM])}.get(
+        fmt, (list(TNorm), list(SNorm)))
     got.inference = Inference(draw(st.sampled_from(tnorms)), draw(st.sampled_from(snorms)),
                               draw(st.sampled_from(list(Implication))),
                               Aggregation.MAX, draw(st.sampled_from(defuzz)))
     # FLL says center of area with a sum as WeightedAverage, which reads back as a weighted
     # average: the same numbers, another enum (test_formats_roundtrip compares those outputs).
-    if fmt == "fz" or got.inference.defuzzifier in AREA or (
+    if fmt in ("fz", "fis") or got.inference.defuzzifier in AREA or (
             got.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA and fmt == "fcl"):
         got.inference.aggregation = draw(st.sampled_from(list(Aggregation)))
     for o in range(n_out):
-        var = got.declare(VarSpec(f"y{o}", None, 0.0, 10.0, default=draw(grid)), False)
+        # a .fis output's default is MATLAB's middle of the range
+        default = 5.0 if fmt == "fis" else draw(grid)
+        var = got.declare(VarSpec(f"y{o}", None, 0.0, 10.0, default=default), False)
         for t in range(draw(st.integers(1, 4))):
             if got.inference.defuzzifier in AREA:   # integrals need terms with an area
                 var.add(TermSpec(f"S{t}", *draw(input_term(fmt))), rep)
             else:
                 var.add(TermSpec(f"S{t}", TermKind.SINGLETON, (draw(grid), 0.0, 0.0, 0.0)), rep)
     hedges = {"fz": list(Hedge), "fll": [Hedge.NONE, Hedge.VERY, Hedge.SOMEWHAT],
-              "fcl": [Hedge.NONE]}[fmt]
+              "fcl": [Hedge.NONE], "fis": [Hedge.NONE]}[fmt]
     for _ in range(draw(st.integers(1, 6))):
         clauses = {}
         for name, var in got.inputs.items():
@@ -112,3 +119,17 @@ def test_fcl_round_trip(model):
     back = read_fcl(write_fcl(model), "random.fcl").rulebase
     same_rulebase(model.rulebase, back)
     assert np.array_equal(back.inputs[0].params, model.rulebase.inputs[0].params)
+
+
+@settings(max_examples=40, deadline=None)
+@given(rule_base("fis"))
+def test_fis_round_trip(model):
+    rb = model.rulebase
+    back = read_fis(write_fis(model), "random.fis").rulebase
+    same_rulebase_fis(rb, back)
+    assert back.inference.defuzzifier == rb.inference.defuzzifier
+    if rb.inference.defuzzifier in AREA:      # Mamdani: the file keeps every choice
+        assert back.inference == rb.inference
+    x = np.stack(np.meshgrid(*[np.linspace(0.0, 10.0, 11)] * len(rb.inputs)), -1)
+    x = x.reshape(-1, len(rb.inputs))
+    np.testing.assert_allclose(evaluate(back, x), evaluate(rb, x), rtol=0, atol=1e-12)
