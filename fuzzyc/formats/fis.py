@@ -279,7 +279,9 @@ def read_fis(text: str, path: str = "<string>") -> Model:
 # ---------------------------------------------------------------------- export
 FIS_WORDS = {field: {v: k for k, v in table.items()} for field, table in SETTINGS.values()}
 AREA_METHODS = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
-MATLAB_POINTS = 101   # evalfis's default number of sample points of a Mamdani output range
+# assumption: MATLAB's documented default number of points evalfis samples a Mamdani output
+# range on (NumSamplePoints); not from a paper, used only to say so in a warning.
+MATLAB_POINTS = 101
 # (TermKind, MATLAB name, the model's params -> MATLAB's parameter order): the reader inverted
 FIS_SHAPES = {
     TermKind.GAUSSIAN: ("gaussmf", lambda a, b, c, d: (b, a)),        # (mean, sigma) -> [sigma c]
@@ -299,7 +301,7 @@ def write_fis(model: Model, warnings: list[str] | None = None) -> str:
     notes = left_out(model)
     problems = unsayable_hedges(model, {}, "FIS")
     kind, outputs, methods = _fis_system(model, problems, notes)
-    lines = [f"% {text}" for text in (model.title, *model.notes) if text]
+    lines = [f"% {' '.join(text.split())}" for text in (model.title, *model.notes) if text]
     lines += ["[System]", f"Name={_quote(model.name, problems)}", f"Type='{kind}'",
               "Version=2.0", f"NumInputs={len(rb.inputs)}", f"NumOutputs={len(outputs)}",
               f"NumRules={rb.n_rules}",
