@@ -104,14 +104,16 @@ class OutputDefuzzifier:
         self.lines = lines
 
     def _term_lines(self, t: int) -> list[tuple[float, float]]:
-        """The pieces of term t as lines y = s*u + q: rise, top, fall (finite edges only)."""
+        """The pieces of term t as lines y = s*u + q: rise, top, fall (finite, sloped edges
+        only: a vertical edge, a == b as in MATLAB's trapmf [0 0 1 3], is no line, and its
+        crossings are its break point, already a static point)."""
         a, b, c, d = self.params[t]
         out = []
-        if np.isfinite(a) and np.isfinite(b):
+        if np.isfinite(a) and np.isfinite(b) and b > a:
             out.append((1.0 / (b - a), -a / (b - a)))
         if np.isfinite(a) or np.isfinite(d):
             out.append((0.0, 1.0))
-        if np.isfinite(c) and np.isfinite(d):
+        if np.isfinite(c) and np.isfinite(d) and d > c:
             out.append((-1.0 / (d - c), d / (d - c)))
         return out
 
