@@ -56,10 +56,10 @@ def fig3_map(feeds):
     return out
 
 
-@pytest.mark.xfail(strict=True, reason="finding: the map reaches 40 % at 0.72 mm/min and 18.5 "
-                   "kHz. Lowering k_arc 10 -> 7.3 puts it at 0.92 mm/min, 23.9 kHz (and 54 % at "
-                   "1.2 mm/min), but then test 3's off-time ends at 10.3 us and test 2 meets Yr1 "
-                   "before 55 % (test 1 settles in ~98 s); see README, Closed loop")
+@pytest.mark.xfail(strict=True, reason="finding: the map reaches 40 % at 0.90 mm/min and 23.3 "
+                   "kHz. Efficiency 0.04 -> 0.037 (arc exponent refit 1.12 -> 1.18) puts it at "
+                   "25.5 kHz, but then test 2's off-time runs away to 41 us at up to 31.6 kHz and "
+                   "a 20 -> 43 mm height step breaks the wire in the finish loop (plant docstring)")
 def test_fig3_spark_frequency_at_40_percent_is_yr1_less_three_std():
     # Yan & Liao took Yr1 = 30 kHz as the mean + 3 std of the spark frequency at the 40 %
     # operating point of this cut. The 40-ms count alone has std sqrt(m x 0.04 s)/0.04 s:
@@ -72,14 +72,35 @@ def test_fig3_spark_frequency_at_40_percent_is_yr1_less_three_std():
     assert 24.0 <= f40 <= 27.5
 
 
-@pytest.mark.xfail(strict=True, reason="finding: at 1.2 mm/min the map reads 68 % abnormal (54 % "
-                   "is reached at ~0.98 mm/min); its peak is a cliff where arcs starve the "
-                   "erosion, so the ratio at the peak stays at 63-72 % for k_arc 5-10")
 def test_fig3_abnormal_ratio_is_54_percent_at_1_2_mm_min():
     # "it reaches the maximum value when the abnormal ratio is 54 %. Once the feedrate is
-    # increased to more than 1.2 mm/min, the MRR starts to decrease": 54 % +- 5 % at 1.2
+    # increased to more than 1.2 mm/min, the MRR starts to decrease": 54 % +- 5 % at 1.2.
+    # The plant's arc exponent (k_arc t_on^1.12) was chosen from this fact (plant docstring),
+    # so this test holds that choice; the map reads 0.540 here.
     out = fig3_map(np.array([1.2]))
     assert out["abnormal_ratio"][0] == pytest.approx(0.54, abs=0.05)
+
+
+def test_spark_frequency_counts_every_pulse_shorts_included():
+    # Yan & Liao's card counts N_t = N_n + N_a, N_a "composed of arc discharge and short
+    # circuit", and the ratio is N_a / N_t: so the counted frequency is 1/T, all pulses.
+    # Gap 0 um: p_s = 1 / (1 + exp((0 - 5) / 2)) = 0.9241; discharges are (1 - p_s) / T.
+    p = W.WedmGapParams(noise=0)
+    state = {**W.initial_state(p, 1), "gap": np.array([0.0]), "debris": np.array([0.0])}
+    _, out = W.step(p, state, {"feed": np.array([0.5]), "t_off": np.array([10.0])}, 0.0, DT)
+    p_s, _, _, cycle = W.pulse_statistics(p, 0.0, 0.0, 10.0, 0.5)
+    assert p_s == pytest.approx(0.9241, abs=1e-4)
+    assert out["spark_freq"][0] == pytest.approx(1e3 / cycle)        # kHz, cycle in us
+    assert out["abnormal_ratio"][0] >= p_s
+
+
+def test_a_short_off_time_restrikes_without_debris():
+    # the re-strike term alone (debris 0, wide gap): p_a = exp(-t_off / 2 us);
+    # 1.6 us (the machine's minimum, Table 1): exp(-0.8) = 0.4493; 20 us: exp(-10) = 4.5e-5
+    p = W.WedmGapParams()
+    _, p_a, _, _ = W.pulse_statistics(p, np.array([30.0, 30.0]), np.array([0.0, 0.0]),
+                                      np.array([1.6, 20.0]), 0.5)
+    assert p_a == pytest.approx([0.4493, 4.54e-5], rel=1e-3)
 
 
 def test_arcing_above_50_percent_breaks_the_wire_after_60_s():
@@ -94,9 +115,10 @@ def test_arcing_above_50_percent_breaks_the_wire_after_60_s():
 
 def test_off_time_cut_makes_a_spark_surge_that_breaks_the_wire():
     # Yan & Liao's first mechanism, "often when the pulse on-time or off-time is changed":
-    # steady at t_off 20 us, then cut to the machine's 1.6 us. The discharge power per mm of
-    # wire (Fq E / H) passes the limit (0.22 W/mm per m/min x 7 m/min = 1.54 W/mm) within the
-    # 50 ms - 2 s the paper reports.
+    # steady at t_off 20 us, then cut to the machine's 1.6 us (the re-strike term's
+    # plasma_time = 2 us was set against this test: at 1.5 us it does not break). The
+    # discharge power per mm of wire (Fq E / H) passes the limit (0.22 W/mm per m/min x
+    # 7 m/min = 1.54 W/mm) within the 50 ms - 2 s the paper reports (here after 0.52 s).
     p = W.WedmGapParams(noise=0, arc_rupture_time=1e9)
     state = W.initial_state(p, 1)
     times = []

@@ -66,13 +66,14 @@ def test_finish_reaches_40_percent_within_200_s(finish):
     assert finish_settling_time(finish) <= 150.0 + 50.0
 
 
-@pytest.mark.xfail(strict=True, reason="finding: the ratio settles in about 70 s, not 150 s +- "
-                   "50 s. The time is the integrators' travel, not the plant's lag: 40 % is "
-                   "reached after feed +0.28 mm/min (62 s at 1.8e-4 per 40 ms) with the off-time "
-                   "32 -> 8 us. Plants with fewer arcs at this cut's 800 gf / 0.5 us travel "
-                   "further (96-133 s) but lose test 2, test 3's off-time, the Fig. 3 map or "
-                   "the off-time surge (README, Closed loop)")
 def test_finish_settling_time_is_the_papers_150_s(finish):
+    # Fig. 7a: about 150 s; the issue's 150 +- 50 s. Here about 106 s (102-110 s over noise
+    # seeds 0-9): the time is the integrators' travel in the e1 = P block, where du1 = du2 move
+    # feed and 1/t_off together. 40 % is reached at feed 0.67 mm/min, t_off 6.0 us: +0.37
+    # mm/min at up to 1.8e-4 per 40 ms (4.5e-3 mm/min per s) is at least 82 s at the full
+    # rate, longer as e2 falls from PB to PS near the set point. The finish cut's ratio
+    # depends on the off-time as e^(-t/24 us) (plant docstring, round 4), so the feed must
+    # climb this far; on main (e^(-t/12 us)) it stopped at +0.28 mm/min and 72 s.
     assert 150.0 - 50.0 <= finish_settling_time(finish) <= 150.0 + 50.0
 
 
@@ -88,7 +89,9 @@ def test_finish_spark_frequency_below_reference(finish):
 
 
 @pytest.mark.xfail(strict=True, reason="finding: our plant holds 40 % at a wide gap with a "
-                   "short off-time (~8 us), so the mean gap voltage reads ~95 V, not 45 V")
+                   "short off-time (~6 us), so the mean gap voltage reads ~97 V, not 45 V: the "
+                   "e1 = P block moves feed and 1/t_off together, and 45 V at < 30 kHz needs "
+                   "t_off near 20 us")
 def test_finish_mean_gap_voltage_about_45_v(finish):
     _, trace = finish
     assert np.mean(trace["gap_voltage"][-2000:, 0]) == pytest.approx(45.0, abs=10.0)
