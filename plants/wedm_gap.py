@@ -166,9 +166,9 @@ def initial_state(params: WedmGapParams, batch: int, rng=None) -> dict[str, np.n
 def pulse_statistics(p: WedmGapParams, gap, debris, t_off, on_time):
     """Per-pulse probabilities and timing at a gap state: (p_s, p_a, t_d, T) in us."""
     p_s = 1.0 / (1.0 + np.exp((gap - p.g_short) / p.w_short))
-    # on_time in us: the arc sensitivity grows with the pulse, the recovery time does not
     # an arc either re-strikes in the last channel (its plasma not yet gone) or is lit by debris
-    # in a gap whose dielectric has not recovered; on_time in us
+    # in a gap whose dielectric has not recovered; on_time in us: the arc sensitivity grows
+    # with the pulse, the recovery time does not
     restrike = np.exp(-t_off / p.plasma_time)
     debris_arc = 1.0 - np.exp(-p.k_arc * on_time ** p.arc_exponent * debris
                               * np.exp(-t_off / p.deion_time))
