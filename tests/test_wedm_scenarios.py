@@ -73,7 +73,7 @@ def test_finish_settling_time_is_the_papers_150_s(finish):
     # mm/min at up to 1.8e-4 per 40 ms (4.5e-3 mm/min per s) is at least 82 s at the full
     # rate, longer as e2 falls from PB to PS near the set point. The finish cut's ratio
     # depends on the off-time as e^(-t/24 us) (plant docstring, round 4), so the feed must
-    # climb this far; on main (e^(-t/12 us)) it stopped at +0.28 mm/min and 72 s.
+    # climb this far; with round 3's law (e^(-t/12 us)) it stopped at +0.28 mm/min and 72 s.
     assert 150.0 - 50.0 <= finish_settling_time(finish) <= 150.0 + 50.0
 
 
