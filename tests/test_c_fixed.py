@@ -1,7 +1,9 @@
 """q15 / q31 rule bases against the engine: within the stated bound (`ERROR_BOUND`, a fraction
 of each output's range) on >= 100,000 random inputs plus every edge, for the engine evaluated
-at the dequantized input; the whole chain (q15/q31 step) against the Controller over 10,000
-steps within `CHAIN_ERROR_BOUND`.  Compiled with the strict flags (-Werror)."""
+at the dequantized input (and clipped to the output's range, as the C saturates there); the
+whole chain (q15/q31 step) against the Controller over 10,000 steps within
+`CHAIN_ERROR_BOUND`.  Compiled with the strict flags (-Werror).  All four paper rule bases:
+the corner controller's `*` rules and the milling controller's weighted sum included."""
 from __future__ import annotations
 
 import copy
@@ -17,9 +19,11 @@ from fuzzyc.backends.cload import compile_shared
 from fuzzyc.controller import Controller
 from fuzzyc.engine import evaluate
 from fuzzyc.errors import FuzzycError
-from fuzzyc.model import Defuzzifier, TNorm
+from fuzzyc.model import Aggregation, Connective, Defuzzifier, TNorm
 
-from test_c_backend import inputs_for, shipped, variant
+from fuzzyc.parser import load
+
+from test_c_backend import ROOT, inputs_for, shipped, variant
 
 SHIM = """\
 #include "fixed.h"
@@ -34,9 +38,24 @@ void run(int n, const long long *x, long long *y) {{
 }}
 """
 
+def milling_weighted():
+    """The milling controller with rule weights in [0.5, 2]: sum_j w_j mu_j z_j then leaves
+    [-50, 50] (up to 2 x 40), so the saturation is exercised too."""
+    model = shipped("milling_neurofuzzy")
+    model.rulebase.weights[:] = np.random.default_rng(3).uniform(0.5, 2.0,
+                                                                 model.rulebase.n_rules)
+    return model
+
+
 CASES = {
     "wedm_three_region": lambda: shipped("wedm_three_region"),
     "edm_sink_gap": lambda: shipped("edm_sink_gap"),
+    "wedm_corner": lambda: shipped("wedm_corner"),
+    "milling_neurofuzzy": lambda: shipped("milling_neurofuzzy"),
+    # `*` rules under product and sum: a rule met twice per sample would show here
+    "corner_product_sum": lambda: variant("wedm_corner", and_=TNorm.PRODUCT,
+                                          aggregation=Aggregation.SUM),
+    "milling_weighted": milling_weighted,
     "wedm_product": lambda: variant("wedm_three_region", and_=TNorm.PRODUCT),
     "edm_weighted_average": lambda: variant("edm_sink_gap",
                                             defuzzifier=Defuzzifier.WEIGHTED_AVERAGE),
@@ -76,7 +95,8 @@ def test_fixed_point_within_stated_bound(case, numeric):
     yq = fixed_point_runner(model, numeric)(xq)
     out_lo = np.array([v.lo for v in rb.outputs])
     span = np.array([v.hi - v.lo for v in rb.outputs])
-    expected = evaluate(rb, lo + np.clip(xq, 0, full) / full * (hi - lo))
+    expected = np.clip(evaluate(rb, lo + np.clip(xq, 0, full) / full * (hi - lo)),
+                       out_lo, out_lo + span)
     error = np.abs(out_lo + yq / full * span - expected) / span
     assert error.max() <= ERROR_BOUND[numeric]
     # The derived worst case holds too (it is looser: it assumes every rounding at its worst).
@@ -93,9 +113,65 @@ def test_q15_hand_computed_point():
     assert np.all(np.abs(run(xq) - 20479) <= 1)
 
 
-def test_weighted_sum_is_a_diagnostic():
-    with pytest.raises(FuzzycError, match="weighted_sum"):
-        generate_fixed_header(shipped("milling_neurofuzzy"), "q15")
+def test_saturation_is_exercised():
+    # the weighted milling variant's engine output leaves [-50, 50], the C holds it at 0/FULL
+    model = milling_weighted()
+    rb = model.rulebase
+    x = inputs_for(rb)
+    y = evaluate(rb, x[np.all(np.isfinite(x), axis=1)])
+    assert y.min() < -50 and y.max() > 50
+
+
+def test_q15_corner_wildcard_hand_computed():
+    # Corner controller: feedrate 20 (VS = 1: the shoulder's top reaches 40), thickness 35
+    # (S = B = 0.5), angle 43.125 deg (S = (82.5 - 43.125) / 52.5 = 0.75, M = 0.25).  Only
+    # rules 1 (VS * S -> S = 15) and 2 (VS * M -> VS = 5) fire, `*` = 1:
+    # min(1, 1, 0.75) = 0.75 and min(1, 1, 0.25) = 0.25, y = (0.75 * 15 + 0.25 * 5) / 1 = 12.5,
+    # yq = 12.5 / 100 * 32767 = 4095.9 -> 4096 (the quantized angle 7850 / 32767 * 180 =
+    # 43.1226 gives 12.5005 -> 4096.04).  Were `*` min-ed with thickness's 0.5 instead, rule
+    # 1 would fire 0.5: y = (0.5 * 15 + 0.25 * 5) / 0.75 = 11.67 -> 3823.
+    xq = [[round(20 / 250 * 32767), round(35 / 100 * 32767), round(43.125 / 180 * 32767)]]
+    assert xq == [[2621, 11468, 7850]]
+    for numeric, full in (("q15", 32767), ("q31", 2 ** 31 - 1)):
+        run = fixed_point_runner(shipped("wedm_corner"), numeric)
+        scaled = np.array(xq) * full // 32767   # the same points on the q31 grid (to 1 LSB)
+        assert abs(run(scaled)[0, 0] / full * 100 - 12.5) <= 1.5 / 32767 * 100
+
+
+def test_q15_milling_weighted_sum_hand_computed():
+    # Milling: every peak 0 but z(e ZE, cf ZE) = 40 (rule 3 * 7 + 3 = 24) and
+    # z(e PS, cf ZE) = 30 (rule 31) with weight 0.5.  e = 1/6: ZE = PS = 0.5; cf = 0: ZE = 1.
+    # du = 0.5 * 1 * 40 + 0.5 * (0.5 * 1) * 30 = 27.5 -- not normalised (a weighted average
+    # would give 27.5 / 0.75 = 36.7); yq = (27.5 + 50) / 100 * 32767 = 25394.4.  On the grid:
+    # e at 19114 is 19114 / 32767 * 2 - 1 = 0.1666616 (ZE 0.5000153, PS 0.4999847), cf at
+    # 16384 is 3.05e-5 (ZE 0.9999085), so the engine gives 0.9999085 * (0.5000153 * 40 +
+    # 0.5 * 0.4999847 * 30) = 0.9999085 * 27.50038 = 27.4979 -> 25393.7; C within 1 LSB.
+    model = shipped("milling_neurofuzzy")
+    rb = model.rulebase
+    rb.outputs[0].params[:, 0] = 0.0
+    rb.outputs[0].params[[24, 31], 0] = [40.0, 30.0]
+    rb.weights[31] = 0.5
+    xq = [[round((1 / 6 + 1) / 2 * 32767), round(32767 / 2)]]
+    assert xq == [[19114, 16384]]
+    assert abs(int(fixed_point_runner(model, "q15")(xq)[0, 0]) - 25394) <= 1
+    expected = evaluate(rb, np.array(xq) / 32767 * 2 - 1)[0, 0]
+    assert abs(expected - 27.4979) < 1e-4
+
+
+@pytest.mark.parametrize("numeric", sorted(FORMATS))
+def test_untrained_milling_gives_zero(numeric):
+    # all 49 weights 0 (the shipped file): du = 0 everywhere, the middle of [-50, 50]
+    model = load(ROOT / "rulebases" / "milling_neurofuzzy.fz")
+    _, full, _ = FORMATS[numeric]
+    yq = fixed_point_runner(model, numeric)([[0, 0], [full, full], [full // 3, full // 2]])
+    assert np.all(np.abs(yq - full / 2) <= 0.5)
+
+
+def test_rules_beyond_plain_and_are_a_diagnostic():
+    model = copy.deepcopy(shipped("wedm_corner"))
+    model.rulebase.connective[3] = Connective.OR
+    with pytest.raises(FuzzycError, match="plain AND"):
+        generate_fixed_header(model, "q15")
 
 
 # -- the whole chain in fixed point ------------------------------------------------------------
@@ -134,7 +210,8 @@ def chain_runner(model, numeric, batch=CHAIN_BATCH):
     return run
 
 
-@pytest.mark.parametrize("name", ["wedm_three_region", "edm_sink_gap"])
+@pytest.mark.parametrize("name", ["wedm_three_region", "edm_sink_gap", "wedm_corner",
+                                  "milling_neurofuzzy"])
 def test_fixed_point_chain_follows_the_controller(name):
     # 10,000 steps of random walks over the inputs' ranges (on the q15 grid, which q31 holds
     # exactly too), the engine's Controller fed the same dequantized inputs; every output

@@ -9,18 +9,25 @@ outputs to [0, FULL]).  Memberships are fractions with MF bits (15 for q15, 28 f
 products and the centre-of-area sums fit in int64).
 
 Emitted for the case the fixed-point arithmetic is exact enough and simple: inputs that are
-partitions with at most two positive terms (the cell-table path), AND rules, and the ratio
-defuzzifiers center of area and weighted average (a convex combination of the output peaks,
-so no output scaling surprises).  Others raise a diagnostic.
+partitions with at most two positive terms (`FixedTables`), AND rules in which an input may be
+`*` (any: membership exactly 1 << MF, a third slot of that input), and the defuzzifiers
+center of area and weighted average (a convex combination of the output peaks) and weighted
+sum (sum_j alpha_j z_j, not normalised, saturated to the output's range; its peaks carry G
+guard bits below the output LSB).  Others raise a diagnostic.  The C output is saturated to
+the output's range, so it is held against the engine's value clipped to that range (the two
+differ only where the engine leaves the range, which a weighted sum can).
 """
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 
-from ..engine import CompiledRuleBase
-from ..membership import memberships
+from ..engine import MAX_LOOKUP_CELLS, MAX_SPARSE_INPUTS
+from ..membership import LocalPartition, memberships
 from ..errors import Diagnostic, FuzzycError
-from ..model import Aggregation, Defuzzifier, Model, OutputKind, TNorm
+from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, OutputKind, RuleBase,
+                     TermKind, TNorm)
 from .c import c_identifier, check_supported
 from .c_fixed_chain import FixedChain, Fx, frac_for
 
@@ -40,6 +47,117 @@ ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -24}
 # base's error by up to 1/v^2 = 48^2 (q31 barely helps there) -- not derived: an integrator
 # sums the per-step errors, so the bound grows with the run length.
 CHAIN_ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -14}
+# assumption: break points of one input closer than 2^-40 of its range are one break point.
+# The builder's `uniform` partitions put a shared break point of two neighbouring terms 1 ulp
+# apart (milling: -1/3 as -0.33333333333333343, ...37 and ...31), which leaves slivers where
+# three terms are positive; 2^-40 of the range is 2^-9 of a q31 LSB, far below any grid the
+# C uses, and the move is carried into the derived bound.
+SNAP = 2.0 ** -40
+# assumption: the most guard bits of the weighted-sum peaks below the output LSB (16 make the
+# peaks' rounding 2^-17 LSB; more buys nothing against the final rounding of 0.5 LSB).
+MAX_GUARD = 16
+
+
+def _fail(message: str) -> FuzzycError:
+    return FuzzycError([Diagnostic(None, message)])
+
+
+def _snapped(var):
+    """(var with its break points closer than SNAP of the range merged, the largest move as a
+    fraction of the range)."""
+    p = np.array(var.params, dtype=float)
+    finite = np.isfinite(p)
+    values = np.unique(p[finite])
+    if len(values) == 0:
+        return var, 0.0
+    start = np.concatenate([[True], np.diff(values) > SNAP * (var.hi - var.lo)])
+    first = values[start][np.cumsum(start) - 1]      # each value -> the first of its cluster
+    p[finite] = first[np.searchsorted(values, p[finite])]
+    moved = float(np.abs(p[finite] - np.asarray(var.params, dtype=float)[finite]).max())
+    return dataclasses.replace(var, params=p), moved / (var.hi - var.lo)
+
+
+class FixedTables:
+    """What the fixed-point rule base is built from: per input its partition (`LocalPartition`
+    of the snapped terms) and whether some rule leaves it open (`*`), and the cell table.
+
+    Term ids of input i: 0..T_i-1 its terms, T_i the empty slot (membership 0), T_i + 1 the
+    wildcard (membership 1, only where a rule has `*` there: a third slot).  A rule lies in
+    the cell of its antecedent ids (wildcards as T_i + 1), so per sample each rule is met
+    once, in the combination of its terms' slots and the wildcard slots -- the min/product
+    over the remaining inputs, as the engine's dense path (an absent clause is 1)."""
+
+    def __init__(self, rb: RuleBase, numeric: str):
+        self.rb = rb
+        n_in = len(rb.inputs)
+        if rb.n_rules == 0 or not 0 < n_in <= MAX_SPARSE_INPUTS:
+            raise _fail(f"the {numeric} back end needs 1 to {MAX_SPARSE_INPUTS} inputs and "
+                        f"some rules")
+        if rb.inference.and_ not in (TNorm.MIN, TNorm.PRODUCT):
+            raise _fail(f"the {numeric} back end emits and = min | product, not "
+                        f"{rb.inference.and_.name.lower()}")
+        if not np.all(rb.connective == Connective.AND) or np.any(rb.negated) or \
+                np.any(rb.hedges != Hedge.NONE):
+            raise _fail(f"the {numeric} back end needs plain AND rules (no `or`, `not` or "
+                        f"hedges; `*` = any is fine)")
+        self.partitions, self.moved = [], []
+        for var in rb.inputs:
+            snapped, moved = _snapped(var)
+            part = LocalPartition.build(snapped)
+            if part is None:
+                raise _fail(f"the {numeric} back end needs each input to be a partition of "
+                            f"trapezoids where at most two terms are positive at a time; "
+                            f"`{var.name}` is not")
+            self.partitions.append(part)
+            self.moved.append(moved)
+        for var in rb.inputs + rb.outputs:
+            if var.n_terms + 2 > 255:
+                raise _fail(f"the {numeric} back end holds term ids in a byte: `{var.name}` "
+                            f"has {var.n_terms} terms")
+        self.wild = np.any(rb.antecedents < 0, axis=0)
+        self.slots = np.where(self.wild, 3, 2)
+        self.radix = np.array([v.n_terms + 1 + int(w) for v, w in zip(rb.inputs, self.wild)])
+        if np.prod(self.radix.astype(float)) > MAX_LOOKUP_CELLS:
+            raise _fail(f"the {numeric} back end's cell table would have more than "
+                        f"{MAX_LOOKUP_CELLS} cells")
+        self.place = np.concatenate([np.cumprod(self.radix[::-1])[::-1][1:], [1]])
+        ids = np.where(rb.antecedents >= 0, rb.antecedents, self.radix - 1)
+        cells = ids @ self.place
+        order = np.argsort(cells, kind="stable")
+        counts = np.bincount(cells, minlength=int(np.prod(self.radix)))
+        depth = max(1, int(counts.max()))
+        lookup = np.full((len(counts), depth), rb.n_rules)
+        rank = np.arange(rb.n_rules) - np.searchsorted(cells[order], cells[order])
+        lookup[cells[order], rank] = order
+        self.lookup = lookup
+        self.combos = int(np.prod(self.slots))        # slot combinations per sample
+        self.candidates = self.combos * depth          # rules met per sample, at most
+
+    def rules_of(self, tables: list[np.ndarray]) -> np.ndarray:
+        """Per input a table of ids (rows, alternatives): for every combination of rows (one
+        per input, first input slowest) the rules in every combination of alternatives,
+        padded with n_rules: (prod rows, prod alternatives * depth)."""
+        n_in = len(tables)
+        rows = np.stack(np.meshgrid(*[np.arange(len(t)) for t in tables], indexing="ij"),
+                        -1).reshape(-1, n_in)
+        alts = np.stack(np.meshgrid(*[np.arange(t.shape[1]) for t in tables], indexing="ij"),
+                        -1).reshape(-1, n_in)
+        cell = sum(tables[i][rows[:, i]][:, alts[:, i]] * int(self.place[i])
+                   for i in range(n_in))
+        return self.lookup[cell].reshape(len(rows), -1)
+
+    def tuple_rules(self) -> np.ndarray:
+        """For every tuple of real terms, the rules that match it (wildcards included)."""
+        return self.rules_of([np.stack([np.arange(v.n_terms), np.full(v.n_terms, r - 1)], 1)
+                              if w else np.arange(v.n_terms)[:, None]
+                              for v, w, r in zip(self.rb.inputs, self.wild, self.radix)])
+
+    def segment_rules(self) -> np.ndarray:
+        """For every cell of the input grid (a segment per input), the rules that can fire."""
+        return self.rules_of([np.hstack([p.table[:, 6:8].astype(int),
+                                         np.full((len(p.table), 1), r - 1)])
+                              if w else p.table[:, 6:8].astype(int)
+                              for p, w, r in zip(self.partitions, self.wild, self.radix)])
 
 
 def _least_top(var, part) -> float:
@@ -57,54 +175,103 @@ def _least_top(var, part) -> float:
     return float(memberships(var, np.array(points)).max(axis=1).min())
 
 
+def sum_guard(tables: FixedTables, o: int, numeric: str) -> int:
+    """Guard bits G of weighted-sum output o's peaks (integers at 2^-G of an output LSB,
+    relative to the value 0): the most, up to MAX_GUARD, with which sum_j alpha_j ZS_j plus the
+    offset of 0 stays below 2^62 in int64 (alpha summed over at most `candidates` rules, each
+    act * w <= w ONE), or -1 when none does."""
+    rb, var = tables.rb, tables.rb.outputs[o]
+    full, mf = FORMATS[numeric][1], FORMATS[numeric][2]
+    span = var.hi - var.lo
+    z = np.abs(var.peaks()).max() / span * full + 1
+    zero = abs(var.lo) / span * full + 1
+    w = max(1.0, float(np.abs(rb.weights).max()))
+    for g in range(MAX_GUARD, -1, -1):
+        if (tables.candidates * w * z + zero) * 2.0 ** (g + mf) < 2.0 ** 62:
+            return g
+    return -1
+
+
 def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
     """Per rule-base output, a worst-case |C - engine| as a fraction of its range, derived from
-    the arithmetic (the engine at the dequantized input), or None where the argument below does
-    not apply (weights, or an input point where no rule concludes the output):
+    the arithmetic (the engine at the dequantized input, clipped to the output's range), or
+    None where the argument below does not apply (weights with a ratio defuzzifier, weights
+    <= 0, or an input point where no rule concludes the output):
 
     - a membership of a piece of scaled width w (input LSBs; anchor and width rounded to the
-      grid, +-0.5 each, and the break picking the piece +-0.5) is off by at most
-      eps = 1.5 / (w - 0.5) + 2^-MF (the division truncates);
-    - min and max are exact, so an activation is off by eps (min) or I eps (product of I);
-    - the levels alpha_j then differ by D = eps_act * min(terms, 2^I) in sum (max aggregation;
-      2^I for sum: at most 2^I rules fire);
-    - center of area y = sum alpha_j z_j / S moves by sum |delta_j| |z_j - y'| / S' <=
-      D Z / (S_min - D), Z the spread of the peaks, S_min = T-norm over inputs of the least
-      top membership (every term tuple has a rule, so the rule of the tallest terms fires);
-    - peaks rounded (0.5 LSB) and the division rounded to nearest (0.5 LSB): + 1 / FULL.
+      grid, +-0.5 each, and the break picking the piece +-0.5; each also moved by m LSB where
+      break points were merged, see SNAP) is off by at most
+      eps = (1.5 + 2 m) / (w - 0.5 - m) + 2^-MF (the division truncates);
+    - min and max are exact, and a wildcard is exactly 1, so an activation is off by
+      eps_act = eps (min) or I eps (1 + eps)^(I-1) (product of I);
+    - S_min = T-norm over inputs of the least top membership: every term tuple has a rule
+      (its own or one with `*` there) concluding the output, so that rule fires at least this
+      much, in the engine, and in C at least S_min - eps_act;
+    - ratio defuzzifiers (unit weights): the levels alpha_j differ by D = eps_act * min(terms,
+      C) in sum for max aggregation, eps_act * C for sum, C the rules met per sample (slot
+      combinations x rules per cell); center of area y = sum alpha_j z_j / S moves by
+      sum |delta_j| |z_j - y'| / S' <= D Z / (S_min - D), Z the spread of the peaks; peaks
+      rounded (0.5 LSB) and the division rounded to nearest (0.5 LSB): + 1 / FULL;
+    - weighted sum y = sum_r act_r w_r z_r (weights w_r > 0): act_r w_r is off by
+      eps_act w_r (+ 1.5 2^-MF for the rounded weight and the truncated product), so y by
+      sum_r that * |z_r|, the sum over the rules that can fire in one cell of the input grid
+      (one segment per input), worst cell; the peaks rounded to 0.5 2^-G LSB add
+      (sum_r w_r + 1) 0.5 2^-G / FULL (the 1 for the offset of the value 0), the final
+      rounding 0.5 / FULL; the saturation to the range only brings C nearer the clipped
+      engine.
     """
     rb = model.rulebase
-    engine = CompiledRuleBase(rb)
-    if not engine.sparse or not np.all(rb.weights == 1.0):
+    try:
+        tables = FixedTables(rb, numeric)
+    except FuzzycError:
+        return None
+    method = rb.inference.defuzzifier
+    weighted_sum = method == Defuzzifier.WEIGHTED_SUM
+    unit = bool(np.all(rb.weights == 1.0))
+    if not unit and not (weighted_sum and np.all(rb.weights > 0)):
         return None
     full, mf = FORMATS[numeric][1], FORMATS[numeric][2]
     n_in = len(rb.inputs)
     eps = 0.0
     tops = []
-    for var, part in zip(rb.inputs, engine.partitions):
+    for var, part, moved in zip(rb.inputs, tables.partitions, tables.moved):
         widths = np.abs(part.table[:, 2:4])
         widths = widths[np.isfinite(widths)] * full / (var.hi - var.lo)
+        m = moved * full
         if len(widths):
-            eps = max(eps, 1.5 / (widths.min() - 0.5))
+            eps = max(eps, (1.5 + 2 * m) / (widths.min() - 0.5 - m))
         tops.append(_least_top(var, part))
     eps += 2.0 ** -mf
     product = rb.inference.and_ == TNorm.PRODUCT
     eps_act = n_in * eps * (1 + eps) ** (n_in - 1) if product else eps
     s_min = float(np.prod(tops)) if product else min(tops)
-    summed = rb.inference.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE or \
+    summed = method == Defuzzifier.WEIGHTED_AVERAGE or \
         rb.inference.aggregation == Aggregation.SUM
-    place = np.concatenate([np.cumprod(engine.radix[::-1])[::-1][1:], [1]])
-    tuples = np.stack(np.meshgrid(*[np.arange(v.n_terms) for v in rb.inputs], indexing="ij"),
-                      -1).reshape(-1, n_in)        # every tuple of real terms
-    rules = engine.lookup[tuples @ place]          # its rules, padded with n_rules
+    rules = tables.tuple_rules()                   # per tuple of real terms, padded n_rules
+    cell_rules = tables.segment_rules() if weighted_sum else None
     bounds = []
     for o, var in enumerate(rb.outputs):
-        concluded = np.any(np.append(rb.consequents[:, o], -1)[rules] >= 0, axis=1)
-        d = eps_act * (2 ** n_in if summed else min(var.n_terms, 2 ** n_in))
-        if not np.all(concluded) or s_min <= d:
+        J = np.append(rb.consequents[:, o], -1)
+        if not np.all(np.any(J[rules] >= 0, axis=1)):
+            return None
+        span = var.hi - var.lo
+        if weighted_sum:
+            g = sum_guard(tables, o, numeric)
+            w = np.append(rb.weights.astype(float), 0.0) * (J >= 0)
+            rounding = 0.0 if unit else 1.5 * 2.0 ** -mf
+            if g < 0 or (s_min - eps_act) * w[:-1][J[:-1] >= 0].min() - rounding <= 0:
+                return None
+            z = np.append(var.peaks(), 0.0)[J]
+            err = (eps_act * w + rounding * (w > 0)) * np.abs(z) / span
+            total_w = w[cell_rules].sum(axis=1).max()
+            bounds.append(err[cell_rules].sum(axis=1).max()
+                          + (total_w + 1) * 0.5 * 2.0 ** -g / full + 0.5 / full)
+            continue
+        d = eps_act * (tables.candidates if summed else min(var.n_terms, tables.candidates))
+        if s_min <= d:
             return None
         peaks = var.peaks()
-        spread = (max(peaks) - min(peaks)) / (var.hi - var.lo)
+        spread = (max(peaks) - min(peaks)) / span
         bounds.append(d * spread / (s_min - d) + 1.0 / full)
     return np.array(bounds)
 
@@ -112,10 +279,6 @@ def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
 def io_frac(lo: float, hi: float, numeric: str) -> int:
     """Fraction bits of a chain input or output of range [lo, hi] in the I/O arrays."""
     return frac_for(lo, hi, 15 if numeric == "q15" else 31)
-
-
-def _fail(message: str) -> FuzzycError:
-    return FuzzycError([Diagnostic(None, message)])
 
 
 def _ints(values) -> str:
@@ -129,20 +292,29 @@ class FixedPointWriter:
         rb = self.rb
         check_supported(rb)   # what the float back end cannot emit, fixed point cannot either
         method = rb.inference.defuzzifier
-        if method not in (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE):
-            raise _fail(f"the {numeric} back end emits center of area and weighted average; "
-                        f"`{method.name.lower()}` is not supported")
-        self.engine = CompiledRuleBase(rb)
-        if not self.engine.sparse:
-            raise _fail(f"the {numeric} back end needs plain AND rules over partitions where "
-                        f"at most two terms of an input are positive at a time")
+        if method not in (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE,
+                          Defuzzifier.WEIGHTED_SUM):
+            raise _fail(f"the {numeric} back end emits center of area, weighted average and "
+                        f"weighted sum; `{method.name.lower()}` is not supported")
+        for var in rb.outputs:
+            if np.any(var.kinds == TermKind.LINEAR) or not np.all(np.isfinite(var.peaks())):
+                raise _fail(f"the {numeric} back end needs a fixed value per output term; "
+                            f"`{var.name}` has linear (Takagi-Sugeno) terms")
+        self.tables = FixedTables(rb, numeric)
+        self.guard = [sum_guard(self.tables, o, numeric) for o in range(len(rb.outputs))]
+        self.weighted_sum = method == Defuzzifier.WEIGHTED_SUM
+        if self.weighted_sum and min(self.guard) < 0:
+            raise _fail(f"the {numeric} back end cannot hold the weighted sum in int64: "
+                        f"{self.tables.candidates} rules x weight x peak x 2^{self.mf} "
+                        f"exceeds 2^62")
         self.name = c_identifier(model.name)
         self.p, self.P = f"{self.name}_{numeric}_", f"{self.name.upper()}_{numeric.upper()}_"
 
     def derived_text(self) -> str:
         bound = derived_error_bound(self.model, self.numeric)
         if bound is None:
-            return "not derived (weights, or an input point where no rule concludes an output)"
+            return ("not derived (weights with a ratio defuzzifier, weights <= 0, or an input "
+                    "point where no rule concludes an output)")
         return "; ".join(f"{v.name} {e:.3g}" for v, e in zip(self.rb.outputs, bound)) + \
             " of the output's range"
 
@@ -192,8 +364,8 @@ class FixedPointWriter:
                f" * Memberships are fractions of 2^{self.mf}.  Worst-case error against the "
                f"engine at the dequantized input: {bound:.3g} of each output's range",
                " * (checked on >= 100,000 random inputs and every edge).",
-               " * Derived worst case (membership rounding + exact min/max + rounded COA "
-               "division, see",
+               " * Derived worst case (membership rounding + exact min/max + rounded "
+               + ("weighted sum" if self.weighted_sum else "COA division") + ", see",
                " * fuzzyc.backends.c_fixed.derived_error_bound): " + self.derived_text() + ".",
                " * The whole chain (NAME_step) is in fixed point too: every value at the binary",
                " * point its range allows in 31 bits (memories and integrator states included),",
@@ -208,13 +380,13 @@ class FixedPointWriter:
                f"#define {P}N_RB_INPUTS {n_in}", f"#define {P}N_RB_OUTPUTS {n_out}", ""]
         seen: dict[bytes, int] = {}
         which = []
-        for i, (part, var) in enumerate(zip(self.engine.partitions, rb.inputs)):
+        for i, (part, var) in enumerate(zip(self.tables.partitions, rb.inputs)):
             key = part.breaks.tobytes() + part.table.tobytes() + np.array(
                 [var.lo, var.hi]).tobytes()
             which.append(seen.setdefault(key, i))
             if which[-1] == i:
                 out += self.input_tables(i, part, var)
-        lookup = self.engine.lookup
+        lookup = self.tables.lookup
         cons = np.vstack([np.where(rb.consequents >= 0, rb.consequents,
                                    [v.n_terms for v in rb.outputs]),
                           [v.n_terms for v in rb.outputs]])
@@ -227,8 +399,15 @@ class FixedPointWriter:
             out.append(f"static const int64_t {P}WEIGHTS[{rb.n_rules + 1}] = "
                        + _ints([round(w * one) for w in rb.weights] + [0]) + ";")
         for o, var in enumerate(rb.outputs):
-            out.append(f"static const int64_t {P}PEAKS_{o}[{var.n_terms}] = "
-                       + _ints([self.q(v, var) for v in var.peaks()]) + ";")
+            if self.weighted_sum:   # value / range * FULL * 2^G: relative to 0, not to lo
+                scale = self.full * 2.0 ** self.guard[o] / (var.hi - var.lo)
+                out.append(f"/* {var.name}: peaks at 2^-{self.guard[o]} of an output LSB, "
+                           f"relative to the value 0 (a weighted sum is not normalised). */")
+                out.append(f"static const int64_t {P}PEAKS_{o}[{var.n_terms}] = "
+                           + _ints([round(v * scale) for v in var.peaks()]) + ";")
+            else:
+                out.append(f"static const int64_t {P}PEAKS_{o}[{var.n_terms}] = "
+                           + _ints([self.q(v, var) for v in var.peaks()]) + ";")
         out += self.functions(which, unit)
         out += self.chain()
         out += ["", f"#endif /* {guard} */", ""]
@@ -304,6 +483,8 @@ class FixedPointWriter:
                 "    id[0] = active[k][0]; id[1] = active[k][1];",
                 "}"]
         tnorm = "lesser" if rb.inference.and_ == TNorm.MIN else "product"
+        tables = self.tables
+        slots = tables.slots
         code += [f"static inline int64_t {p}lesser(int64_t a, int64_t b) "
                  "{ return a < b ? a : b; }",
                  f"static inline int64_t {p}product(int64_t a, int64_t b) "
@@ -312,30 +493,36 @@ class FixedPointWriter:
                  "/* The bare rule base on scaled integers: xq[N_RB_INPUTS] -> yq[N_RB_OUTPUTS]. */",
                  f"static inline void {p}rulebase(const {io} xq[{n_in}], "
                  f"{io} yq[{len(rb.outputs)}]) {{",
-                 f"    int64_t m[{n_in}][2];", f"    unsigned char id[{n_in}][2];",
+                 f"    int64_t m[{n_in}][{slots.max()}];",
+                 f"    unsigned char id[{n_in}][{slots.max()}];",
                  "    int c, d;"]
         for o, var in enumerate(rb.outputs):
             code.append(f"    int64_t alpha{o}[{var.n_terms + 1}] = {{0}};")
         for i in range(n_in):
             k = which[i]
-            nb = len(self.engine.partitions[k].breaks)
+            nb = len(tables.partitions[k].breaks)
             code.append(f"    {p}active({p}sat(xq[{i}], 0, {P}FULL), {P}BREAKS_{k}, {nb}, "
                         f"{P}PIECES_{k}, {P}ACTIVE_{k}, m[{i}], id[{i}]);")
-        radix = self.engine.radix
-        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
-        bits = [f"(c >> {n_in - 1 - i}) & 1" for i in range(n_in)]
-        act = f"m[0][{bits[0]}]"
+            if tables.wild[i]:     # `*`: a third slot, membership exactly 1
+                code.append(f"    m[{i}][2] = {P}ONE; id[{i}][2] = {int(tables.radix[i]) - 1};")
+        place = tables.place
+        # the slot of input i in combination c (mixed radix, input 0 slowest)
+        stride = np.concatenate([np.cumprod(slots[::-1])[::-1][1:], [1]])
+        digit = [(f"(c >> {int(stride[i]).bit_length() - 1}) & 1" if np.all(slots == 2) else
+                  f"c / {int(stride[i])} % {int(slots[i])}") for i in range(n_in)]
+        act = f"m[0][{digit[0]}]"
         for i in range(1, n_in):
-            act = f"{p}{tnorm}({act}, m[{i}][{bits[i]}])"
-        code += [f"    for (c = 0; c < {1 << n_in}; ++c) {{",
-                 "        int cell = " + " + ".join(f"id[{i}][{bits[i]}] * {int(place[i])}"
+            act = f"{p}{tnorm}({act}, m[{i}][{digit[i]}])"
+        code += [f"    for (c = 0; c < {tables.combos}; ++c) {{",
+                 "        int cell = " + " + ".join(f"id[{i}][{digit[i]}] * {int(place[i])}"
                                                     for i in range(n_in)) + ";",
                  f"        int64_t act = {act};",
-                 f"        for (d = 0; d < {self.engine.lookup.shape[1]}; ++d) {{",
+                 f"        for (d = 0; d < {tables.lookup.shape[1]}; ++d) {{",
                  f"            int rule = {P}CELLS[cell][d];",
                  "            int64_t a = " + ("act" if unit else
                                                 f"act * {P}WEIGHTS[rule] >> {self.mf}") + ";"]
-        sum_agg = rb.inference.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE or \
+        sum_agg = rb.inference.defuzzifier in (Defuzzifier.WEIGHTED_AVERAGE,
+                                               Defuzzifier.WEIGHTED_SUM) or \
             rb.inference.aggregation == Aggregation.SUM
         for o in range(len(rb.outputs)):
             slot = f"alpha{o}[{P}CONSEQUENTS[rule][{o}]]"
@@ -346,8 +533,16 @@ class FixedPointWriter:
             num = " + ".join(f"alpha{o}[{j}] * {P}PEAKS_{o}[{j}]" for j in range(var.n_terms))
             den = " + ".join(f"alpha{o}[{j}]" for j in range(var.n_terms))
             default = max(0, min(self.full, self.q(var.default, var)))
+            if self.weighted_sum:
+                # yq = sum alpha_j z_j / span * FULL + the position of 0 (-lo / span * FULL),
+                # all at 2^-(MF + G): rounded to nearest once
+                g = self.guard[o]
+                zero = round(-var.lo / (var.hi - var.lo) * self.full * 2.0 ** g) << self.mf
+                value = f"{p}shr(num + INT64_C({zero}), {self.mf + g})"
+            else:
+                value = "(num + den / 2) / den"
             code += ["    {", f"        int64_t num = {num};", f"        int64_t den = {den};",
-                     f"        int64_t v = den > 0 ? (num + den / 2) / den : {default};",
+                     f"        int64_t v = den > 0 ? {value} : {default};",
                      f"        yq[{o}] = ({io}){p}sat(v, 0, {P}FULL);", "    }"]
         code.append("}")
         return code
