@@ -38,7 +38,10 @@ def test_bad_file_and_unsupported_choice_exit_2(tmp_path, capsys):
     bad = tmp_path / "bad.fz"
     bad.write_text("controller broken {\n  input x in [0, 1\n}\n")
     assert cli_main(["compile", str(bad), "-o", str(tmp_path)]) == 2
-    milling = ROOT / "rulebases" / "milling_neurofuzzy.fz"       # weighted sum: no q15
-    assert cli_main(["compile", str(milling), "--numeric", "q15", "-o", str(tmp_path)]) == 2
-    assert "weighted_sum" in capsys.readouterr().err
+    # the corner controller with centroid: float C emits it, q15 does not
+    corner = tmp_path / "corner.fz"
+    corner.write_text((ROOT / "rulebases" / "wedm_corner.fz").read_text().replace(
+        "defuzzify = center_of_area", "defuzzify = centroid"))
+    assert cli_main(["compile", str(corner), "--numeric", "q15", "-o", str(tmp_path)]) == 2
+    assert "`centroid` is not supported" in capsys.readouterr().err
     assert not list(tmp_path.glob("*.h"))

@@ -53,6 +53,11 @@ CHAIN_ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -14}
 # three terms are positive; 2^-40 of the range is 2^-9 of a q31 LSB, far below any grid the
 # C uses, and the move is carried into the derived bound.
 SNAP = 2.0 ** -40
+# assumption: the most guard bits of the input pieces (break points, anchors, widths at
+# 2^-GI of an input LSB): 16 make their rounding 2^-17 LSB, so a q15 membership is off by
+# little more than its truncation 2^-15 (at GI = 0 the anchor's 0.5 LSB over a width of a
+# few thousand LSB was 3x that); q31 gets what int64 allows (1 or 2).
+MAX_INPUT_GUARD = 16
 # assumption: the most guard bits of the weighted-sum peaks below the output LSB (16 make the
 # peaks' rounding 2^-17 LSB; more buys nothing against the final rounding of 0.5 LSB).
 MAX_GUARD = 16
@@ -130,6 +135,17 @@ class FixedTables:
         rank = np.arange(rb.n_rules) - np.searchsorted(cells[order], cells[order])
         lookup[cells[order], rank] = order
         self.lookup = lookup
+        full, mf = FORMATS[numeric][1], FORMATS[numeric][2]
+        # |x - anchor| <= |width| inside a segment (outer segments are constant), so
+        # (x - anchor) * ONE stays below 2^62 with the widest piece
+        widest = max([float(np.abs(p.table[:, 2:4][np.isfinite(p.table[:, 2:4])]).max(
+            initial=0.0)) / (v.hi - v.lo) for p, v in zip(self.partitions, rb.inputs)])
+        self.input_guard = max([g for g in range(MAX_INPUT_GUARD + 1)
+                                if (widest * full + 2) * 2.0 ** (g + mf) < 2.0 ** 62],
+                               default=-1)
+        if self.input_guard < 0:
+            raise _fail(f"the {numeric} back end cannot hold a membership's numerator in "
+                        f"int64 (a piece wider than the input's range)")
         self.combos = int(np.prod(self.slots))        # slot combinations per sample
         self.candidates = self.combos * depth          # rules met per sample, at most
 
@@ -175,19 +191,27 @@ def _least_top(var, part) -> float:
     return float(memberships(var, np.array(points)).max(axis=1).min())
 
 
-def sum_guard(tables: FixedTables, o: int, numeric: str) -> int:
-    """Guard bits G of weighted-sum output o's peaks (integers at 2^-G of an output LSB,
-    relative to the value 0): the most, up to MAX_GUARD, with which sum_j alpha_j ZS_j plus the
-    offset of 0 stays below 2^62 in int64 (alpha summed over at most `candidates` rules, each
-    act * w <= w ONE), or -1 when none does."""
+def output_guard(tables: FixedTables, o: int, numeric: str) -> int:
+    """Guard bits g of output o below its LSB (its peaks, and the rule base's wide output, at
+    2^-g of an output LSB): the most, up to MAX_GUARD, with which the numerator fits in int64
+    -- |sum_j alpha_j| <= A = n max(w) ONE (n = min(terms, C) levels with max aggregation, C
+    rules met per sample with sum), times the largest |peak| (relative to lo for the ratios,
+    to the value 0 for the weighted sum), plus the offset of 0 and the rounding -- or -1."""
     rb, var = tables.rb, tables.rb.outputs[o]
     full, mf = FORMATS[numeric][1], FORMATS[numeric][2]
-    span = var.hi - var.lo
-    z = np.abs(var.peaks()).max() / span * full + 1
-    zero = abs(var.lo) / span * full + 1
-    w = max(1.0, float(np.abs(rb.weights).max()))
+    one = 1 << mf
+    method = rb.inference.defuzzifier
+    summed = method in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM) or \
+        rb.inference.aggregation == Aggregation.SUM
+    n = tables.candidates if summed else min(var.n_terms, tables.candidates)
+    a = n * max([one] + [abs(round(w * one)) for w in rb.weights])
+    weighted_sum = method == Defuzzifier.WEIGHTED_SUM
+    origin = 0.0 if weighted_sum else var.lo
     for g in range(MAX_GUARD, -1, -1):
-        if (tables.candidates * w * z + zero) * 2.0 ** (g + mf) < 2.0 ** 62:
+        scale = full * 2.0 ** g / (var.hi - var.lo)
+        z = max(abs(round((v - origin) * scale)) for v in var.peaks()) + 1
+        zero = abs(round(-var.lo * scale)) * one if weighted_sum else 0
+        if a * z + zero + a < 2 ** 63:
             return g
     return -1
 
@@ -198,10 +222,11 @@ def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
     None where the argument below does not apply (weights with a ratio defuzzifier, weights
     <= 0, or an input point where no rule concludes the output):
 
-    - a membership of a piece of scaled width w (input LSBs; anchor and width rounded to the
-      grid, +-0.5 each, and the break picking the piece +-0.5; each also moved by m LSB where
+    - a membership of a piece of scaled width w (input LSBs; anchor, width and break point
+      rounded to r = 0.5 2^-GI LSB, GI the input guard bits; each also moved by m LSB where
       break points were merged, see SNAP) is off by at most
-      eps = (1.5 + 2 m) / (w - 0.5 - m) + 2^-MF (the division truncates);
+      eps = (3 r + 2 m) / (w - r - m) + 2^-MF (the division rounds to nearest, 0.5 2^-MF,
+      and so does each product of the product t-norm, another 0.5 2^-MF);
     - min and max are exact, and a wildcard is exactly 1, so an activation is off by
       eps_act = eps (min) or I eps (1 + eps)^(I-1) (product of I);
     - S_min = T-norm over inputs of the least top membership: every term tuple has a rule
@@ -211,14 +236,15 @@ def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
       C) in sum for max aggregation, eps_act * C for sum, C the rules met per sample (slot
       combinations x rules per cell); center of area y = sum alpha_j z_j / S moves by
       sum |delta_j| |z_j - y'| / S' <= D Z / (S_min - D), Z the spread of the peaks; peaks
-      rounded (0.5 LSB) and the division rounded to nearest (0.5 LSB): + 1 / FULL;
+      rounded (0.5 2^-g LSB), the division rounded to nearest (0.5 2^-g LSB) and the result
+      to the LSB (0.5): + 1 / FULL;
     - weighted sum y = sum_r act_r w_r z_r (weights w_r > 0): act_r w_r is off by
-      eps_act w_r (+ 1.5 2^-MF for the rounded weight and the truncated product), so y by
+      eps_act w_r (+ 2^-MF for the rounded weight and the rounded product), so y by
       sum_r that * |z_r|, the sum over the rules that can fire in one cell of the input grid
-      (one segment per input), worst cell; the peaks rounded to 0.5 2^-G LSB add
-      (sum_r w_r + 1) 0.5 2^-G / FULL (the 1 for the offset of the value 0), the final
-      rounding 0.5 / FULL; the saturation to the range only brings C nearer the clipped
-      engine.
+      (one segment per input), worst cell; the peaks rounded to 0.5 2^-g LSB (g the output's
+      guard bits) add (sum_r w_r + 2) 0.5 2^-g / FULL (the 2 for the offset of the value 0
+      and the rounding of the wide result), the final rounding 0.5 / FULL; the saturation to
+      the range only brings C nearer the clipped engine.
     """
     rb = model.rulebase
     try:
@@ -238,8 +264,9 @@ def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
         widths = np.abs(part.table[:, 2:4])
         widths = widths[np.isfinite(widths)] * full / (var.hi - var.lo)
         m = moved * full
+        r = 0.5 * 2.0 ** -tables.input_guard
         if len(widths):
-            eps = max(eps, (1.5 + 2 * m) / (widths.min() - 0.5 - m))
+            eps = max(eps, (3 * r + 2 * m) / (widths.min() - r - m))
         tops.append(_least_top(var, part))
     eps += 2.0 ** -mf
     product = rb.inference.and_ == TNorm.PRODUCT
@@ -256,16 +283,16 @@ def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
             return None
         span = var.hi - var.lo
         if weighted_sum:
-            g = sum_guard(tables, o, numeric)
+            g = output_guard(tables, o, numeric)
             w = np.append(rb.weights.astype(float), 0.0) * (J >= 0)
-            rounding = 0.0 if unit else 1.5 * 2.0 ** -mf
+            rounding = 0.0 if unit else 2.0 ** -mf
             if g < 0 or (s_min - eps_act) * w[:-1][J[:-1] >= 0].min() - rounding <= 0:
                 return None
             z = np.append(var.peaks(), 0.0)[J]
             err = (eps_act * w + rounding * (w > 0)) * np.abs(z) / span
             total_w = w[cell_rules].sum(axis=1).max()
             bounds.append(err[cell_rules].sum(axis=1).max()
-                          + (total_w + 1) * 0.5 * 2.0 ** -g / full + 0.5 / full)
+                          + (total_w + 2) * 0.5 * 2.0 ** -g / full + 0.5 / full)
             continue
         d = eps_act * (tables.candidates if summed else min(var.n_terms, tables.candidates))
         if s_min <= d:
@@ -301,12 +328,12 @@ class FixedPointWriter:
                 raise _fail(f"the {numeric} back end needs a fixed value per output term; "
                             f"`{var.name}` has linear (Takagi-Sugeno) terms")
         self.tables = FixedTables(rb, numeric)
-        self.guard = [sum_guard(self.tables, o, numeric) for o in range(len(rb.outputs))]
+        self.guard = [output_guard(self.tables, o, numeric) for o in range(len(rb.outputs))]
         self.weighted_sum = method == Defuzzifier.WEIGHTED_SUM
-        if self.weighted_sum and min(self.guard) < 0:
-            raise _fail(f"the {numeric} back end cannot hold the weighted sum in int64: "
-                        f"{self.tables.candidates} rules x weight x peak x 2^{self.mf} "
-                        f"exceeds 2^62")
+        if min(self.guard) < 0:
+            raise _fail(f"the {numeric} back end cannot hold the defuzzifier's numerator in "
+                        f"int64: {self.tables.candidates} rules x weight x peak x 2^{self.mf} "
+                        f"exceeds 2^63")
         self.name = c_identifier(model.name)
         self.p, self.P = f"{self.name}_{numeric}_", f"{self.name.upper()}_{numeric.upper()}_"
 
@@ -318,27 +345,29 @@ class FixedPointWriter:
         return "; ".join(f"{v.name} {e:.3g}" for v, e in zip(self.rb.outputs, bound)) + \
             " of the output's range"
 
-    def q(self, value: float, var) -> int:
-        """A position in var's range as an integer of the I/O scale (may lie outside it)."""
-        return int(round((value - var.lo) / (var.hi - var.lo) * self.full))
+    def q(self, value: float, var, guard: int = 0) -> int:
+        """A position in var's range as an integer of the I/O scale, at 2^-guard of its LSB
+        (may lie outside the range)."""
+        return int(round((value - var.lo) / (var.hi - var.lo) * self.full * 2.0 ** guard))
 
     def input_tables(self, i: int, part, var) -> list[str]:
-        P = self.P
-        breaks = [self.q(b, var) for b in part.breaks]
+        P, gi = self.P, self.tables.input_guard
+        breaks = [self.q(b, var, gi) for b in part.breaks]
         rows = []
         for r in part.table:
             row = []
             for s in range(2):
                 anchor, width, offset = r[s], r[2 + s], r[4 + s]
                 finite = np.isfinite(width)
-                row += [self.q(anchor, var) if finite else 0,
-                        int(round(width / (var.hi - var.lo) * self.full)) if finite else 0,
+                row += [self.q(anchor, var, gi) if finite else 0,
+                        int(round(width / (var.hi - var.lo) * self.full * 2.0 ** gi))
+                        if finite else 0,
                         int(offset) << self.mf]
             rows.append(row)
         ids = part.table[:, 6:8].astype(int)
         nb = len(breaks)
         return [f"/* {var.name}: break points, and per segment (anchor, width, offset) x 2 in "
-                f"input units (width 0 = constant). */",
+                f"input units at 2^-{gi} of an LSB (width 0 = constant). */",
                 f"static const int64_t {P}BREAKS_{i}[{nb}] = {_ints(breaks)};",
                 f"static const int64_t {P}PIECES_{i}[{nb + 1}][6] = "
                 "{" + ", ".join(_ints(r) for r in rows) + "};",
@@ -363,11 +392,15 @@ class FixedPointWriter:
                                    for v in rb.inputs + rb.outputs),
                f" * Memberships are fractions of 2^{self.mf}.  Worst-case error against the "
                f"engine at the dequantized input: {bound:.3g} of each output's range",
-               " * (checked on >= 100,000 random inputs and every edge).",
+               " * (checked on >= 100,000 random inputs and every edge; the output saturates "
+               "to its range).",
+               " * A `*` (any) in a rule counts as membership ONE exactly (min/product over "
+               "the other inputs).",
                " * Derived worst case (membership rounding + exact min/max + rounded "
                + ("weighted sum" if self.weighted_sum else "COA division") + ", see",
                " * fuzzyc.backends.c_fixed.derived_error_bound): " + self.derived_text() + ".",
-               " * The whole chain (NAME_step) is in fixed point too: every value at the binary",
+               " * The whole chain (NAME_step) is in fixed point too (it calls NAME_rulebase_wide,",
+               " * which keeps the guard bits below the I/O LSB): every value at the binary",
                " * point its range allows in 31 bits (memories and integrator states included),",
                " * in[]/out[] at the *_FRAC points below, inputs saturated to their ranges;",
                " * against the engine's Controller within "
@@ -406,8 +439,9 @@ class FixedPointWriter:
                 out.append(f"static const int64_t {P}PEAKS_{o}[{var.n_terms}] = "
                            + _ints([round(v * scale) for v in var.peaks()]) + ";")
             else:
+                out.append(f"/* {var.name}: peaks at 2^-{self.guard[o]} of an output LSB. */")
                 out.append(f"static const int64_t {P}PEAKS_{o}[{var.n_terms}] = "
-                           + _ints([self.q(v, var) for v in var.peaks()]) + ";")
+                           + _ints([self.q(v, var, self.guard[o]) for v in var.peaks()]) + ";")
         out += self.functions(which, unit)
         out += self.chain()
         out += ["", f"#endif /* {guard} */", ""]
@@ -426,7 +460,7 @@ class FixedPointWriter:
             body.append(chain.bind(sig.name, v)[0])
         for step in m.steps:
             body += chain.step(step)
-        body += chain.rulebase_io(self.rb, self.full, io, p)
+        body += chain.rulebase_io(self.rb, self.full, p, self.tables.input_guard, self.guard)
         io_max = self.full
         for k, o in enumerate(m.outputs):
             body += chain.output(k, o, io_frac(o.lo, o.hi, self.numeric), io_max)
@@ -476,8 +510,10 @@ class FixedPointWriter:
                 "    q = pieces[k];",
                 "    for (s = 0; s < 2; ++s) {",
                 "        const int64_t *piece = q + 3 * s;",
+                "        /* rounded to nearest: numerator and width have one sign (truncating "
+                "would bias every membership low, which an integrator downstream sums) */",
                 "        int64_t mu = piece[1] == 0 ? piece[2] : piece[2] + "
-                f"(xq - piece[0]) * {1 << self.mf} / piece[1];",
+                f"((xq - piece[0]) * {1 << self.mf} + piece[1] / 2) / piece[1];",
                 f"        m[s] = {p}sat(mu, 0, {P}ONE);",
                 "    }",
                 "    id[0] = active[k][0]; id[1] = active[k][1];",
@@ -488,11 +524,14 @@ class FixedPointWriter:
         code += [f"static inline int64_t {p}lesser(int64_t a, int64_t b) "
                  "{ return a < b ? a : b; }",
                  f"static inline int64_t {p}product(int64_t a, int64_t b) "
-                 f"{{ return a * b >> {self.mf}; }}",
+                 f"{{ return {p}shr(a * b, {self.mf}); }}",
                  "",
-                 "/* The bare rule base on scaled integers: xq[N_RB_INPUTS] -> yq[N_RB_OUTPUTS]. */",
-                 f"static inline void {p}rulebase(const {io} xq[{n_in}], "
-                 f"{io} yq[{len(rb.outputs)}]) {{",
+                 f"/* The rule base at guard precision: inputs at 2^-{tables.input_guard} of an "
+                 "LSB (xg = xq * 2^GI), outputs at",
+                 "   2^-" + ", 2^-".join(str(g) for g in self.guard)
+                 + " of an LSB (the chain calls this one). */",
+                 f"static inline void {p}rulebase_wide(const int64_t xg[{n_in}], "
+                 f"int64_t yw[{len(rb.outputs)}]) {{",
                  f"    int64_t m[{n_in}][{slots.max()}];",
                  f"    unsigned char id[{n_in}][{slots.max()}];",
                  "    int c, d;"]
@@ -501,7 +540,8 @@ class FixedPointWriter:
         for i in range(n_in):
             k = which[i]
             nb = len(tables.partitions[k].breaks)
-            code.append(f"    {p}active({p}sat(xq[{i}], 0, {P}FULL), {P}BREAKS_{k}, {nb}, "
+            code.append(f"    {p}active({p}sat(xg[{i}], 0, "
+                        f"INT64_C({self.full << tables.input_guard})), {P}BREAKS_{k}, {nb}, "
                         f"{P}PIECES_{k}, {P}ACTIVE_{k}, m[{i}], id[{i}]);")
             if tables.wild[i]:     # `*`: a third slot, membership exactly 1
                 code.append(f"    m[{i}][2] = {P}ONE; id[{i}][2] = {int(tables.radix[i]) - 1};")
@@ -520,7 +560,8 @@ class FixedPointWriter:
                  f"        for (d = 0; d < {tables.lookup.shape[1]}; ++d) {{",
                  f"            int rule = {P}CELLS[cell][d];",
                  "            int64_t a = " + ("act" if unit else
-                                                f"act * {P}WEIGHTS[rule] >> {self.mf}") + ";"]
+                                                f"{p}shr(act * {P}WEIGHTS[rule], {self.mf})")
+                 + ";"]
         sum_agg = rb.inference.defuzzifier in (Defuzzifier.WEIGHTED_AVERAGE,
                                                Defuzzifier.WEIGHTED_SUM) or \
             rb.inference.aggregation == Aggregation.SUM
@@ -532,18 +573,31 @@ class FixedPointWriter:
         for o, var in enumerate(rb.outputs):
             num = " + ".join(f"alpha{o}[{j}] * {P}PEAKS_{o}[{j}]" for j in range(var.n_terms))
             den = " + ".join(f"alpha{o}[{j}]" for j in range(var.n_terms))
-            default = max(0, min(self.full, self.q(var.default, var)))
+            g = self.guard[o]
+            top = self.full << g
+            default = max(0, min(top, self.q(var.default, var, g)))
             if self.weighted_sum:
-                # yq = sum alpha_j z_j / span * FULL + the position of 0 (-lo / span * FULL),
-                # all at 2^-(MF + G): rounded to nearest once
-                g = self.guard[o]
+                # yw = sum alpha_j z_j / span * FULL 2^g + the position of 0 (-lo / span *
+                # FULL 2^g), all at 2^-MF more: rounded to nearest once
                 zero = round(-var.lo / (var.hi - var.lo) * self.full * 2.0 ** g) << self.mf
-                value = f"{p}shr(num + INT64_C({zero}), {self.mf + g})"
+                value = f"{p}shr(num + INT64_C({zero}), {self.mf})"
             else:
                 value = "(num + den / 2) / den"
             code += ["    {", f"        int64_t num = {num};", f"        int64_t den = {den};",
-                     f"        int64_t v = den > 0 ? {value} : {default};",
-                     f"        yq[{o}] = ({io}){p}sat(v, 0, {P}FULL);", "    }"]
+                     f"        int64_t v = den > 0 ? {value} : INT64_C({default});",
+                     f"        yw[{o}] = {p}sat(v, 0, INT64_C({top}));", "    }"]
+        code.append("}")
+        gi = tables.input_guard
+        code += ["",
+                 "/* The bare rule base on scaled integers: xq[N_RB_INPUTS] -> yq[N_RB_OUTPUTS]. */",
+                 f"static inline void {p}rulebase(const {io} xq[{n_in}], "
+                 f"{io} yq[{len(rb.outputs)}]) {{",
+                 f"    int64_t xg[{n_in}], yw[{len(rb.outputs)}];",
+                 "    int i;",
+                 f"    for (i = 0; i < {n_in}; ++i) xg[i] = {p}sat(xq[i], 0, {P}FULL) * {1 << gi};",
+                 f"    {p}rulebase_wide(xg, yw);"]
+        for o, g in enumerate(self.guard):
+            code.append(f"    yq[{o}] = ({io})" + (f"{p}shr(yw[{o}], {g});" if g else f"yw[{o}];"))
         code.append("}")
         return code
 

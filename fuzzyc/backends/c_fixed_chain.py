@@ -211,21 +211,29 @@ class FixedChain:
                 f"    {out} = {seen} ? {value.code} : {first};",
                 f"    {mem} = (int32_t){keep}; {seen} = 1;", "}"]
 
-    def rulebase_io(self, rb, full: int, io: str, rb_prefix: str) -> list[str]:
-        """Scale the rule-base inputs to [0, FULL], call the rule base, read its outputs."""
-        code = [f"{io} xq[{len(rb.inputs)}], yq[{len(rb.outputs)}];"]
+    def rulebase_io(self, rb, full: int, rb_prefix: str, input_guard: int,
+                    guards: list[int]) -> list[str]:
+        """Scale the rule-base inputs to [0, FULL] at 2^-input_guard of an LSB, call the wide
+        rule base (so the chain does not round its inputs and outputs to the I/O LSB), read
+        its outputs (output o at 2^-guards[o] of an LSB)."""
+        code = [f"int64_t xg[{len(rb.inputs)}], yw[{len(rb.outputs)}];"]
         for i, var in enumerate(rb.inputs):
             self.where = f"the rule-base input `{var.name}`"
             x = self.constant(self.expr(sympy.Symbol(var.name)))
-            cf = frac_for(full / (var.hi - var.lo), full / (var.hi - var.lo))
+            gain = full * 2.0 ** input_guard / (var.hi - var.lo)
+            cf = frac_for(gain, gain)
             shifted = f"(int64_t)({x.code} - {self.const(var.lo, x.frac)}) * " \
-                      f"{self.const(full / (var.hi - var.lo), cf)}"
-            code.append(f"xq[{i}] = ({io}){self.p}sat({self.rescale(shifted, x.frac + cf, 0)}, "
-                        f"0, {full});")
-        code.append(f"{rb_prefix}rulebase(xq, yq);")
+                      f"{self.const(gain, cf)}"
+            code.append(f"xg[{i}] = {self.p}sat({self.rescale(shifted, x.frac + cf, 0)}, "
+                        f"0, INT64_C({full << input_guard}));")
+        code.append(f"{rb_prefix}rulebase_wide(xg, yw);")
         for o, var in enumerate(rb.outputs):
-            y = self.add([self.scale(Fx(f"yq[{o}]", 0, 0.0, float(full)),
-                                     (var.hi - var.lo) / full), float(var.lo)])
+            # at most 31 bits, as every chain value (so the scaling product fits in int64)
+            drop = max(0, (full << guards[o]).bit_length() - CHAIN_BITS)
+            top = float(full << guards[o]) / 2.0 ** drop
+            raw = f"{self.p}shr(yw[{o}], {drop})" if drop else f"yw[{o}]"
+            y = self.add([self.scale(Fx(raw, 0, 0.0, top), (var.hi - var.lo) / top),
+                          float(var.lo)])
             code.append(self.bind(var.name, y)[0])
         return code
 
