@@ -6,7 +6,12 @@ xq = round((x - lo) / (hi - lo) * FULL) in [0, FULL] (FULL = 32767 for q15 in in
 for q31 in int32_t); an output is read back the same way, y = lo + yq / FULL * (hi - lo).
 Inputs outside [0, FULL] are saturated; so is every intermediate (memberships to [0, 1],
 outputs to [0, FULL]).  Memberships are fractions with MF bits (15 for q15, 28 for q31, so
-products and the centre-of-area sums fit in int64).
+products and the centre-of-area sums fit in int64), rounded to nearest (a truncation would
+bias them all low, and an integrator downstream sums a bias).  Inside, the rule base works
+at guard precision (`NAME_rulebase_wide`): the input pieces (break points, anchors, widths)
+at 2^-GI of an input LSB and the outputs at 2^-g of an output LSB, as many bits as int64
+allows (up to 16; q31 gets 1-5); `NAME_rulebase` on the I/O integers rounds once at the end,
+and the chain calls the wide one, so it does not round to the I/O LSB between its steps.
 
 Emitted for the case the fixed-point arithmetic is exact enough and simple: inputs that are
 partitions with at most two positive terms (`FixedTables`), AND rules in which an input may be
@@ -41,12 +46,14 @@ FORMATS = {
 # tests/test_c_fixed.py on >= 100,000 random inputs and every edge of every shipped rule base.
 ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -24}
 # The whole chain (step) against the engine's Controller fed the same dequantized inputs, as a
-# fraction of each output's range over 10,000 steps of random walks (the shipped WEDM and EDM
-# chains).  Measured, with a margin of about 4 (measured: q15 9.2e-5, the t_off output's own
-# quantization and the rule base's; q31 1.4e-5, the 1/integrate state amplifying the rule
-# base's error by up to 1/v^2 = 48^2 (q31 barely helps there) -- not derived: an integrator
-# sums the per-step errors, so the bound grows with the run length.
-CHAIN_ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -14}
+# fraction of each output's range over 10,000 steps of random walks (the four paper chains).
+# Measured, with a margin of about 5 (q15: WEDM 3.2e-5, EDM 1.8e-5, corner 3.1e-5, milling
+# 4.7e-5, the integrated du of 49 random weights -- 4.8e-4 before the rule base got guard
+# bits and rounded memberships; q31: 1.4e-5, WEDM's t_off near 48 us, where an error of the
+# 1/integrate state counts 1/v^2 = 48^2 times -- unchanged by the rule base's guard bits, so
+# it comes from the chain's state, not pinned down here; the others <= 1.4e-8) -- not derived: an
+# integrator sums the per-step errors, so the bound grows with the run length.
+CHAIN_ERROR_BOUND = {"q15": 2.0 ** -12, "q31": 2.0 ** -14}
 # assumption: break points of one input closer than 2^-40 of its range are one break point.
 # The builder's `uniform` partitions put a shared break point of two neighbouring terms 1 ulp
 # apart (milling: -1/3 as -0.33333333333333343, ...37 and ...31), which leaves slivers where
