@@ -47,6 +47,14 @@ def milling_weighted():
     return model
 
 
+def corner_catch_all():
+    """The corner controller with rule 27 as `* * * -> M`: it fires 1 at every input, and
+    every input gets its third (`*`) slot: 27 slot combinations per sample."""
+    model = copy.deepcopy(shipped("wedm_corner"))
+    model.rulebase.antecedents[26] = -1
+    return model
+
+
 CASES = {
     "wedm_three_region": lambda: shipped("wedm_three_region"),
     "edm_sink_gap": lambda: shipped("edm_sink_gap"),
@@ -56,6 +64,7 @@ CASES = {
     "corner_product_sum": lambda: variant("wedm_corner", and_=TNorm.PRODUCT,
                                           aggregation=Aggregation.SUM),
     "milling_weighted": milling_weighted,
+    "corner_catch_all": corner_catch_all,
     "wedm_product": lambda: variant("wedm_three_region", and_=TNorm.PRODUCT),
     "edm_weighted_average": lambda: variant("edm_sink_gap",
                                             defuzzifier=Defuzzifier.WEIGHTED_AVERAGE),
