@@ -47,13 +47,13 @@ FORMATS = {
 ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -24}
 # The whole chain (step) against the engine's Controller fed the same dequantized inputs, as a
 # fraction of each output's range over 10,000 steps of random walks (the four paper chains).
-# Measured, with a margin of about 5 (q15: WEDM 3.2e-5, EDM 1.8e-5, corner 3.1e-5, milling
-# 4.7e-5, the integrated du of 49 random weights -- 4.8e-4 before the rule base got guard
-# bits and rounded memberships; q31: 1.4e-5, WEDM's t_off near 48 us, where an error of the
-# 1/integrate state counts 1/v^2 = 48^2 times -- unchanged by the rule base's guard bits, so
-# it comes from the chain's state, not pinned down here; the others <= 1.4e-8) -- not derived: an
-# integrator sums the per-step errors, so the bound grows with the run length.
-CHAIN_ERROR_BOUND = {"q15": 2.0 ** -12, "q31": 2.0 ** -14}
+# Measured, with a margin of about 5 (q15: WEDM 2.1e-5, EDM 1.8e-5, corner 3.1e-5, milling
+# 4.7e-5 -- mostly the q15 output's own half LSB; milling, the integrated du of 49 random
+# weights, was 4.8e-4 before the rule base got guard bits and rounded memberships; q31: WEDM
+# 1.1e-8, the others <= 6.9e-9 -- WEDM's t_off was 1.4e-5 while integrator states had 31 bits,
+# see c_fixed_chain.STATE_GUARD) -- not derived: an integrator sums the per-step errors, so
+# the bound grows with the run length.
+CHAIN_ERROR_BOUND = {"q15": 2.0 ** -12, "q31": 2.0 ** -24}
 # assumption: break points of one input closer than 2^-40 of its range are one break point.
 # The builder's `uniform` partitions put a shared break point of two neighbouring terms 1 ulp
 # apart (milling: -1/3 as -0.33333333333333343, ...37 and ...31), which leaves slivers where
@@ -408,7 +408,8 @@ class FixedPointWriter:
                " * fuzzyc.backends.c_fixed.derived_error_bound): " + self.derived_text() + ".",
                " * The whole chain (NAME_step) is in fixed point too (it calls NAME_rulebase_wide,",
                " * which keeps the guard bits below the I/O LSB): every value at the binary",
-               " * point its range allows in 31 bits (memories and integrator states included),",
+               " * point its range allows in 31 bits (memories included; integrator states "
+               "16 bits finer, in int64),",
                " * in[]/out[] at the *_FRAC points below, inputs saturated to their ranges;",
                " * against the engine's Controller within "
                f"{CHAIN_ERROR_BOUND[self.numeric]:.3g} of each output's range over",
@@ -472,7 +473,8 @@ class FixedPointWriter:
         for k, o in enumerate(m.outputs):
             body += chain.output(k, o, io_frac(o.lo, o.hi, self.numeric), io_max)
         fields = [f"    int32_t memory_{i};\n    unsigned char seen_{i};" for i in chain.memories]
-        fields += [f"    int32_t out_{c_identifier(o.name)};   /* at 2^-{chain.state_frac(o)} */"
+        fields += [f"    {'int32_t' if o.kind == OutputKind.DIRECT else 'int64_t'} "
+                   f"out_{c_identifier(o.name)};   /* at 2^-{chain.state_frac(o)} */"
                    for o in m.outputs] or ["    unsigned char unused;"]
         init = [f"    s->memory_{i} = 0; s->seen_{i} = 0;" for i in chain.memories]
         for o in m.outputs:

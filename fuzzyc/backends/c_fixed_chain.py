@@ -5,11 +5,13 @@ to its declared one, and any other value takes the interval bound of its express
 saturated to their declared ranges first, so the bounds hold).  From its range each value gets
 a binary point: it is the integer round(v * 2**frac) with frac the largest that keeps it within
 31 bits plus a sign, so the chain itself loses about 1e-9 of a range per operation; memories
-and integrator states are kept at that precision too (an increment of 1.8e-4 * du per sample
-would vanish at 15 bits).  Products and alignments run in int64 and round to nearest.
+are kept at that precision too (an increment of 1.8e-4 * du per sample would vanish at 15
+bits), integrator states at STATE_GUARD bits more in int64 (a constant increment rounds the
+same way every sample).  Products and alignments run in int64 and round to nearest.
 The I/O arrays are int16_t (q15) or int32_t (q31) with their own binary points (the header
 #defines NAME_Q15_IN_x_FRAC / NAME_Q15_OUT_x_FRAC), and the rule base in between is the one of
-`c_fixed` on [0, FULL].  Emitted operations: + - and * (constants and params folded), min/max
+`c_fixed`, called at its guard precision (`NAME_rulebase_wide`), so the chain does not round
+to the I/O LSB there.  Emitted operations: + - and * (constants and params folded), min/max
 (clamp), delta, prev, lowpass (0 <= a < 1, b >= 0), direct, integrate and 1/integrate outputs.
 Anything else is a diagnostic naming the step.
 """
@@ -25,6 +27,13 @@ from ..model import Model, Op, OutputKind
 from .c import c_identifier
 
 CHAIN_BITS = 31
+# assumption: integrator states carry 16 fraction bits more than their range allows in 31 bits
+# (int64 state).  A constant increment that is not a multiple of the state's LSB is rounded the
+# same way every sample: WEDM's 8e-5 * (-0.5) = -85899.35 LSB of 1/t_off at 31 bits lost 0.35
+# LSB per sample, 600 LSB over a long stretch, which 1/v^2 = 48^2 made 1.4e-5 of t_off's
+# range.  16 bits make that 2^-16 as much; values read from the state are rounded back to
+# 31 bits, so the products downstream stay in int64.
+STATE_GUARD = 16
 
 
 @dataclass(frozen=True)
@@ -248,15 +257,19 @@ class FixedChain:
         if o.kind == OutputKind.DIRECT:
             code = [f"{state} = (int32_t){self.p}sat({self.align(value, frac)}, {bounds});"]
         else:
-            code = [f"{state} = (int32_t){self.p}sat({state} + {self.align(value, frac)}, "
-                    f"{bounds});"]
-        result = Fx(state, frac, o.lo, o.hi)
+            code = [f"{state} = {self.p}sat({state} + {self.align(value, frac)}, {bounds});"]
+        guard = frac - frac_for(lo, hi)
+        base = frac - guard              # the state rounded back to 31 bits
+        read = f"{self.p}shr({state}, {guard})" if guard else state
+        result = Fx(read, base, o.lo, o.hi)
         if o.kind == OutputKind.RECIPROCAL_INCREMENT:   # u = 1/v, rounded to nearest
             uf = frac_for(o.lo, o.hi)
-            one = 1 << (uf + frac)
+            one = 1 << (uf + base)
             result = Fx(f"u_{c_identifier(o.name)}", uf, o.lo, o.hi)
-            code.append(f"const int64_t {result.code} = {self.p}sat(({one} + {state} / 2) / "
-                        f"{state}, {self.const(o.lo, uf)}, {self.const(o.hi, uf)});")
+            v = f"reciprocal_{c_identifier(o.name)}"    # v = 1/u, 31 bits
+            code.append(f"const int64_t {v} = {read};")
+            code.append(f"const int64_t {result.code} = {self.p}sat(({one} + {v} / 2) / "
+                        f"{v}, {self.const(o.lo, uf)}, {self.const(o.hi, uf)});")
         code.append(f"out[{k}] = ({self.io}){self.p}sat({self.align(result, io_frac)}, "
                     f"{-io_max}, {io_max});")
         self.symbols[o.name] = result
@@ -272,4 +285,6 @@ class FixedChain:
         return o.lo, o.hi
 
     def state_frac(self, o) -> int:
-        return frac_for(*self.state_range(o))
+        """Fraction bits of output o's state: integrators keep STATE_GUARD more (int64)."""
+        return frac_for(*self.state_range(o)) + (0 if o.kind == OutputKind.DIRECT
+                                                 else STATE_GUARD)
