@@ -283,3 +283,21 @@ def test_chain_step_without_a_fixed_point_form_is_named():
     step.expr = sympy.exp(step.expr)
     with pytest.raises(FuzzycError, match="`let e`"):
         generate_fixed_header(model, "q15")
+
+
+def test_q15_chain_hand_computed_corner_and_milling():
+    # Corner, first sample: the low-pass starts at the feed itself, so feedrate = 20 (in = 20 *
+    # 2^7 = 2560), thickness 35 (35 * 2^8 = 8960), angle 43.125 (43.125 * 2^7 = 5520): the
+    # rule-base point of test_q15_corner_wildcard_hand_computed, y = 12.5 %, reduction =
+    # y * like 1 = 12.5, out = 12.5 * 2^8 = 3200.
+    corner = chain_runner(shipped("wedm_corner"), "q15", batch=1)
+    assert abs(int(corner([[[2560, 8960, 5520]]])[0, 0, 0]) - 3200) <= 1
+    # Milling with every peak 0 but z(e ZE, cf ZE) = 20: force 300 N = Fr (in = 300 * 2^4 =
+    # 4800), first delta 0: e = cf = 0, only rule 24 fires, with 1 * 1: du = 20, feed = 0 +
+    # du * GU 0.1 = 2 mm/min, out = 2 * 2^8 = 512; held for a second sample, 4 mm/min = 1024.
+    model = shipped("milling_neurofuzzy")
+    model.rulebase.outputs[0].params[:, 0] = 0.0
+    model.rulebase.outputs[0].params[24, 0] = 20.0
+    milling = chain_runner(model, "q15", batch=1)
+    out = milling([[[4800]], [[4800]]])[:, 0, 0]
+    assert np.all(np.abs(out - [512, 1024]) <= 1)
