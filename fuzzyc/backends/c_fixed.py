@@ -62,11 +62,13 @@ CHAIN_ERROR_BOUND = {"q15": 2.0 ** -12, "q31": 2.0 ** -24}
 SNAP = 2.0 ** -40
 # assumption: the most guard bits of the input pieces (break points, anchors, widths at
 # 2^-GI of an input LSB): 16 make their rounding 2^-17 LSB, so a q15 membership is off by
-# little more than its truncation 2^-15 (at GI = 0 the anchor's 0.5 LSB over a width of a
-# few thousand LSB was 3x that); q31 gets what int64 allows (1 or 2).
+# little more than its own rounding 2^-16 (at GI = 0 the anchor's 0.5 LSB over a width of a
+# few thousand LSB was several times that); q31 gets what int64 allows (3-5 on the paper
+# rule bases).
 MAX_INPUT_GUARD = 16
-# assumption: the most guard bits of the weighted-sum peaks below the output LSB (16 make the
-# peaks' rounding 2^-17 LSB; more buys nothing against the final rounding of 0.5 LSB).
+# assumption: the most guard bits of an output below its LSB (peaks and the wide result):
+# 16 make the peaks' rounding 2^-17 LSB; more buys nothing against the final rounding of
+# 0.5 LSB.  q31 gets what int64 allows (1-2 on the paper rule bases).
 MAX_GUARD = 16
 
 
