@@ -277,13 +277,17 @@ class Builder:
         if len(names) < 2:
             self.error(names[0].loc, "a uniform partition needs at least two terms")
             return
-        step = (hi - lo) / (len(names) - 1)
+        last = len(names) - 1
+        # One float per knot, shared by both neighbours: peak +- step would put a shared break
+        # point in two places 1 ulp apart, and the slivers between them have three positive
+        # terms, which turns off the engine's two-terms-per-input path.
+        knots = [lo + (hi - lo) * k / last for k in range(last + 1)]
         for i, name in enumerate(names):
-            peak = lo + i * step
-            a = -INF if i == 0 else peak - step
-            d = INF if i == len(names) - 1 else peak + step
+            peak = knots[i]
+            a = -INF if i == 0 else knots[i - 1]
+            d = INF if i == last else knots[i + 1]
             # The end terms are shoulders: 1 beyond the partition, as an operator expects.
-            params = (a, a if i == 0 else peak, d if i == len(names) - 1 else peak, d)
+            params = (a, a if i == 0 else peak, d if i == last else peak, d)
             self._append_term(var, name, TermKind.TRAPEZOID, params)
 
     def _add_term(self, var: _LinguisticVar, term: TermDef) -> None:

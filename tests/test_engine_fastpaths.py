@@ -177,3 +177,18 @@ def test_chunked_fast_path_is_independent_of_the_chunk():
     whole = engine.evaluate_chunk(x)
     parts = np.vstack([engine.evaluate_chunk(x[s:s + 13]) for s in range(0, len(x), 13)])
     np.testing.assert_array_equal(parts, whole)
+
+
+def test_uniform_partitions_share_their_knots_exactly():
+    # `terms x : uniform ...` over [-1, 1] with 7 terms (the milling controller's e and ce):
+    # the knots are -1 + 2k/6. Computed as peak +- step, the knot -1/3 came out as
+    # -0.33333333333333343, -0.3333333333333337 and -0.3333333333333331 in three terms, and the
+    # 1-ulp slivers between them (three positive terms) turned the two-terms path off.
+    from pathlib import Path
+    from fuzzyc.parser import load
+    model = load(Path(__file__).parents[1] / "rulebases" / "milling_neurofuzzy.fz")
+    for v in model.rulebase.inputs:
+        p = np.asarray(v.params)
+        for left, right in zip(p[:-1], p[1:]):
+            assert left[2] == right[0] and left[3] == right[1]   # peak_i = a_{i+1}, d_i = peak_{i+1}
+    assert CompiledRuleBase(model.rulebase).sparse

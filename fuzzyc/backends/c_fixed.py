@@ -55,10 +55,11 @@ ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -24}
 # the bound grows with the run length.
 CHAIN_ERROR_BOUND = {"q15": 2.0 ** -12, "q31": 2.0 ** -24}
 # assumption: break points of one input closer than 2^-40 of its range are one break point.
-# The builder's `uniform` partitions put a shared break point of two neighbouring terms 1 ulp
-# apart (milling: -1/3 as -0.33333333333333343, ...37 and ...31), which leaves slivers where
-# three terms are positive; 2^-40 of the range is 2^-9 of a q31 LSB, far below any grid the
-# C uses, and the move is carried into the derived bound.
+# A partition written by hand or imported (computed as peak +- step, say) can put a shared
+# break point of two neighbouring terms 1 ulp apart (the builder's `uniform` did, -1/3 as
+# -0.33333333333333343, ...37 and ...31, until its knots were shared), which leaves slivers
+# where three terms are positive; 2^-40 of the range is 2^-9 of a q31 LSB, far below any grid
+# the C uses, and the move is carried into the derived bound.
 SNAP = 2.0 ** -40
 # assumption: the most guard bits of the input pieces (break points, anchors, widths at
 # 2^-GI of an input LSB): 16 make their rounding 2^-17 LSB, so a q15 membership is off by
