@@ -30,6 +30,16 @@ def refuse(model: Model, fmt: str, problems: list[str]) -> None:
                            for p in problems])
 
 
+def finish(model: Model, fmt: str, lines: list[str], problems: list[str], notes: list[str],
+           warnings: list[str] | None) -> str:
+    """Every writer's last step: refuse what the format cannot say, else hand the notes to
+    the caller's warnings and return the file's text."""
+    refuse(model, fmt, problems)
+    if warnings is not None:
+        warnings.extend(notes)
+    return "\n".join(lines) + "\n"
+
+
 def left_out(model: Model) -> list[str]:
     """Everything of the model that a bare rule-base export does not carry, as sentences."""
     rb = model.rulebase

@@ -23,7 +23,7 @@ from ..errors import Reporter
 from ..model import (Aggregation, Connective, Defuzzifier, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
 from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
-from .export import (all_singletons, left_out, num, peaks_instead, refuse, rule_sentence,
+from .export import (all_singletons, finish, left_out, num, peaks_instead, rule_sentence,
                      unsayable_hedges)
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
@@ -301,10 +301,7 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     for r in range(rb.n_rules):
         lines.append(f"  RULE {r + 1} : {rule_sentence(model, r, {}, ', ', problems, upper=True)};")
     lines += ["END_RULEBLOCK", "", "END_FUNCTION_BLOCK"]
-    refuse(model, "FCL", problems)
-    if warnings is not None:
-        warnings.extend(notes)
-    return "\n".join(lines) + "\n"
+    return finish(model, "FCL", lines, problems, notes, warnings)
 
 
 def _fcl_method(model: Model, problems: list[str], notes: list[str]):

@@ -45,7 +45,7 @@ from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, M
                      SourceLoc, TermKind, TNorm, Variable)
 from ..membership import linear_coefficients
 from .common import Collected, TermSpec, VarSpec, plain_shape_or_none, shape, trapezoid_or_none
-from .export import left_out, num, peaks_instead, refuse, unsayable_hedges
+from .export import finish, left_out, num, peaks_instead, unsayable_hedges
 
 SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")
 KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$")
@@ -315,10 +315,7 @@ def write_fis(model: Model, warnings: list[str] | None = None) -> str:
                 _fis_default(var, notes)
     lines.append("[Rules]")
     lines += [_fis_rule(rb, r, problems) for r in range(rb.n_rules)]
-    refuse(model, "FIS", problems)
-    if warnings is not None:
-        warnings.extend(notes)
-    return "\n".join(lines) + "\n"
+    return finish(model, "FIS", lines, problems, notes, warnings)
 
 
 def _fis_system(model: Model, problems: list[str], notes: list[str]):

@@ -35,7 +35,7 @@ from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, I
 from ..membership import linear_coefficients
 from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none)
-from .export import (all_singletons, left_out, num, peaks_instead, refuse, rule_sentence,
+from .export import (all_singletons, finish, left_out, num, peaks_instead, rule_sentence,
                      unsayable_hedges)
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
@@ -445,10 +445,7 @@ def write_fll(model: Model, warnings: list[str] | None = None) -> str:
     lines.append("  activation: General")
     for r in range(rb.n_rules):
         lines.append("  rule: " + rule_sentence(model, r, FLL_HEDGES, " and ", problems))
-    refuse(model, "FLL", problems)
-    if warnings is not None:
-        warnings.extend(notes)
-    return "\n".join(lines) + "\n"
+    return finish(model, "FLL", lines, problems, notes, warnings)
 
 
 def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):
