@@ -19,6 +19,7 @@ from ..engine import CompiledRuleBase
 from ..errors import Diagnostic, FuzzycError
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
                      OutputKind, RuleBase, SNorm, TermKind, TNorm)
+from .c_area import AreaWriter, is_sampled
 from .c_centroid import CentroidEmitter, area_segments, supported
 from .c_expr import REAL_TYPES, ExprPrinter, RealType
 
@@ -58,15 +59,10 @@ def check_supported(rb: RuleBase) -> None:
     for var in rb.outputs:
         if _uses_peaks(var, method):
             continue
-        if method != Defuzzifier.CENTROID:
-            raise _fail(f"the C back end emits centroid and peak-based defuzzifiers; "
-                        f"`{method.name.lower()}` on `{var.name}` is not supported")
-        if np.any((var.kinds != TermKind.TRAPEZOID) & (var.kinds != TermKind.SINGLETON)):
-            raise _fail(f"the C back end computes the centroid exactly, so `{var.name}` needs "
-                        f"piecewise-linear terms (triangles, trapezoids, singletons)")
         if not supported(rb.inference):
-            raise _fail("the C back end does not emit the centroid of sum-aggregated "
-                        "min-implied rules; use aggregation = max or implication = product")
+            raise _fail(f"the C back end does not emit the {method.name.lower()} of "
+                        f"sum-aggregated min-implied rules; use aggregation = max or "
+                        f"implication = product")
 
 
 C_TNORMS, C_SNORMS = (TNorm.MIN, TNorm.PRODUCT), (SNorm.MAX, SNorm.PROBSUM)
@@ -103,6 +99,7 @@ class HeaderWriter:
         self.p = self.name + "_"
         self.P = self.name.upper() + "_"
         self.sparse = CompiledRuleBase(self.rb).sparse
+        self.area = AreaWriter(real, self.p, self.rb.inference)
         self.lines: list[str] = []
 
     # -- small helpers ----------------------------------------------------------------------
@@ -412,10 +409,28 @@ class HeaderWriter:
             code = [f"{{ {t} num = {num};", f"  {t} den = {den};"]
             value = "num" if method == Defuzzifier.WEIGHTED_SUM else "num / den"
             return code + [f"  y[{o}] = den > 0 ? {value} : {lit(var.default)}; }}"]
+        if self.walks(var):
+            return self.area.defuzzify(o, var, alpha)
         emitter = CentroidEmitter(self.real, self.p, self.rb.inference)
         code = [f"{{ {t} area = {lit(0)}, moment = {lit(0)};"]
         code += ["  " + s for s in emitter.emit(area_segments(var), alpha)]
         return code + [f"  y[{o}] = area > 0 ? moment / area : {lit(var.default)}; }}"]
+
+    def walks(self, var) -> bool:
+        """Whether this output is defuzzified by walking M's points (c_area): every area-based
+        case but the straight-line exact centroid of piecewise-linear terms."""
+        method = self.rb.inference.defuzzifier
+        return not _uses_peaks(var, method) and \
+            (method != Defuzzifier.CENTROID or is_sampled(var))
+
+    def area_support(self) -> None:
+        """The walk's functions and the grid tables, where an output needs them."""
+        walked = [o for o, var in enumerate(self.rb.outputs) if self.walks(var)]
+        if walked:
+            self.out(*self.area.helpers())
+        for o in walked:
+            if is_sampled(self.rb.outputs[o]):
+                self.out(*self.area.grid_getter(o, self.rb.outputs[o]))
 
     def rulebase_function(self) -> None:
         rb, t, p, lit = self.rb, self.real.name, self.p, self.real.lit
@@ -427,6 +442,7 @@ class HeaderWriter:
                 self.clause_helper()
             self.membership_functions()
         self.consequent_table(extra_row=self.sparse)
+        self.area_support()
         body = self.sparse_rules() if self.sparse else self.dense_rules()
         self.out("",
                  "/* The bare rule base: x[N_RB_INPUTS] (scaled inputs) -> y[N_RB_OUTPUTS]. "
@@ -567,7 +583,7 @@ class HeaderWriter:
                  " * inline them into the control loop, and two controllers never clash at link",
                  " * time. No heap, no recursion, no writable globals, loop bounds are constants.",
                  " * Link with -lm only if the terms use exp/pow/sqrt (gaussian, bell, sigmoid,",
-                 " * somewhat) or the expressions do.",
+                 " * somewhat), the defuzzifier is the bisector, or the expressions do.",
                  " *",
                  " * Defined for every input: a NaN input gives every term of its variable",
                  " * membership 0, so rules needing it do not fire and an output where nothing",

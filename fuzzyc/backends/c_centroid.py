@@ -119,27 +119,49 @@ class CentroidEmitter:
             out.append(f"{self.p}ratio_or({num}, {den}, {lit(seg.x0)})")
         return out
 
+    def n_points(self, seg: Segment) -> int:
+        """How many points segment_points writes for `seg` (the candidates and both ends)."""
+        return len(self._candidates(seg, "alpha")) + 2
+
+    def segment_points(self, seg: Segment, alpha: str) -> list[str]:
+        """Declarations and statements filling u[n], f[n] (n = n_points) with the points of
+        `seg` where M may bend, sorted, and M at them; M is linear between them."""
+        lit = self.real.lit
+        cands = self._candidates(seg, alpha)
+        n = len(cands) + 2
+        code = [f"{self.real.name} u[{n}], f[{n}];",
+                f"u[0] = {lit(seg.x0)}; u[{n - 1}] = {lit(seg.x1)};"]
+        for i, c in enumerate(cands, start=1):
+            code.append(f"u[{i}] = {self.p}clamp({c}, {lit(seg.x0)}, {lit(seg.x1)});")
+        for i in range(len(cands)):              # bubble network: fixed, data-independent
+            for j in range(1, len(cands) - i):
+                code.append(f"{self.p}order(&u[{j}], &u[{j + 1}]);")
+        for i in range(n):
+            code.append(f"f[{i}] = {self._membership(seg, f'u[{i}]', alpha)};")
+        return code
+
     def emit(self, segments: list[Segment], alpha: str) -> list[str]:
         """Statements adding each segment's area and moment to `area` and `moment`."""
-        lit = self.real.lit
         code = []
         for seg in segments:
-            cands = self._candidates(seg, alpha)
-            n = len(cands) + 2
             # M is 0 on a segment where no term is concluded: skip its arithmetic.
             fired = " || ".join(f"{alpha}[{line.term}] > 0" for line in seg.lines)
             code.append(f"if ({fired}) {{ /* [{seg.x0:.9g}, {seg.x1:.9g}] */")
-            code.append(f"    {self.real.name} u[{n}], f[{n}];")
-            code.append(f"    u[0] = {lit(seg.x0)}; u[{n - 1}] = {lit(seg.x1)};")
-            for i, c in enumerate(cands, start=1):
-                code.append(f"    u[{i}] = {self.p}clamp({c}, {lit(seg.x0)}, {lit(seg.x1)});")
-            for i in range(len(cands)):              # bubble network: fixed, data-independent
-                for j in range(1, len(cands) - i):
-                    code.append(f"    {self.p}order(&u[{j}], &u[{j + 1}]);")
-            for i in range(n):
-                code.append(f"    f[{i}] = {self._membership(seg, f'u[{i}]', alpha)};")
-            for i in range(n - 1):
-                code.append(f"    {self.p}piece(u[{i}], u[{i + 1}], f[{i}], f[{i + 1}], "
-                            f"&area, &moment);")
+            code += ["    " + s for s in self.segment_points(seg, alpha)]
+            code += [f"    {self.p}piece(u[{i}], u[{i + 1}], f[{i}], f[{i + 1}], "
+                     f"&area, &moment);" for i in range(self.n_points(seg) - 1)]
             code.append("}")
+        return code
+
+    def emit_polygon(self, segments: list[Segment], alpha: str, poly: str) -> list[str]:
+        """Statements storing the whole polygon of M, segment after segment, as (u, f) pairs
+        in `poly` (2 * sum of n_points reals); a segment where nothing fired stores f = 0."""
+        code, offset = [], 0
+        for seg in segments:
+            code.append(f"{{ /* [{seg.x0:.9g}, {seg.x1:.9g}] */")
+            code += ["    " + s for s in self.segment_points(seg, alpha)]
+            code.append(f"    {self.p}store({poly} + {2 * offset}, u, f, "
+                        f"{self.n_points(seg)});")
+            code.append("}")
+            offset += self.n_points(seg)
         return code
