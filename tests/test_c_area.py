@@ -197,3 +197,30 @@ def test_sum_of_min_clipped_rules_is_refused():
                                          aggregation=Aggregation.SUM)))
     with pytest.raises(FuzzycError, match="bisector of sum-aggregated min-implied"):
         generate_header(model)
+
+
+VERTICAL = TWO_TERMS.replace("a = tri(0, 2, 4), b = trap(4, 8, 9, 10)",
+                             "a = tri(0, 2, 5), b = trap(4, 4, 6, 8)")
+# x = 1: only b = trap(4, 4, 6, 8), unclipped, with a vertical rise at 4 inside the range:
+# rectangle [4, 6] (area 2, centre 5) and triangle [6, 8] (area 1, centre 20/3): centroid
+# (10 + 20/3) / 3 = 50/9 = 5.5556; bisector: half the area 1.5 is reached at 4 + 1.5 = 5.5.
+VERTICAL_EXACT = [("centroid", 50 / 9), ("bisector", 5.5)]
+
+
+@pytest.mark.parametrize("method, exact", VERTICAL_EXACT)
+def test_c_is_exact_at_an_interior_vertical_edge(method, exact):
+    model = parse(VERTICAL.replace("DEFUZZ", method), "v.fz")
+    got = CController(model, numeric="double").evaluate([[1.0]])
+    np.testing.assert_allclose(got, [[exact]], atol=1e-12)
+
+
+@pytest.mark.xfail(strict=True, reason="finding: the engine's point set for piecewise-linear "
+                   "M has no point just left of an interior vertical edge (trap(4, 4, 6, 8)), "
+                   "so it ramps M from the previous break point (2) up to the edge: centroid "
+                   "5.0 instead of 50/9, bisector 5.0 instead of 5.5; the C polygon keeps the "
+                   "jump and is exact (fuzzyc/defuzz.py is outside this change)")
+@pytest.mark.parametrize("method, exact", VERTICAL_EXACT)
+def test_engine_is_exact_at_an_interior_vertical_edge(method, exact):
+    model = parse(VERTICAL.replace("DEFUZZ", method), "v.fz")
+    np.testing.assert_allclose(evaluate(model.rulebase, np.array([[1.0]])), [[exact]],
+                               atol=1e-12)
