@@ -42,10 +42,10 @@ FLOAT_EPS = float(np.finfo(np.float32).eps)
 HULL_ULPS = 32
 
 
-def smooth_outputs(model):
+def smooth_outputs(model, outputs=slice(None)):
     """The WEDM outputs' five terms (peaks -1, -0.5, 0, 0.5, 1) as sigmoid, gaussian, bell,
     gaussian, sigmoid: the engine samples M on its grid."""
-    for var in model.rulebase.outputs:
+    for var in model.rulebase.outputs[outputs]:
         var.kinds[:] = [TermKind.SIGMOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind.GAUSSIAN,
                         TermKind.SIGMOID]
         var.params[:] = [[-0.75, -20, 0, 0], [-0.5, 0.2, 0, 0], [0, 0.25, 2, 0],
@@ -69,6 +69,8 @@ CASES = {
     "smooth_bisector_prod_sum": lambda: wedm(BIS, PROD_SUM, smooth=True),
     "smooth_mom_min_max": lambda: wedm(MOM, MIN_MAX, smooth=True),
     "smooth_mom_prod_sum": lambda: wedm(MOM, PROD_SUM, smooth=True),
+    # du1 sampled on the grid, du2 walked as its exact polygon, in one header
+    "mixed_bisector_min_max": lambda: smooth_outputs(wedm(BIS, MIN_MAX), slice(0, 1)),
 }
 
 

@@ -427,7 +427,8 @@ class HeaderWriter:
         """The walk's functions and the grid tables, where an output needs them."""
         walked = [o for o, var in enumerate(self.rb.outputs) if self.walks(var)]
         if walked:
-            self.out(*self.area.helpers())
+            self.out(*self.area.helpers(polygon=any(not is_sampled(self.rb.outputs[o])
+                                                    for o in walked)))
         for o in walked:
             if is_sampled(self.rb.outputs[o]):
                 self.out(*self.area.grid_getter(o, self.rb.outputs[o]))

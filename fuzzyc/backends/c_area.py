@@ -56,18 +56,41 @@ class AreaWriter:
 
     # -- the algorithms, once per header --------------------------------------------------
 
-    def helpers(self) -> list[str]:
-        t, p, lit = self.t, self.p, self.real.lit
+    def helpers(self, polygon: bool) -> list[str]:
+        """The walk's functions this header needs: its one defuzzifier, and the polygon's
+        point function where a piecewise-linear output is walked."""
+        method = self.inf.defuzzifier
+        code = self._points() + (self._polygon() if polygon else [])
+        if method != Defuzzifier.MEAN_OF_MAXIMUM:
+            code += self._sums()
+        return code + {Defuzzifier.CENTROID: self._centroid, Defuzzifier.BISECTOR: self._bisector,
+                       Defuzzifier.MEAN_OF_MAXIMUM: self._mom}[method]()
+
+    def _points(self) -> list[str]:
+        """The type of a point function."""
+        t, p = self.t, self.p
         return [
             "/* The points of M, (u, f) with M linear between them: the i-th of a stored "
             "polygon or of the grid. */",
             f"typedef void (*{p}points)(const {t} *c, int i, {t} *u, {t} *f);",
+        ]
+
+    def _polygon(self) -> list[str]:
+        """Reading and storing a polygon of (u, f) pairs."""
+        t, p = self.t, self.p
+        return [
             f"static inline void {p}polygon_point(const {t} *c, int i, {t} *u, {t} *f) "
             f"{{ *u = c[2 * i]; *f = c[2 * i + 1]; }}",
             f"static inline void {p}store({t} *poly, const {t} *u, const {t} *f, int n) {{",
             "    int i;",
             "    for (i = 0; i < n; ++i) { poly[2 * i] = u[i]; poly[2 * i + 1] = f[i]; }",
             "}",
+        ]
+
+    def _sums(self) -> list[str]:
+        """Compensated area and moment of the first points."""
+        t, p, lit = self.t, self.p, self.real.lit
+        return [
             "/* Compensated (Kahan) sums: 2000 grid pieces summed in float would lose "
             "~1e-5 of the range. */",
             f"static inline void {p}add_piece({t} u0, {t} u1, {t} f0, {t} f1, {t} sum[4]) {{",
@@ -95,12 +118,24 @@ class AreaWriter:
             "    }",
             "    return n;",
             "}",
+        ]
+
+    def _centroid(self) -> list[str]:
+        """Centroid: moment over area."""
+        t, p, lit = self.t, self.p, self.real.lit
+        return [
             f"static inline {t} {p}centroid_of({p}points at, const {t} *c, int n, "
             f"{t} fallback) {{",
             f"    {t} sum[4] = {{{lit(0)}, {lit(0)}, {lit(0)}, {lit(0)}}};",
             f"    {p}integrate(at, c, n, INFINITY, sum);",
             "    return sum[0] > 0 ? sum[1] / sum[0] : fallback;",
             "}",
+        ]
+
+    def _bisector(self) -> list[str]:
+        """Bisector, solved inside its piece."""
+        t, p, lit = self.t, self.p, self.real.lit
+        return [
             "/* Bisector: the leftmost u where the running area reaches half the area, solved "
             "in its piece: g0 t + slope t^2 / 2 = rem, in a form stable for slope 0. */",
             f"static inline {t} {p}bisect_piece({t} u0, {t} d, {t} g0, {t} g1, {t} rem) {{",
@@ -124,6 +159,12 @@ class AreaWriter:
             "    at(c, i, &u1, &f1);",
             f"    return {p}bisect_piece(u0, u1 - u0, f0, f1, half - sum[0]);",
             "}",
+        ]
+
+    def _mom(self) -> list[str]:
+        """Mean of maximum with this real type's tolerance."""
+        t, p, lit = self.t, self.p, self.real.lit
+        return [
             "/* Mean of maximum: the mean of the maximal plateaus, else of the distinct maximal "
             f"points; maximal = within {self.tolerance():.3g} x max(top, 1) of the top. */",
             f"static inline {t} {p}mom_of({p}points at, const {t} *c, int n, {t} fallback) {{",
