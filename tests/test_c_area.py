@@ -37,6 +37,7 @@ from test_c_backend import inputs_for, variant
 BIS, MOM, CEN = Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM, Defuzzifier.CENTROID
 MIN_MAX = dict(implication=Implication.MIN, aggregation=Aggregation.MAX)
 PROD_SUM = dict(implication=Implication.PRODUCT, aggregation=Aggregation.SUM)
+PROD_MAX = dict(implication=Implication.PRODUCT, aggregation=Aggregation.MAX)
 TOLERANCE = {"float": 1e-5, "double": 1e-10}
 FLOAT_EPS = float(np.finfo(np.float32).eps)
 HULL_ULPS = 32
@@ -63,6 +64,8 @@ CASES = {
     "bisector_prod_sum": lambda: wedm(BIS, PROD_SUM),
     "mom_min_max": lambda: wedm(MOM, MIN_MAX),
     "mom_prod_sum": lambda: wedm(MOM, PROD_SUM),
+    "bisector_prod_max": lambda: wedm(BIS, PROD_MAX),   # scaled lines crossing: candidates
+    "mom_prod_max": lambda: wedm(MOM, PROD_MAX),
     "smooth_centroid_min_max": lambda: wedm(CEN, MIN_MAX, smooth=True),
     "smooth_centroid_prod_sum": lambda: wedm(CEN, PROD_SUM, smooth=True),
     "smooth_bisector_min_max": lambda: wedm(BIS, MIN_MAX, smooth=True),
