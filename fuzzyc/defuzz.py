@@ -98,6 +98,11 @@ class OutputDefuzzifier:
         static = [lo, hi] + [v for v in p.ravel() if lo < v < hi]
         static += [_cross(l1, l2) for j, k in overlapping if j < k
                    for l1, l2 in product(lines[j], lines[k])]
+        # M jumps at a vertical edge (a == b or c == d) inside the range: a point 1 ulp to
+        # each side holds both of its values, so the pieces next to it do not ramp over the jump
+        vertical = [v for t in range(len(p)) for v, w in ((p[t, 0], p[t, 1]), (p[t, 2], p[t, 3]))
+                    if v == w and lo < v < hi]
+        static += [np.nextafter(v, side) for v in vertical for side in (-np.inf, np.inf)]
         static = np.array([v for v in static if np.isfinite(v)])
         self.static_points = np.unique(np.clip(static, lo, hi))
         self.pairs = overlapping
