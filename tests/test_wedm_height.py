@@ -23,6 +23,19 @@ def test_eq13_with_lambda_zero_jumps_to_the_sample_ratio():
                           np.array([0.0]))[0] == pytest.approx(2.0008e-5)
 
 
+def test_forgetting_sees_the_sample_error_and_its_running_mean_in_noise_units():
+    # first sample sets beta = dS/dN = 1e-5; the second reads 2.5 % more with 1000 counts:
+    # err = 0.025, z = 0.025 sqrt(1000) = 0.7906, m = 0.1 z = 0.07906;
+    # lam = 0.999 - 0.399 ((0.025/0.15)^2 + (0.07906/2)^2) = 0.999 - 0.399 x 0.029340 = 0.98729
+    est = HE.HeightEstimator(gamma=1e-4, correct=False)
+    est.reset(1)
+    dt = 0.04
+    for d_s in (0.01, 0.01025):                 # mm of travel per 1000 counts
+        out = est.step({"spark_freq": np.array([1000 / dt / 1000.0]),
+                        "feed_actual": np.array([d_s / dt * 60.0]), "dt": dt})
+    assert out["forgetting"][0] == pytest.approx(0.98729, abs=1e-5)
+
+
 def synthetic_cut(heights, gamma=1e-5, seconds=5.0, dt=0.04, feed=0.6, seed=1):
     """dN from H F = gamma Fq with 3 % counting noise; each height held `seconds`."""
     rng = np.random.default_rng(seed)
@@ -101,13 +114,29 @@ def test_step_up_estimate_within_1_mm_of_every_height(step_up):
     assert section_means(step_up) == pytest.approx([10, 20, 30, 40, 50], abs=1.0)
 
 
-@pytest.mark.xfail(strict=True, reason="finding: in the plant the estimate needs several "
-                   "seconds, not 1 s, after a step (1-2 s after the steps down it reads 43.5 / "
-                   "31.0 / 20.3 / 9.9 mm): H F = gamma Fq holds only once the gap has "
-                   "re-equilibrated (gap and debris time constants of seconds); the estimator "
-                   "itself is fast (test_estimator_follows_height_steps_within_1_mm_in_1_s)")
-def test_step_down_estimate_within_1_mm_1_s_after_each_step(step_down):
-    t = step_down.time
-    for t_step, h in ((60, 40), (120, 30), (180, 20), (240, 10)):
+def one_second_errors(trace, steps):
+    """Mean estimate over the 25 samples 1-2 s after each step, minus the new true height."""
+    t = trace.time
+    errors = []
+    for t_step, h in steps:
         k = np.searchsorted(t, t_step + 1.0)
-        assert abs(np.mean(step_down["height_est"][k:k + 25, 0]) - h) < 1.0
+        errors.append(np.mean(trace["height_est"][k:k + 25, 0]) - h)
+    return np.array(errors)
+
+
+def test_step_down_estimate_within_1_mm_1_s_after_each_step(step_down):
+    # Liao & Yu: "error within 1 mm, response under 1 s". Here +0.67 / -0.35 / -0.46 / -0.35
+    # mm (20 noise seeds: all within 1 mm, worst 0.88). Two things make it (round 5): the
+    # ignition delay scales with the wire area facing the work (t_d ~ 1/H, plant docstring), so
+    # after a step down at constant feed the count falls at once instead of after the gap has
+    # opened (main read 43.5 / 31.0 / 20.3 / 9.9 here); and the estimator's forgetting sees a
+    # persistent error in units of counting noise and weights with a filtered abnormal ratio.
+    assert np.all(np.abs(one_second_errors(step_down, ((60, 40), (120, 30), (180, 20),
+                                                       (240, 10)))) < 1.0)
+
+
+def test_step_up_estimate_within_1_mm_1_s_after_each_step(step_up):
+    # the same on the way up: +0.29 / -0.06 / -0.07 / -0.67 mm (19 of 20 noise seeds within
+    # 1 mm; the worst, 1.11 mm, at the 40 -> 50 step)
+    assert np.all(np.abs(one_second_errors(step_up, ((60, 20), (120, 30), (180, 40),
+                                                     (240, 50)))) < 1.0)
