@@ -110,27 +110,17 @@ changes; at 50 mm (tests 2 and 3) the delay is 0.6 x, the gap sits ~3 um wider a
 less debris, so test 3's loop reached 60 % at an off-time of 14.4 us (19.2 +- 20 % wanted)
 and test 2's third window at 0.047 (limit 0.03, the loop pressed against Yr1 = 30 kHz).
 Chosen while watching those two loops, plainly, as round 3 chose k_arc: k_arc 10 -> 13 at
-1 us, with the exponent first refit to 1.5 so that k_arc 0.5^n = 4.60 stays as round 4 set
-it from Fig. 3's 54 % (13 x 0.354 = 4.596 against 10 x 0.460 = 4.601): the finish cut (0.5 us)
-is then unchanged, test 3 (1 us) ends at t_off 20.3 us (was 16.6) and 60 %, test 2 (0.7 us) tracks
+1 us, with the exponent refit to 1.5 so that k_arc 0.5^n = 4.60 stays as round 4 set it
+from Fig. 3's 54 % (13 x 0.354 = 4.596 against 10 x 0.460 = 4.601): the finish cut (0.5 us)
+is unchanged, test 3 (1 us) ends at t_off 20.3 us (was 16.6) and 60 %, test 2 (0.7 us) tracks
 with window errors 0.011 / 0.002 / 0.022 (were 0.012 / 0.001 / 0.023); over noise seeds:
 test 1 settles in 105-110 s, test 3's off-time 20.2-20.4 us, test 2's third window
 0.021-0.023. The rough cut's speed is 55 mm2/min (was 57): still not the paper's ~100.
-Then, with k_arc held, the exponent was moved once more, watching the static Fig. 3 map
-only: n = 1.58 (k_arc 0.5^n = 4.35, 5 % below round 4's 4.60) puts the 40 % point at 0.94
-mm/min and 24.3 kHz, inside the 24-27.5 kHz that Yr1 = 30 kHz = mean + 3 std implies (was
-0.90 and 23.3), and the ratio at 1.2 mm/min at 51.8 % (the published 54 % +- 5 %; was
-54.0 %). Its costs, plainly: test 1 settles in 107-114 s over noise seeds (was 105-110), test
-2's windows read 0.013 / 0.002 / 0.026 (0.025-0.028 over seeds; limit 0.03) and the
-off-time-cut surge test breaks the wire 0.72 s after the cut (0.52 s before; from n = 1.59
-on it does not break at all: that test sits on an edge). A revertible step of its own: with
-n = 1.5 every other number in this paragraph holds and the Fig. 3 40-% test is a finding.
-The step scenarios' gamma and ratio_ref are redone on the 10-mm cut (2.109e-5, 0.387).
 The estimator (plants/height_estimator.py) got the rest: its variable forgetting also
 watches the error's running mean in units of counting noise, and its pulse-mix weight uses a
-0.4-s filtered abnormal ratio. With both (and n = 1.58), 1-2 s after the steps the estimate
-is off by +0.61 / -0.37 / -0.48 / -0.35 mm down and +0.27 / -0.10 / -0.09 / -0.69 mm up (20
-noise seeds: all within 1 mm down, worst 0.90; 19 of 20 up, worst 1.12). Either alone does not do it: the estimator
+0.4-s filtered abnormal ratio. With both, 1-2 s after the steps the estimate is off by
++0.67 / -0.35 / -0.46 / -0.35 mm down and +0.29 / -0.06 / -0.07 / -0.67 mm up (20 noise
+seeds: all within 1 mm down, 19 of 20 up). Either alone does not do it: the estimator
 change on round 4's plant gives +3.0 mm at the first step down (no seed of 20 within 1 mm),
 the area law with round 4's estimator +1.1 mm (18 of 20 seeds within 1 mm).
 """
@@ -174,8 +164,8 @@ class WedmGapParams:
     w_short: float = 2.0            # um; assumption
     k_arc: float = 13.0             # assumption: arc sensitivity to debris at 1 us on-time
                                     # (round 5: chosen on test 3's loop, see the docstring)
-    arc_exponent: float = 1.58      # k_arc (t_on / 1 us)^1.58: chosen on Fig. 3's map (54 % at
-                                    # 1.2 mm/min, 24-27.5 kHz at 40 %; round 5, docstring)
+    arc_exponent: float = 1.5       # k_arc (t_on / 1 us)^1.5: keeps k_arc 0.5^n = 4.60, the
+                                    # value Fig. 3's 54 % at 1.2 mm/min gave in round 4
     deion_time: float = 24.0        # us; assumption: dielectric recovery, any on-time
     plasma_time: float = 2.0        # us; assumption: decay of the last channel's plasma
     debris_gain: float = 0.7        # assumption: scale of c* (see the docstring)

