@@ -103,8 +103,9 @@ changed the count only as the gap opened (time constant ~1/(v_e dlnFq/dg) ~ 1 s,
 after the steps the estimate read 43.5 / 31.0 / 20.3 / 9.9 for 40 / 30 / 20 / 10 mm). The
 physics added: the ignition delay's area law above, t_d ~ 1/H (exponent 1, the plain Poisson
 reading, not fitted; 0.5 and 0.7 were tried, with round 4's estimator and arc law, and are
-too slow: 10 % and 55 % of 20 noise seeds within 1 mm, against 90 % for 1). The count now falls at once with the height (17 % in the first 40 ms of a
-50 -> 40 mm step at 0.5 mm/min, against 1 % before), and the noise-free relation
+too slow: 10 % and 55 % of 20 noise seeds within 1 mm, against 90 % for 1). The count now
+falls at once with the height (17 % in the first 40 ms of a 50 -> 40 mm step at 0.5 mm/min,
+against 1 % before), and the noise-free relation
 gamma dN/dS reads 40.5 / 30.2 / 20.0 / 10.0 mm 1-2 s after the steps down. At 30 mm nothing
 changes; at 50 mm (tests 2 and 3) the delay is 0.6 x, the gap sits ~3 um wider and carries
 less debris, so test 3's loop reached 60 % at an off-time of 14.4 us (19.2 +- 20 % wanted)
