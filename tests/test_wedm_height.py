@@ -129,7 +129,7 @@ def test_step_down_estimate_within_1_mm_1_s_after_each_step(step_down):
     # mm (20 noise seeds: all within 1 mm, worst 0.88). Two things make it (round 5): the
     # ignition delay scales with the wire area facing the work (t_d ~ 1/H, plant docstring), so
     # after a step down at constant feed the count falls at once instead of after the gap has
-    # opened (main read 43.5 / 31.0 / 20.3 / 9.9 here); and the estimator's forgetting sees a
+    # opened (round 4 read 43.5 / 31.0 / 20.3 / 9.9 here); and the estimator's forgetting sees a
     # persistent error in units of counting noise and weights with a filtered abnormal ratio.
     assert np.all(np.abs(one_second_errors(step_down, ((60, 40), (120, 30), (180, 20),
                                                        (240, 10)))) < 1.0)
