@@ -11,6 +11,7 @@ Median of repeated runs; peak memory by tracemalloc.  Writes benchmarks/results/
 from __future__ import annotations
 
 import copy
+import os
 import pathlib
 import platform
 import sys
@@ -64,6 +65,7 @@ def main(quick: bool = False) -> str:
     sizes = [1, 1000, 100_000] if quick else [1, 1000, 100_000, 1_000_000]
     rng = np.random.default_rng(0)
     rows = []
+    load_before = os.getloadavg()[0]
     for n in sizes:
         x = rng.uniform(-1, 1, (n, 3))
         repeats = 7 if n >= 100_000 else 30
@@ -80,6 +82,7 @@ def main(quick: bool = False) -> str:
         row += [f"{peak_bytes(fn) / 2**20:.1f}" for fn in fns]
         rows.append(row)
         print(" | ".join(row), flush=True)
+    load_after = os.getloadavg()[0]
     header = ["batch", "dense loop COA /s", "dense matrix COA /s", "engine COA /s",
               "vs loop", "vs matrix", "engine centroid /s", "vs loop", "loop MiB", "matrix MiB",
               "COA MiB", "centroid MiB"]
@@ -93,7 +96,9 @@ def main(quick: bool = False) -> str:
             "the median of the per-repeat speed-ups (the machine's load varies: on a shared 2-core "
             "machine single rates moved by up to 2x between runs). Peak memory by "
             "tracemalloc, including the result itself (N x 2 float64 = 15.3 MiB at 1e6). "
-            f"numpy {np.__version__}, CPython {platform.python_version()}.\n\n"
+            f"numpy {np.__version__}, CPython {platform.python_version()}. Load average (1 min) "
+            f"{load_before:.1f} when the run started, {load_after:.1f} when it ended "
+            f"({os.cpu_count()} CPUs).\n\n"
             "- COA: the paper's eq. 2 (max-min, center of area over the output terms' peaks).\n"
             "- centroid: the same rule base with uniform triangle output terms (same peaks), "
             "exact centroid of the max-min aggregate.\n\n" + markdown_table(header, rows))
