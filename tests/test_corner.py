@@ -253,3 +253,18 @@ def test_scenario_runs_in_the_runtime_and_matches_the_closed_form():
     assert t_fuzzy == pytest.approx(exact["time"][1], abs=2 * corner.period)
     assert fuzzy["error_sum"][-1, 0] == pytest.approx(exact["errors"][1].sum(), rel=1e-9)
     assert base["error_sum"][-1, 0] == pytest.approx(exact["errors"][0].sum(), rel=1e-9)
+
+
+def test_table2_is_fitted_better_with_a_floor_than_by_power_laws_through_zero():
+    # The floor E0 is what keeps the path above half (README, "What is not done yet"). A power
+    # law through zero in the same force variable, E = a (f (H/2 + h/8))^n per angle (fitted in
+    # logs, H searched over the same guide gaps), leaves rms 4.50 um at best (H = 10.5 mm);
+    # the linear model with a floor leaves 3.30 um.
+    best = np.inf
+    for gap in wc.GUIDE_GAPS:
+        x = wc.lag_factor(wc.TABLE2_CONDITIONS[:, 1], wc.TABLE2_CONDITIONS[:, 0], gap)
+        design = np.column_stack([np.ones_like(x), np.log(x)])
+        coef, *_ = np.linalg.lstsq(design, np.log(wc.TABLE2_ERRORS), rcond=None)
+        best = min(best, np.sqrt(np.mean((np.exp(design @ coef) - wc.TABLE2_ERRORS) ** 2)))
+    assert best == pytest.approx(4.50, abs=0.01)
+    assert wc.fit_table2().rms == pytest.approx(3.30, abs=0.01)
