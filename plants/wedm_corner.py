@@ -107,8 +107,11 @@ RELAX = SPARK_GAP
 PURSUIT_SPAN, PURSUIT_STEP = 8.0, 0.01
 
 INPUTS = ("reduction",)
+# the mean error of the corners passed so far at each angle of Table 2, so a run reads like one
+# row of Table 2 (or of the held-out Table 4): `error_30` ... `error_150`
+ANGLE_OUTPUTS = tuple(f"error_{int(a)}" for a in TABLE2_ANGLES)
 OUTPUTS = ("feed", "thickness", "angle", "in_corner", "feed_actual", "corner_error",
-           "error_sum", "done")
+           "error_sum", "done", *ANGLE_OUTPUTS)
 
 
 def parse_moves(program: str) -> np.ndarray:
@@ -392,7 +395,9 @@ def step(params: CornerParams, state: dict[str, np.ndarray], inputs: dict[str, n
 
     Outputs: `feed` (steady feed, what the controller's feed input sees), `thickness`,
     `angle` (of the nearest corner), `in_corner`, `feed_actual`, `corner_error` (um, the last
-    corner passed; 0 before the first), `error_sum` (um, all corners passed), `done`.
+    corner passed; 0 before the first), `error_sum` (um, all corners passed), `done`, and
+    `error_30` ... `error_150` (um, the mean over the corners passed at that angle of Table 2;
+    0 before the first of them, and on a path without that angle).
     """
     path = params.path
     s = state["s"]
@@ -418,8 +423,20 @@ def step(params: CornerParams, state: dict[str, np.ndarray], inputs: dict[str, n
                "feed_actual": np.where(in_zone, feed * keep, feed),
                "corner_error": np.where(last >= 0, errors[np.arange(len(s)), last], 0.0),
                "error_sum": errors.sum(axis=1),
-               "done": (s_new >= path.length).astype(float)}
+               "done": (s_new >= path.length).astype(float),
+               **_per_angle(path, errors, path.corner_at[None, :] <= s_new[:, None])}
     return {"s": s_new, "errors": errors}, outputs
+
+
+def _per_angle(path: ToolPath, errors: np.ndarray, passed: np.ndarray) -> dict[str, np.ndarray]:
+    """Mean error (N,) of the passed corners at each Table 2 angle (to 0.5 deg; the ISO
+    program's coordinates give the angles to ~1e-3 deg only)."""
+    out = {}
+    for name, angle in zip(ANGLE_OUTPUTS, TABLE2_ANGLES):
+        mask = passed & (np.abs(path.corner_angle - angle) < 0.5)[None, :]
+        count = mask.sum(axis=1)
+        out[name] = np.where(mask, errors, 0.0).sum(axis=1) / np.maximum(count, 1)
+    return out
 
 
 def _advance(params: CornerParams, s: np.ndarray, keep: np.ndarray, dt: float) -> np.ndarray:

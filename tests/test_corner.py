@@ -137,6 +137,17 @@ def test_stepping_agrees_with_closed_form():
     exact = wc.evaluate_path(params, np.repeat(reduction[:, None], 14, axis=1))
     np.testing.assert_allclose(state["errors"], exact["errors"], rtol=1e-12)
     np.testing.assert_allclose(finish, exact["time"], atol=2 * dt)
+    # per Table 2 angle, the mean of the path's corners at it: 30 deg is corners 5-8, 60 deg
+    # corners 3, 4, 9, 10, 90 deg corners 2 and 11 (test_iso_program_path)
+    e = exact["errors"]
+    np.testing.assert_allclose(out["error_30"], e[:, 5:9].mean(axis=1), rtol=1e-12)
+    np.testing.assert_allclose(out["error_60"], e[:, [3, 4, 9, 10]].mean(axis=1), rtol=1e-12)
+    np.testing.assert_allclose(out["error_90"], e[:, [2, 11]].mean(axis=1), rtol=1e-12)
+    # uncontrolled: Table 2's fitted row (to 1e-4: the ISO program's 4.6189 and 13.856 put
+    # the corners within 1e-3 deg of 30, 60, 120 and 150 deg, not on them)
+    np.testing.assert_allclose(
+        [out[f"error_{int(a)}"][0] for a in wc.TABLE2_ANGLES],
+        wc.corner_error(wc.FIT, 160.0, 50.0, wc.TABLE2_ANGLES), rtol=1e-4)
     np.testing.assert_allclose(out["error_sum"], exact["errors"].sum(axis=1), rtol=1e-12)
 
 
