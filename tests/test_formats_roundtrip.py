@@ -18,7 +18,9 @@ from fuzzyc.parser import parse
 ROOT = Path(__file__).parent.parent
 RULEBASES = sorted((ROOT / "rulebases").glob("*.fz"))
 CORPUS = Path(__file__).parent / "format_corpus"
-IMPORTS = sorted(p for p in CORPUS.iterdir() if not p.name.startswith("bad_"))
+# A file with several FCL function blocks is imported one block at a time (FILE.fcl::NAME).
+IMPORTS = sorted([*(p for p in CORPUS.iterdir() if not p.name.startswith(("bad_", "blocks_"))),
+                  *(CORPUS / f"blocks_tipper_fan.fcl::{name}" for name in ("tipper", "fan"))])
 READ_BACK = {".fz": lambda text: parse(text, "roundtrip.fz"), ".fll": read_fll, ".fcl": read_fcl,
              ".fis": read_fis}
 ARRAYS = ("antecedents", "consequents", "weights", "negated", "hedges", "connective")

@@ -9,6 +9,7 @@ Exports write the bare rule base and return warnings naming what was left out.
 """
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
 from ..atomic import write_text
@@ -20,16 +21,21 @@ from .fll import read_fll, write_fll
 from .fz import write_fz
 
 READERS = {".fll": read_fll, ".fcl": read_fcl, ".fis": read_fis}
+BLOCK_SEPARATOR = "::"   # FILE.fcl::NAME chooses one FUNCTION_BLOCK
 WRITERS = {".fz": write_fz, ".fll": write_fll, ".fcl": write_fcl, ".fis": write_fis}
 
-__all__ = ["load_any", "save", "read_fll", "write_fll", "read_fcl", "write_fcl", "read_fis",
-           "write_fis", "write_fz", "READERS", "WRITERS"]
+__all__ = ["load_any", "split_block", "save", "read_fll", "write_fll", "read_fcl", "write_fcl",
+           "read_fis", "write_fis", "write_fz", "READERS", "WRITERS"]
 
 
 def load_any(path: str | Path) -> Model:
-    """A model from .fz, .fll, .fcl or .fis (by extension); FuzzycError on any problem."""
-    path = Path(path)
+    """A model from .fz, .fll, .fcl or .fis (by extension); FuzzycError on any problem.
+    `FILE.fcl::NAME` reads the FUNCTION_BLOCK named NAME of a file that has several."""
+    path, block = split_block(path)
     suffix = path.suffix.lower()
+    if block is not None and suffix != ".fcl":
+        raise FuzzycError([Diagnostic(None, f"`{path}::{block}`: only an .fcl file has named "
+                                            "blocks to choose with `::NAME`")])
     if suffix == ".fz":
         from ..parser import load
         return load(path)
@@ -40,7 +46,27 @@ def load_any(path: str | Path) -> Model:
         text = path.read_text(encoding="utf-8")
     except (OSError, UnicodeDecodeError) as exc:
         raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
+    if block is not None:
+        return read_fcl(text, str(path), block)
     return READERS[suffix](text, str(path))
+
+
+def split_block(ref: str | Path) -> tuple[Path, str | None]:
+    """`FILE.fcl::NAME` -> (FILE.fcl, NAME); anything else -> (the path, None).
+
+    `::` as in pytest's node ids: it cannot occur in an FCL name, is rare in file names, and
+    unlike a single `:` does not meet a Windows drive letter.  A `::` followed by what is not a
+    name (`a::b/c.fcl`) is left in the path."""
+    text = str(ref)
+    head, sep, name = text.rpartition(BLOCK_SEPARATOR)
+    if not sep:
+        return Path(text), None
+    if re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", name):
+        return Path(head), name
+    if head.lower().endswith(".fcl"):
+        raise FuzzycError([Diagnostic(None, f"`{text}`: after `::` comes a FUNCTION_BLOCK "
+                                            f"name (letters, digits, _), not `{name}`")])
+    return Path(text), None   # `::` inside a folder name: a plain (missing) path
 
 
 def save(model: Model, path: str | Path) -> list[str]:

@@ -10,7 +10,8 @@ real grammar.  Mapping (exact unless said):
   model computes over the terms' peaks), COA -> BISECTOR (IEC's "centre of area" halves the
   area), MM -> MEAN_OF_MAXIMUM.
 Not carried, reported: other point lists, BDIF, BSUM, NSUM, LM, RM, DEFAULT NC, hedges.
-Several RULEBLOCKs are merged when their operators agree; one FUNCTION_BLOCK per file.
+Several RULEBLOCKs are merged when their operators agree.  Of several FUNCTION_BLOCKs one is
+read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_fcl`).
 """
 from __future__ import annotations
 
@@ -49,30 +50,62 @@ class _FclReader:
     def loc(self, token: Token) -> SourceLoc:
         return self.rep.loc(token.line, token.column)
 
-    def read(self, text: str) -> Model:
+    def read(self, text: str, wanted: str | None = None) -> Model:
         try:
             tree = fcl_lark().parse(text, start="start")
         except UnexpectedInput as exc:
             syntax_error(exc, self.rep, self.rep.loc(exc.line, exc.column))
             self.rep.raise_if_any()
-        blocks = tree.children
-        if len(blocks) > 1:
-            self.rep.error(self._where(blocks[1]), "one FUNCTION_BLOCK per file: the model is "
-                                                   "one rule base; split the file")
-        block = blocks[0]
-        names = [c for c in block.children if isinstance(c, Token)]
-        if names:
-            self.got.name = names[0].value
+        block = self._select(tree.children, wanted)
+        self.rep.raise_if_any()
+        name = _block_name(block)
+        if name is not None:
+            self.got.name = name.value
         items = [c for c in block.children if isinstance(c, Tree)]
         for kind in ("var_input", "var_output", "fuzzify", "defuzzify", "ruleblock"):
             for item in items:
                 if item.data == kind:
                     getattr(self, "_" + kind)(item)
         self._inference()
-        return self.got.model(self.path, text)
+        # The model remembers which block it is, in the syntax that loads it again.
+        return self.got.model(self.path if wanted is None else f"{self.path}::{wanted}", text)
 
     def _where(self, tree: Tree) -> SourceLoc:
         return self.rep.loc(tree.meta.line, tree.meta.column)
+
+    # ------------------------------------------------------------------ function blocks
+    def _select(self, blocks: list[Tree], wanted: str | None) -> Tree | None:
+        """The block named `wanted`, or the only one; errors name every block and its place."""
+        named = self._block_table(blocks)
+        if wanted is None:
+            if len(blocks) > 1:
+                self.rep.error(self._where(blocks[1]), f"{len(blocks)} FUNCTION_BLOCKs in this "
+                               f"file and none chosen: name one as `{self.path}::NAME`; "
+                               + _listing(named))
+            return blocks[0]
+        if wanted not in named:
+            self.rep.error(None, f"no FUNCTION_BLOCK `{wanted}` in {self.path}: "
+                                 + _listing(named))
+            return None
+        return next(b for b in blocks if _block_name(b) == wanted)
+
+    def _block_table(self, blocks: list[Tree]) -> dict[str, SourceLoc]:
+        """Block name -> place; a repeated name, or a nameless block among several, is an
+        error (either would make `FILE.fcl::NAME` ambiguous), whichever block is chosen."""
+        named: dict[str, SourceLoc] = {}
+        for block in blocks:
+            token = _block_name(block)
+            if token is None:
+                if len(blocks) > 1:
+                    self.rep.error(self._where(block), "this FUNCTION_BLOCK has no name: in a "
+                                   "file with several, each needs one to be chosen as "
+                                   "`FILE.fcl::NAME`")
+            elif token.value in named:
+                self.rep.error(self.loc(token), f"FUNCTION_BLOCK `{token}` again (first at "
+                               f"{named[token.value]}): block names must differ")
+            else:
+                named[token.value] = self.loc(token)
+        return named
 
     # ------------------------------------------------------------------ declarations
     def _var_input(self, tree: Tree) -> None:
@@ -231,6 +264,16 @@ class _FclReader:
                                              "is not one")
 
 
+def _block_name(block: Tree) -> Token | None:
+    return next((c for c in block.children if isinstance(c, Token)), None)
+
+
+def _listing(named: dict[str, SourceLoc]) -> str:
+    if not named:
+        return "its only FUNCTION_BLOCK has no name (load the file without `::NAME`)"
+    return "the blocks are " + ", ".join(f"`{n}` at {loc}" for n, loc in named.items())
+
+
 def _points_to_trapezoid(points: list[tuple[float, float]]):
     """A point list of 0/1 values rising once and falling once, as the equal trapezoid."""
     xs = [p[0] for p in points]
@@ -249,9 +292,15 @@ def _points_to_trapezoid(points: list[tuple[float, float]]):
     return trapezoid_or_none(a, b, c, d)
 
 
-def read_fcl(text: str, path: str = "<string>") -> Model:
-    """An FCL function block as a Model; raises FuzzycError listing what it cannot carry."""
-    return _FclReader(text, path).read(text)
+def read_fcl(text: str, path: str = "<string>", block: str | None = None) -> Model:
+    """The FCL function block named `block` (or the file's only one) as a Model; raises
+    FuzzycError listing what it cannot carry.
+
+    The whole file is parsed, so a syntax error in any block is reported, and so are a repeated
+    block name and, in a file with several blocks, a nameless one.  The semantic checks
+    (declarations, terms, rules, operators) run on the chosen block only: a block that is not
+    chosen may hold what the model cannot carry."""
+    return _FclReader(text, path).read(text, block)
 
 
 # ---------------------------------------------------------------------- export
