@@ -7,6 +7,10 @@ import sys
 
 from .errors import FuzzycError
 
+# What every command that reads through formats.load_any says of its rule-file argument.
+RULE_FILE_HELP = ("a .fz, .fll, .fcl or .fis rule file; FILE.fcl::NAME reads the FUNCTION_BLOCK "
+                  "NAME of an FCL file that has several")
+
 # Each module has add_parser(subparsers) and run(args) -> exit status.
 COMMAND_MODULES = ("cli_check", "cli_eval", "cli_plot", "cli_compile", "cli_simulate",
                    "cli_learn", "cli_verify", "cli_convert")

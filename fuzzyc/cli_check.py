@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import sys
 
+from .cli import RULE_FILE_HELP
 from .errors import FuzzycError
 from .model import Model
 
@@ -19,7 +20,7 @@ def summary(model: Model) -> str:
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser("check", help="validate rule files (.fz, .fll, .fcl, .fis)")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p.add_argument("files", nargs="+", metavar="FILE", help=RULE_FILE_HELP)
     p.set_defaults(run=run)
 
 

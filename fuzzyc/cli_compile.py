@@ -4,6 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from .atomic import write_text
+from .cli import RULE_FILE_HELP
 
 NUMERIC = ("float", "double", "q15", "q31")
 
@@ -13,7 +14,7 @@ def add_parser(subparsers) -> None:
         "compile", help="generate C: a self-contained header (--target c) or a lookup table",
         description="Writes DIR/NAME.h (target c) or DIR/NAME_lut.h (target lut) and prints "
                     "its code + constant data size and stack use as compiled by gcc -O2.")
-    p.add_argument("file", metavar="FILE")
+    p.add_argument("file", metavar="FILE", help=RULE_FILE_HELP)
     p.add_argument("--target", choices=("c", "lut"), default="c")
     p.add_argument("-o", "--output", metavar="DIR", default=".")
     p.add_argument("--numeric", choices=NUMERIC, default="float",

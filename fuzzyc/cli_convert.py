@@ -8,12 +8,14 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
+from .cli import RULE_FILE_HELP
+
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "convert", help="convert between .fz, fuzzylite .fll, IEC 61131-7 .fcl and MATLAB .fis "
                         "(both ways)")
-    p.add_argument("input", metavar="IN", help="a .fz, .fll, .fcl or .fis file")
+    p.add_argument("input", metavar="IN", help=RULE_FILE_HELP)
     p.add_argument("output", metavar="OUT", help="a .fz, .fll, .fcl or .fis file to write")
     p.add_argument("--strict", action="store_true",
                    help="refuse (exit 2) instead of writing when something would be left out")

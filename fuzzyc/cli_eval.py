@@ -14,13 +14,14 @@ import sys
 
 import numpy as np
 
+from .cli import RULE_FILE_HELP
 from .errors import Diagnostic, FuzzycError
 from .model import Model
 
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser("eval", help="evaluate a controller at one point or over a CSV")
-    p.add_argument("file", metavar="FILE")
+    p.add_argument("file", metavar="FILE", help=RULE_FILE_HELP)
     p.add_argument("values", nargs="*", metavar="NAME=VALUE")
     p.add_argument("--core", action="store_true",
                    help="feed the rule base's scaled inputs directly (e.g. e1=0.5)")

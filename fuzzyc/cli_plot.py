@@ -1,12 +1,13 @@
 """`fuzzyc plot FILE -o DIR`: membership functions and control surfaces as PNG."""
 from __future__ import annotations
 
+from .cli import RULE_FILE_HELP
 from .errors import Diagnostic, FuzzycError
 
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser("plot", help="plot membership functions and control surfaces")
-    p.add_argument("file", metavar="FILE")
+    p.add_argument("file", metavar="FILE", help=RULE_FILE_HELP)
     p.add_argument("-o", "--out", required=True, metavar="DIR")
     p.add_argument("--inputs", metavar="X,Y", help="the two rule-base inputs of the surface "
                                                    "(default: the last two)")
