@@ -1,15 +1,25 @@
 """`fuzzyc verify FILE...`: check every property of rule files; exit 0 all held, 1 a property
-violated (not a recorded finding), 2 bad input."""
+violated (not a recorded finding), 2 bad input.
+
+FILE is any format `fuzzyc.formats.load_any` reads (.fz, .fll, .fcl, .fis, FILE.fcl::NAME).
+A file that declares no properties (every imported one, a .fz without `verify`) gets the
+default structural ones (`fuzzyc.verify.runner.default_properties`): consistent; complete;
+covers every input at least the level a complete table over terms crossing at 0.5 reaches
+(0.5 under min, 0.5^n under product of n inputs); bounded every rule-base output in its range.
+They are said to be defaults, before the results and in each result's name (`default: `).
+"""
 from __future__ import annotations
 
 import sys
 
+from .cli import RULE_FILE_HELP
 from .errors import FuzzycError
 
 
 def add_parser(subparsers) -> None:
-    p = subparsers.add_parser("verify", help="prove or search the properties in verify blocks")
-    p.add_argument("files", nargs="+", metavar="FILE")
+    p = subparsers.add_parser("verify", help="prove or search the properties in verify blocks "
+                                             "(structural defaults for a file without any)")
+    p.add_argument("files", nargs="+", metavar="FILE", help=RULE_FILE_HELP)
     p.add_argument("--backend", choices=["numpy", "c"], default="numpy",
                    help="closed loops drive the numpy engine or the generated C")
     p.add_argument("--max-examples", type=int, default=100,
@@ -39,23 +49,41 @@ class _Progress:
             self.stream.write("\r\033[K")
 
 
+def defaults_note(path: str, model) -> str | None:
+    """What verify checks in a file without properties, and why those; None when it has some."""
+    from .verify.runner import default_properties, default_level
+    if model.properties:
+        return None
+    texts = "; ".join(p.text for p in default_properties(model))
+    note = (f"{path}: declares no properties; checking the structural defaults: {texts} "
+            "(write a `verify` block in a .fz to state your own)")
+    if default_level(model.rulebase) == 0:
+        note += (f"; no `covers`: with and = {model.rulebase.inference.and_.name.lower()} a "
+                 "rule fires 0 where its terms cross at 0.5, so no level can be asked")
+    return note
+
+
 def run(args) -> int:
-    from .parser import load
+    from .formats import load_any
     from .verify import Options, verify_model
     from .verify.report import format_text, write_reports
     progress = _Progress()
     options = Options(backend=args.backend, max_examples=args.max_examples, seed=args.seed,
                       report_dir=args.report, only=args.only, progress=progress)
-    results, bad_input = [], False
+    results, notes, bad_input = [], [], False
     for path in args.files:
         try:
-            results += verify_model(load(path), options)
+            model = load_any(path)
+            notes.append(defaults_note(path, model))
+            results += verify_model(model, options)
         except FuzzycError as exc:
             progress.done()
             for diagnostic in exc.diagnostics:
                 print(diagnostic.format(), file=sys.stderr)
             bad_input = True
     progress.done()
+    for note in filter(None, notes):
+        print(note)
     print(format_text(results))
     if args.report:
         for written in write_reports(results, args.report):

@@ -4,6 +4,20 @@ the tables or in closed form), held on N searched cases, or violated with a coun
     from fuzzyc.verify import verify_model, verify_file, Options
     results = verify_file("rulebases/wedm_three_region.fz", Options(max_examples=50))
 
+verify_file reads every format fuzzyc.formats.load_any reads (.fz .fll .fcl .fis,
+FILE.fcl::NAME). A model that declares no properties (every imported one, a .fz without a
+`verify` block) is checked on the structural defaults (runner.default_properties; result names
+say `default: `), which need nothing but the rule base:
+- consistent, and complete on every output (every cell of input terms has a rule);
+- covers <every input> at least L, L = the rule base's AND of 0.5 over its n inputs (min: 0.5,
+  product: 0.5^n): the level a complete table over terms that cross their neighbours at 0.5
+  (the usual partition) reaches everywhere, so a sound design passes and a gap where the
+  controller would fall back to its default is found. With an AND that gives 0 there (bounded
+  difference, drastic, nilpotent min) no level can be asked and coverage is left out;
+- bounded <every rule-base output> in its range (a TSK consequent can leave it).
+Not continuous (a style of table, not a defect) and not monotone (it needs the direction the
+designer intends); closed loops need a scenario. A file with a `verify` block gets only its own.
+
 Meaning of the properties (the choices a user should know):
 - covers I1, I2 at least L: at every point of the listed inputs' ranges some rule fires >= L;
   clauses on inputs not listed are ignored (coverage of the projection).
@@ -27,13 +41,14 @@ Meaning of the properties (the choices a user should know):
 """
 from __future__ import annotations
 
-from ..parser import load
+from ..formats import load_any
 from .result import Evidence, Result, Status
 from .runner import Options, verify_model
 
 
 def verify_file(path: str, options: Options | None = None) -> list[Result]:
-    return verify_model(load(path), options)
+    """Any format load_any reads; a file without properties gets the structural defaults."""
+    return verify_model(load_any(path), options)
 
 
 __all__ = ["Evidence", "Options", "Result", "Status", "verify_file", "verify_model"]

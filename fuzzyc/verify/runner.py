@@ -8,11 +8,16 @@ import time
 from dataclasses import dataclass
 from typing import Callable
 
-from ..model import Model, Property
+import numpy as np
+
+from ..model import Model, Property, RuleBase
+from ..norms import combine
 from . import coverage, outputs, proof, search, tables
 from .result import Evidence, Result, Status
 
 FINDING_PREFIX = "finding:"
+DEFAULT_PREFIX = "default: "   # in a result's name: the file declared no properties
+CROSSING = 0.5                 # where neighbouring terms of a Ruspini partition cross
 
 
 @dataclass
@@ -57,7 +62,35 @@ def _finding(model: Model, prop: Property, evidence: list[Evidence]) -> str | No
 def property_name(model: Model, prop: Property, parent: Property | None = None) -> str:
     base = os.path.basename(model.source_path or model.name)
     head = f"{parent.text.split('{')[0].strip()} :: " if parent else ""
-    return f"{base}::{head}{prop.text or prop.kind}"
+    mark = DEFAULT_PREFIX if not model.properties else ""
+    return f"{base}::{mark}{head}{prop.text or prop.kind}"
+
+
+def default_level(rb: RuleBase) -> float:
+    """The firing level a complete table over Ruspini partitions (neighbouring terms crossing
+    at 0.5) reaches everywhere: the rule base's own AND of 0.5 over all its inputs (min 0.5,
+    product 0.5^n). 0 for and = bounded difference, drastic, nilpotent min with n >= 2."""
+    return float(combine([np.array(CROSSING)] * len(rb.inputs), rb.inference.and_, True))
+
+
+def default_properties(model: Model) -> list[Property]:
+    """What `fuzzyc verify` checks in a model that declares no properties (every imported
+    model, a .fz without `verify`): the structural ones, which need no knowledge of the plant.
+    consistent; complete (every cell of input terms, every output); covers every input at
+    least default_level (left out when that is 0: no positive level can be asked of such an
+    AND); bounded every rule-base output in its range. Not continuous (a design style, not a
+    defect) nor monotone (needs the direction the designer intends)."""
+    rb = model.rulebase
+    texts = [("consistent", {}, "consistent"),
+             ("complete", {"output": None}, "complete")]
+    level = default_level(rb)
+    if level > 0:
+        names = [v.name for v in rb.inputs]
+        texts.append(("covers", {"inputs": names, "level": level},
+                      f"covers {', '.join(names)} at least {level:.12g}"))
+    texts += [("bounded", {"signal": v.name, "lo": v.lo, "hi": v.hi},
+               f"bounded {v.name} in [{v.lo:.12g}, {v.hi:.12g}]") for v in rb.outputs]
+    return [Property(kind, args, None, text) for kind, args, text in texts]
 
 
 def reproduce_command(model: Model, prop: Property, options: Options) -> str:
@@ -71,7 +104,7 @@ def reproduce_command(model: Model, prop: Property, options: Options) -> str:
 def verify_model(model: Model, options: Options | None = None) -> list[Result]:
     options = options or Options()
     results = []
-    for prop in model.properties:
+    for prop in model.properties or default_properties(model):
         if prop.kind == "closed_loop":
             checks = [c for c in prop.args["checks"] if _selected(options, c, prop)]
             if checks:
