@@ -12,13 +12,15 @@ from pathlib import Path
 import numpy as np
 
 from .atomic import save_figure, write_text
-from .errors import FuzzycError
+from .cli import RULE_FILE_HELP
+from .errors import Diagnostic, FuzzycError
 
 
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser("learn", help="learn the weights of a neuro-fuzzy rule base "
                                             "over cutting cycles of a scenario")
-    p.add_argument("file", metavar="FILE", help="rule file with a `learnable` table")
+    p.add_argument("file", metavar="FILE", help="rule file with a `learnable` table (" +
+                   RULE_FILE_HELP + "; only a .fz can say `learnable`)")
     p.add_argument("--scenario", required=True, help="scenario name or YAML path (the cycle)")
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="trained rule file")
     p.add_argument("--cycles", type=int, default=15, help="learning cycles (default 15)")
@@ -46,9 +48,30 @@ def plot_pi(pi: np.ndarray, path: str | Path, title: str) -> None:
     save_figure(fig, path)
 
 
+def check_learnable(path: str, table: str) -> None:
+    """FuzzycError unless FILE's output `table` has learnable terms; said before the scenario
+    runs, and for an imported model (FLL, FCL and FIS have no way to mark a term learnable)."""
+    from .formats import load_any, split_block
+    rb = load_any(path).rulebase
+    learnable = [v.name for v in rb.outputs if np.any(v.learnable)]
+    if table in learnable:
+        return
+    if not learnable:
+        problem = "the model has no learnable terms"
+    else:
+        problem = (f"output `{table}` has no learnable terms (choose one of "
+                   f"{', '.join(learnable)} with --table)")
+    hint = ("`fuzzyc learn` trains the terms of a .fz `table ... learnable`; an .fll, .fcl or "
+            ".fis cannot mark terms learnable: `fuzzyc convert` it to .fz and mark the table "
+            "there") if split_block(path)[0].suffix.lower() != ".fz" else \
+        "`fuzzyc learn` trains the terms of a `table ... learnable`"
+    raise FuzzycError([Diagnostic(None, f"{path}: {problem}; {hint}")])
+
+
 def run(args) -> int:
     from fuzzyc.plants import scenario as scenarios
 
+    from .cli_simulate import absolute_ref
     from .learn import learn_scenario, trained_text
 
     if args.cycles < 1:
@@ -60,8 +83,9 @@ def run(args) -> int:
         print(f"error: --set takes KEY=VALUE, got {args.set}", file=sys.stderr)
         return 2
     try:
+        check_learnable(args.file, args.table)
         scenario = scenarios.load(args.scenario, overrides)
-        scenario.data.setdefault("controller", {})["rulebase"] = str(Path(args.file).resolve())
+        scenario.data.setdefault("controller", {})["rulebase"] = absolute_ref(args.file)
         controller, result = learn_scenario(scenario, args.cycles, args.eta, args.rho, args.table)
         text = trained_text(controller.model, result.weights, args.table)
     except FuzzycError as exc:

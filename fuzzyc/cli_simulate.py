@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 
 from .atomic import write_text
+from .cli import RULE_FILE_HELP
 from .errors import Diagnostic, FuzzycError
 
 CSV_LOOPS = 8    # a batch of thousands would make a huge CSV: keep the first loops
@@ -18,7 +19,7 @@ CSV_LOOPS = 8    # a batch of thousands would make a huge CSV: keep the first lo
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser("simulate", help="run a controller against a plant scenario")
     p.add_argument("file", nargs="?", metavar="FILE",
-                   help="rule base (default: the scenario's own)")
+                   help=RULE_FILE_HELP + " (default: the scenario's own)")
     p.add_argument("--scenario", required=True, help="scenario name or YAML path")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="sets",
                    help="override a scenario setting, dotted (plant.tension=800)")
@@ -45,6 +46,14 @@ def parse_sets(items: list[str]) -> dict[str, str]:
     return out
 
 
+def absolute_ref(ref: str) -> str:
+    """FILE made absolute (a scenario takes a relative one from its rulebases folder), keeping a
+    `::NAME` block choice."""
+    from .formats import split_block
+    path, block = split_block(ref)
+    return str(path.resolve()) + ("" if block is None else f"::{block}")
+
+
 def format_summary(title: str, controller: str, summary: dict, trace) -> str:
     lines = [f"{title}", f"controller: {controller}; batch {trace.batch}; "
              f"{trace.steps} periods of {trace.period * 1000:g} ms"]
@@ -63,10 +72,10 @@ def format_summary(title: str, controller: str, summary: dict, trace) -> str:
 def run(args) -> int:
     from fuzzyc.plants.scenario import load
     from fuzzyc.runtime.plots import plot_trace
-    from fuzzyc.runtime.simulate import references, simulate, summarize
+    from fuzzyc.runtime.simulate import references, rulebase_ref, simulate, summarize
     overrides = parse_sets(args.sets)
     if args.file:
-        overrides["controller.rulebase"] = str(Path(args.file).resolve())
+        overrides["controller.rulebase"] = absolute_ref(args.file)
     scenario = load(args.scenario, overrides)
     trace = simulate(scenario, batch=args.batch, baseline=args.baseline, backend=args.backend,
                      seed=args.seed, randomize=args.randomize,
@@ -76,7 +85,7 @@ def run(args) -> int:
     trace.to_csv(out / "trace.csv", loops=CSV_LOOPS)
     panels = [name for name in scenario.plots if name in trace] or None
     plot_trace(trace, out / "trace.png", panels, references(scenario), title=scenario.title)
-    controller = "baseline" if args.baseline else str(scenario.rulebase_path())
+    controller = "baseline" if args.baseline else rulebase_ref(scenario)
     text = format_summary(scenario.title, controller, summary, trace)
     write_text(out / "summary.txt", text)
     write_text(out / "summary.json", _json(scenario, controller, trace, summary))

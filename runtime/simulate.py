@@ -35,16 +35,26 @@ METRICS = {
 
 
 def load_controller(scenario, batch: int, backend: str = "numpy"):
-    """The scenario's rule base with its params and initial outputs applied, as a controller."""
-    from fuzzyc.parser import load as load_model
-    model = load_model(scenario.rulebase_path())
+    """The scenario's rule base (.fz, .fll, .fcl, .fis or FILE.fcl::NAME, through
+    fuzzyc.formats.load_any) with its params and initial outputs applied, as a controller.
+
+    An imported model's output `X_out` (the importers' pass-through of rule-base output X) is
+    the bus signal X, so an FLL `OutputVariable: velocity` drives the plant's `velocity` (and
+    `controller.initial` names it `velocity`). Inputs the loop does not have, or outputs no
+    block reads, are an error naming them (check_signals)."""
+    from fuzzyc.formats import load_any, split_block
+    ref = rulebase_ref(scenario)
+    model = load_any(ref)
+    imported = split_block(ref)[0].suffix.lower() != ".fz"
+    rename = _rulebase_names(model) if imported else {}
+    check_signals(scenario, model, rename)
     spec = scenario.controller
     for name, value in (spec.get("params") or {}).items():
         if name not in model.params:
             raise scenario.error(f"controller.params.{name}",
                                  f"the rule base has no param `{name}`")
         model.params[name].value = float(value)
-    outputs = {o.name: o for o in model.outputs}
+    outputs = {rename.get(o.name, o.name): o for o in model.outputs}
     for name, value in (spec.get("initial") or {}).items():
         if name not in outputs:
             raise scenario.error(f"controller.initial.{name}",
@@ -52,9 +62,96 @@ def load_controller(scenario, batch: int, backend: str = "numpy"):
         outputs[name].init = float(value)
     if backend == "c":
         from fuzzyc.backends.cload import CController
-        return CController(model, batch)
-    from fuzzyc.controller import Controller
-    return Controller(model, batch)
+        controller = CController(model, batch)
+    else:
+        from fuzzyc.controller import Controller
+        controller = Controller(model, batch)
+    return BusNames(controller, rename) if rename else controller
+
+
+def rulebase_ref(scenario) -> str:
+    """The scenario's rule file as load_any takes it: the path scenario.rulebase_path() finds,
+    with a `::NAME` block choice kept (the scenario looks for the file without it)."""
+    from fuzzyc.formats import split_block
+    ref = scenario.controller.get("rulebase")
+    if ref is None:
+        raise scenario.error("controller", "this scenario names no rule base: give FILE")
+    path, block = split_block(ref)
+    if block is None:
+        return str(scenario.rulebase_path())
+    spec = scenario.controller      # rulebase_path() resolves and checks the bare file
+    spec["rulebase"] = str(path)
+    try:
+        return f"{scenario.rulebase_path()}::{block}"
+    finally:
+        spec["rulebase"] = ref
+
+
+def _rulebase_names(model) -> dict[str, str]:
+    """{X_out: X} for each output that is the importers' pass-through of rule-base output X."""
+    names = {v.name for v in model.rulebase.outputs}
+    return {o.name: o.name[:-4] for o in model.outputs
+            if o.name.endswith("_out") and o.name[:-4] in names and str(o.expr) == o.name[:-4]}
+
+
+class BusNames:
+    """A controller whose outputs go on the bus under other names; all else is the wrapped
+    controller's (model, params, signals, reset...). The model keeps its names: the C back end
+    would refuse an output named like a rule-base variable."""
+
+    def __init__(self, controller, rename: dict[str, str]):
+        self.controller, self.rename = controller, rename
+        self.output_names = [rename.get(n, n) for n in controller.output_names]
+
+    def __getattr__(self, name: str):
+        if name == "controller":        # not yet set (a copy being made): no recursion
+            raise AttributeError(name)
+        return getattr(self.controller, name)
+
+    def step(self, inputs: dict) -> dict:
+        return {self.rename.get(k, k): v for k, v in self.controller.step(inputs).items()}
+
+    def initial_outputs(self) -> dict[str, float]:
+        return {self.rename.get(o.name, o.name): float(o.init)
+                for o in self.controller.model.outputs}
+
+
+def check_signals(scenario, model, rename: dict[str, str] | None = None) -> None:
+    """Every input of the model is a signal of the scenario's loop and every output (by its bus
+    name, see BusNames) is read by the plant or an observer; otherwise a FuzzycError at the
+    rule file's declarations naming them (a misspelt name would otherwise stop the run with a
+    KeyError or, for a plant that falls back to its params, run the loop open)."""
+    from fuzzyc.errors import Reporter
+    outputs = [((rename or {}).get(o.name, o.name), o) for o in model.outputs]
+    offered, read = _loop_signals(scenario)
+    report = Reporter(model.source_path or model.name, model.source_text or "")
+    where = f"scenario `{scenario.name}` (plant {scenario.plant_name})"
+    if offered is not None:
+        offered |= {name for name, _ in outputs}     # its own outputs, one period late
+        for signal in model.signals:
+            if signal.name not in offered:
+                report.error(signal.loc, f"input `{signal.name}` is not a signal of {where}; "
+                                         f"it has: {', '.join(sorted(offered))}")
+    if read is not None:
+        for name, out in outputs:
+            if name not in read:
+                report.error(out.loc, f"output `{name}` drives nothing in {where}; it reads: "
+                                      f"{', '.join(sorted(read))}")
+    report.raise_if_any()
+
+
+def _loop_signals(scenario) -> tuple[set[str] | None, set[str] | None]:
+    """The signals the loop offers a controller and those it reads from one; None where the
+    plant does not declare its OUTPUTS or INPUTS (then nothing can be checked)."""
+    module = scenario.plant_module()
+    observers = [scenario.make(f"observers.{i}", spec)
+                 for i, spec in enumerate(scenario.data.get("observers") or [])]
+    plant_in, plant_out = getattr(module, "INPUTS", None), getattr(module, "OUTPUTS", None)
+    offered = None if plant_out is None else {
+        *scenario.schedules, *plant_out, *(scenario.data.get("initial") or {}),
+        *(n for b in observers for n in b.output_names)}
+    read = None if plant_in is None else {*plant_in, *(n for b in observers for n in b.input_names)}
+    return offered, read
 
 
 def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
