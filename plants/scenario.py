@@ -191,13 +191,25 @@ class Scenario:
         except (TypeError, ValueError) as exc:
             raise self.error(f"{dotted}.params", str(exc)) from None
 
-    def rulebase_path(self) -> Path | None:
+    def rulebase_ref(self) -> str | None:
+        """The rule file as fuzzyc.formats.load_any takes it: `rulebase_path()`, with a
+        `FILE.fcl::NAME` block choice kept."""
         ref = self.controller.get("rulebase")
         if ref is None:
             return None
-        path = Path(ref)
+        from fuzzyc.formats import split_block
+        block = split_block(ref)[1]
+        return f"{self.rulebase_path()}" + ("" if block is None else f"::{block}")
+
+    def rulebase_path(self) -> Path | None:
+        """The rule file (without a `::NAME` block choice), relative to rulebases/."""
+        ref = self.controller.get("rulebase")
+        if ref is None:
+            return None
+        from fuzzyc.formats import split_block
+        path = split_block(ref)[0]
         if not path.is_absolute():
-            path = Path(__file__).resolve().parents[1] / "rulebases" / ref
+            path = Path(__file__).resolve().parents[1] / "rulebases" / path
         if not path.exists():
             raise self.error("controller.rulebase", f"no rule base file {path}")
         return path

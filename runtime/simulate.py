@@ -70,21 +70,11 @@ def load_controller(scenario, batch: int, backend: str = "numpy"):
 
 
 def rulebase_ref(scenario) -> str:
-    """The scenario's rule file as load_any takes it: the path scenario.rulebase_path() finds,
-    with a `::NAME` block choice kept (the scenario looks for the file without it)."""
-    from fuzzyc.formats import split_block
-    ref = scenario.controller.get("rulebase")
+    """The scenario's rule file as load_any takes it (a `::NAME` block choice kept)."""
+    ref = scenario.rulebase_ref()
     if ref is None:
         raise scenario.error("controller", "this scenario names no rule base: give FILE")
-    path, block = split_block(ref)
-    if block is None:
-        return str(scenario.rulebase_path())
-    spec = scenario.controller      # rulebase_path() resolves and checks the bare file
-    spec["rulebase"] = str(path)
-    try:
-        return f"{scenario.rulebase_path()}::{block}"
-    finally:
-        spec["rulebase"] = ref
+    return ref
 
 
 def _rulebase_names(model) -> dict[str, str]:
