@@ -12,9 +12,31 @@ scaled edge), so integrating it piece by piece is exact.  Gaussian, bell and sig
 terms are the one sampled case: M is evaluated on a fixed grid of GRID_POINTS over [lo, hi] and
 integrated as the piecewise-linear interpolant.  Singleton terms have no area: they enter the
 centroid only when all terms of the output are singletons (point masses, as COA).
+
+PROBSUM and BOUNDED_SUM aggregation combine each rule's implied shape on its own (every rule is
+an item, as SUM of MIN-clipped terms), M(u) = S_r IMP(act_r, mu_t(r)(u)): the probabilistic or
+bounded sum of clipped shapes is not the shape clipped at the combined level.  The rules that
+do not fire are dropped first (a level 0 adds 0 to a sum and a factor 1 to the product).
+- BOUNDED_SUM: the plain sum of the items is piecewise linear on the break-point set, and
+  min(1, sum) bends where the sum crosses 1: that point is added on every piece where it
+  crosses (interpolated exactly, the sum being linear there), so the integrals stay exact.
+- PROBSUM: M = 1 - prod_r (1 - g_r) with every g_r linear between break points, so on each
+  piece M is a polynomial of degree <= K (K firing rules), not piecewise linear.  It is
+  integrated exactly, not sampled: Gauss-Legendre with (K + 3) // 2 nodes per piece is exact
+  for u M(u), of degree K + 1 (chosen over the grid because the centroid is exact everywhere
+  else, and the degree is small: at most 2**I rules fire in a partitioned rule base).  The
+  bisector finds the piece from those exact areas and the point inside it by bisection
+  (BISECTION_STEPS halvings of the piece, to the last bits), each partial integral again by
+  Gauss-Legendre.  The mean of maximum needs no integral: each 1 - g_r is linear and >= 0 on a
+  piece, so their product is log-concave and takes its minimum at an end of the piece; M's
+  maximum is at break points, and a piece is flat at the top iff M is top at its ends and its
+  midpoint (a log-concave function equal at three points is constant between them), so M is
+  evaluated at the break points and the pieces' midpoints.
+  Smooth output terms under PROBSUM are sampled on the grid as under the other aggregations.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from itertools import product
 
 import numpy as np
@@ -25,26 +47,61 @@ from .model import Aggregation, Defuzzifier, Implication, Inference, TermKind, V
 
 GRID_POINTS = 2001
 FLAT_TOLERANCE = 1e-12  # relative: how close to max(M) a value must be to count as a maximum
+# assumption: 60 halvings take a piece of any width in the range to below one ulp of its
+# position (2**-60 < eps / 2**8), so the probsum bisector is exact to the last bits.
+BISECTION_STEPS = 60
+# assumption: rules firing at once in a sample, for sizing chunks under probsum / bounded sum
+# (the rules that do not fire are dropped); a partitioned rule base fires at most 2**I, 8 for
+# the paper's three inputs.  More firing rules only make a chunk larger than planned.
+FIRING_GUESS = 16
 
 PEAK_BASED = (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE,
               Defuzzifier.WEIGHTED_SUM)
 
 
+@dataclass(frozen=True)
+class Scatter:
+    """How an aggregation accumulates activations by scattering them into their terms' slots:
+    the ufunc, the start value, and what goes in and comes out (PROBSUM multiplies 1 - act
+    and returns 1 - the product; BOUNDED_SUM adds and caps the sum at 1)."""
+    ufunc: np.ufunc
+    start: float = 0.0
+    complement: bool = False
+    bounded: bool = False
+
+    def values(self, act: np.ndarray) -> np.ndarray:
+        return 1.0 - act if self.complement else act
+
+    def finish(self, out: np.ndarray) -> np.ndarray:
+        if self.complement:
+            return 1.0 - out
+        return np.minimum(out, 1.0) if self.bounded else out
+
+
+SCATTERS = {Aggregation.MAX: Scatter(np.maximum), Aggregation.SUM: Scatter(np.add),
+            Aggregation.PROBSUM: Scatter(np.multiply, 1.0, complement=True),
+            Aggregation.BOUNDED_SUM: Scatter(np.add, bounded=True)}
+
+
 def term_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
                    aggregation: Aggregation) -> np.ndarray:
     """alpha (N, T): the aggregation of act over the candidates concluding each term."""
+    scatter = SCATTERS[aggregation]
     if J.ndim == 1:        # the same consequents for every sample: a matrix product / gather
         onehot = J[:, None] == np.arange(n_terms)
-        if aggregation == Aggregation.SUM:
-            return act @ onehot.astype(float)
+        if scatter.ufunc is np.add:
+            return scatter.finish(act @ onehot.astype(float))
+        if aggregation == Aggregation.PROBSUM:
+            return 1.0 - np.stack([np.prod(1.0 - act[:, onehot[:, j]], axis=1)
+                                   for j in range(n_terms)], axis=1)
         return np.stack([act[:, onehot[:, j]].max(axis=1, initial=0.0)
                          for j in range(n_terms)], axis=1)
     # Per-sample consequents: scatter into (N, T + 1), column T collecting "no consequent".
     n = act.shape[0]
     flat = (np.arange(n) * (n_terms + 1))[:, None] + np.where(J >= 0, J, n_terms)
-    out = np.zeros(n * (n_terms + 1))
-    (np.add if aggregation == Aggregation.SUM else np.maximum).at(out, flat.ravel(), act.ravel())
-    return out.reshape(n, n_terms + 1)[:, :n_terms]
+    out = np.full(n * (n_terms + 1), scatter.start)
+    scatter.ufunc.at(out, flat.ravel(), scatter.values(act).ravel())
+    return scatter.finish(out.reshape(n, n_terms + 1)[:, :n_terms])
 
 
 def safe_ratio(num: np.ndarray, den: np.ndarray, default) -> np.ndarray:
@@ -130,13 +187,23 @@ class OutputDefuzzifier:
             return 8 * n_candidates
         if self.closed_form is not None:
             return self.closed_form.work_per_sample()
-        n_items = self.var.n_terms if self._static_items() else n_candidates
+        if self._static_items():
+            n_items = self.var.n_terms
+        elif self.inference.aggregation in (Aggregation.PROBSUM, Aggregation.BOUNDED_SUM):
+            n_items = min(n_candidates, FIRING_GUESS)     # only the firing rules are kept
+        else:
+            n_items = n_candidates
         n_points = GRID_POINTS if self.sampled else len(self.static_points) + 8 * n_items ** 2
+        if self.inference.aggregation == Aggregation.PROBSUM and not self.sampled:
+            n_points *= (n_items + 3) // 2                # Gauss-Legendre nodes per piece
         return 4 * n_points * n_items
 
     def _static_items(self) -> bool:
-        return self.inference.aggregation == Aggregation.MAX or \
-            self.inference.implication == Implication.PRODUCT
+        """Whether M is a function of the terms' strengths alone: max of the implied terms,
+        or the sum of scaled ones (sum_r act_r mu_j = (sum act_r) mu_j)."""
+        agg = self.inference.aggregation
+        return agg == Aggregation.MAX or (
+            agg == Aggregation.SUM and self.inference.implication == Implication.PRODUCT)
 
     def strength_aggregation(self) -> Aggregation | None:
         """How the terms' strengths alpha are aggregated over the rules, or None when this
@@ -168,39 +235,109 @@ class OutputDefuzzifier:
         if self.closed_form is not None:
             return self.closed_form(alpha)
         # max_r IMP(act_r, mu_j) = IMP(max_r act_r, mu_j); sum_r act_r mu_j = (sum act_r) mu_j
-        x, f = self._sample(alpha, np.arange(var.n_terms))
+        x, f = self._aggregated(alpha, np.arange(var.n_terms))
         return _area_defuzzify(method, x, f, var.default)
 
     def __call__(self, act: np.ndarray, J: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
         aggregation = self.strength_aggregation()
         if aggregation is not None:
             return self.from_strengths(term_strengths(act, J, self.var.n_terms, aggregation), x)
-        # SUM of MIN-clipped terms: every candidate rule is its own item
+        # every candidate rule is its own item (SUM of MIN-clipped terms, PROBSUM, BOUNDED_SUM)
         levels = np.where(J >= 0, act, 0.0)
-        x, f = self._sample(levels, np.broadcast_to(J, act.shape))
-        return _area_defuzzify(self.inference.defuzzifier, x, f, self.var.default)
+        ids = np.broadcast_to(J, act.shape)
+        method, agg = self.inference.defuzzifier, self.inference.aggregation
+        if agg == Aggregation.SUM:
+            x, items = self._sample(levels, ids)
+            return _area_defuzzify(method, x, items.sum(axis=2), self.var.default)
+        levels, ids = _firing(levels, ids)
+        if agg == Aggregation.PROBSUM and not self.sampled:
+            return self._probsum_area(levels, ids)
+        x, items = self._sample(levels, ids)
+        if agg == Aggregation.PROBSUM:
+            return _area_defuzzify(method, x, _probsum(items), self.var.default)
+        x, f = _bounded_at_one(x, items.sum(axis=2))
+        return _area_defuzzify(method, x, f, self.var.default)
 
     def _sample(self, levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Points (N, P) sorted, and M at them."""
+        """Points (N, P) sorted, and the implied items IMP(level_k, mu_ids_k) there (N, P, K)."""
         n = levels.shape[0]
         if self.sampled:
             x = np.broadcast_to(self.grid, (n, len(self.grid)))
             mu = self.grid_mu[:, ids.clip(0)]                    # (P, K) or (P, N, K)
             mu = mu[None] if ids.ndim == 1 else mu.transpose(1, 0, 2)
-        else:
-            x = np.sort(np.concatenate([np.broadcast_to(self.static_points,
-                                                        (n, len(self.static_points))),
-                                        self._dynamic_points(levels, ids)], axis=1), axis=1)
-            p = self.params[ids.clip(0)]                         # (K, 4) or (N, K, 4)
-            p = p[None, None] if ids.ndim == 1 else p[:, None]
-            mu = trapezoid(x[:, :, None], p[..., 0], p[..., 1], p[..., 2], p[..., 3])
+            if ids.ndim == 2:
+                mu = np.where((ids >= 0)[:, None, :], mu, 0.0)
+            return x, self._implied(levels, mu)
+        x = self._points(levels, ids)
+        return x, self._items_at(x, levels, ids)
+
+    def _points(self, levels: np.ndarray, ids: np.ndarray) -> np.ndarray:
+        """Every break point of every item, sorted (N, P)."""
+        n = levels.shape[0]
+        return np.sort(np.concatenate([np.broadcast_to(self.static_points,
+                                                       (n, len(self.static_points))),
+                                       self._dynamic_points(levels, ids)], axis=1), axis=1)
+
+    def _items_at(self, x: np.ndarray, levels: np.ndarray, ids: np.ndarray) -> np.ndarray:
+        """IMP(level_k, mu_ids_k(x)) (N, Q, K) at points x (N, Q), piecewise-linear terms."""
+        p = self.params[ids.clip(0)]                             # (K, 4) or (N, K, 4)
+        p = p[None, None] if ids.ndim == 1 else p[:, None]
+        mu = trapezoid(x[:, :, None], p[..., 0], p[..., 1], p[..., 2], p[..., 3])
         if ids.ndim == 2:
             mu = np.where((ids >= 0)[:, None, :], mu, 0.0)
+        return self._implied(levels, mu)
+
+    def _implied(self, levels: np.ndarray, mu: np.ndarray) -> np.ndarray:
         lv = levels[:, None, :]
-        implied = np.minimum(lv, mu) if self.inference.implication == Implication.MIN else lv * mu
-        agg = implied.max(axis=2) if self.inference.aggregation == Aggregation.MAX \
-            else implied.sum(axis=2)
+        return np.minimum(lv, mu) if self.inference.implication == Implication.MIN else lv * mu
+
+    def _aggregated(self, levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Points and M there for MAX, or SUM of strengths (items one per term)."""
+        x, items = self._sample(levels, ids)
+        agg = items.max(axis=2) if self.inference.aggregation == Aggregation.MAX \
+            else items.sum(axis=2)
         return x, agg
+
+    # -- probsum over piecewise-linear terms: piecewise polynomial M ---------------------------
+
+    def _probsum_area(self, levels: np.ndarray, ids: np.ndarray) -> np.ndarray:
+        method, default = self.inference.defuzzifier, self.var.default
+        x = self._points(levels, ids)
+        if method == Defuzzifier.MEAN_OF_MAXIMUM:     # break points and midpoints suffice
+            xs = _interleave(x[:, :-1], 0.5 * (x[:, :-1] + x[:, 1:]), x[:, -1:])
+            return _mean_of_maximum(xs, _probsum(self._items_at(xs, levels, ids)), default)
+        nodes, weights = _gauss_legendre(ids.shape[1])
+        x0, dx = x[:, :-1], np.diff(x, axis=1)
+        piece_area, moment = self._gauss(x0, dx, levels, ids, nodes, weights)
+        area = piece_area.sum(axis=1)
+        if method == Defuzzifier.CENTROID:
+            return safe_ratio(moment.sum(axis=1), area, default)
+        return np.where(area > 0, self._probsum_bisector(x0, dx, piece_area, area, levels, ids),
+                        default)
+
+    def _gauss(self, x0, dx, levels, ids, nodes, weights) -> tuple[np.ndarray, np.ndarray]:
+        """int M and int u M over each piece [x0, x0 + dx] (N, S), exact for M polynomial."""
+        u = x0[..., None] + dx[..., None] * nodes                    # (N, S, G)
+        f = _probsum(self._items_at(u.reshape(len(u), -1), levels, ids)).reshape(u.shape)
+        wf = f * weights * dx[..., None]
+        return wf.sum(axis=2), (wf * u).sum(axis=2)
+
+    def _probsum_bisector(self, x0, dx, piece_area, area, levels, ids) -> np.ndarray:
+        """The leftmost u with int_lo^u M = area / 2: its piece from the exact areas, the point
+        inside by bisection on the exact partial integral."""
+        half = 0.5 * area
+        before = np.cumsum(piece_area, axis=1) - piece_area
+        k = np.argmax(before + piece_area >= half[:, None], axis=1)[:, None]
+        a0 = np.take_along_axis(x0, k, axis=1)                       # (N, 1)
+        rem = half - np.take_along_axis(before, k, axis=1)[:, 0]
+        lo_t, hi_t = np.zeros_like(a0), np.take_along_axis(dx, k, axis=1)
+        nodes, weights = _gauss_legendre(ids.shape[1])
+        for _ in range(BISECTION_STEPS):       # halvings of every sample's interval at once
+            t = 0.5 * (lo_t + hi_t)
+            partial = self._gauss(a0, t, levels, ids, nodes, weights)[0][:, 0]
+            below = (partial < rem)[:, None]
+            lo_t, hi_t = np.where(below, t, lo_t), np.where(below, hi_t, t)
+        return (a0 + 0.5 * (lo_t + hi_t))[:, 0]
 
     def _dynamic_points(self, levels: np.ndarray, ids: np.ndarray) -> np.ndarray:
         """The break points of M that move with the levels, clipped into [lo, hi]."""
@@ -222,6 +359,46 @@ class OutputDefuzzifier:
                                [np.full(len(levels), lo)], axis=1)
         pts = np.where(np.isfinite(pts), pts, lo)
         return np.clip(pts, lo, hi)
+
+
+def _firing(levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The items with a positive level, in their order, padded with level 0 and id -1 (an item
+    at 0 adds 0 to a sum and a factor 1 to a product, so dropping it changes nothing)."""
+    fires = levels > 0
+    k = max(1, int(fires.sum(axis=1).max(initial=0)))
+    order = np.argsort(~fires, axis=1, kind="stable")[:, :k]
+    kept = np.take_along_axis(levels, order, axis=1)
+    return np.where(kept > 0, kept, 0.0), \
+        np.where(kept > 0, np.take_along_axis(ids, order, axis=1), -1)
+
+
+def _probsum(items: np.ndarray) -> np.ndarray:
+    """1 - prod_k (1 - items_k) over the last axis."""
+    return 1.0 - np.prod(1.0 - items, axis=-1)
+
+
+def _gauss_legendre(n_items: int) -> tuple[np.ndarray, np.ndarray]:
+    """Nodes on [0, 1] and weights (summing to 1) exact for polynomials of degree n_items + 1:
+    (n_items + 3) // 2 nodes are exact up to degree 2 ((n_items + 3) // 2) - 1 >= n_items + 1."""
+    nodes, weights = np.polynomial.legendre.leggauss((n_items + 3) // 2)
+    return 0.5 * (nodes + 1.0), 0.5 * weights
+
+
+def _bounded_at_one(x: np.ndarray, s: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """min(1, s) of the piecewise-linear (x, s), with the point where s crosses 1 inserted in
+    every piece (the piece's left end again, a zero-width piece, where it does not cross)."""
+    x0, x1, s0, s1 = x[:, :-1], x[:, 1:], s[:, :-1], s[:, 1:]
+    crosses = (s0 < 1.0) != (s1 < 1.0)
+    t = np.where(crosses, (1.0 - s0) / np.where(crosses, s1 - s0, 1.0), 0.0)
+    cut = x0 + np.clip(t, 0.0, 1.0) * (x1 - x0)
+    f = np.minimum(s, 1.0)
+    at_cut = np.where(crosses, 1.0, f[:, :-1])
+    return _interleave(x0, cut, x[:, -1:]), _interleave(f[:, :-1], at_cut, f[:, -1:])
+
+
+def _interleave(a: np.ndarray, b: np.ndarray, last: np.ndarray) -> np.ndarray:
+    """a0 b0 a1 b1 ... then last, along axis 1 ((N, S), (N, S), (N, 1) -> (N, 2S + 1))."""
+    return np.concatenate([np.stack([a, b], axis=2).reshape(len(a), -1), last], axis=1)
 
 
 def _cross(l1: tuple[float, float], l2: tuple[float, float]) -> float:

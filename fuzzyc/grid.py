@@ -8,7 +8,8 @@ of the cell.  Built once per rule base: per cell and candidate k (corner k // de
 that corner) the rule's weight and, per output, the column of its consequent in a flat row of all
 outputs' strengths.  Per sample: one segment lookup per input, the memberships of all inputs
 from one gather in a joint segment table, the corner activations by broadcasting the t-norm, one
-gather of the cell's columns and one scatter (max or sum) per output into the strength row.  The
+gather of the cell's columns and one scatter per output into the strength row (`defuzz.Scatter`:
+max, sum, bounded sum = sum capped at 1, probsum = 1 - the product of 1 - act).  The
 arithmetic per activation is the sparse path's, so results are identical.
 """
 from __future__ import annotations
@@ -17,6 +18,7 @@ import numpy as np
 
 from .expr import clip
 from .membership import LocalPartition
+from .defuzz import SCATTERS
 from .model import Aggregation, RuleBase, TNorm
 
 MAX_TABLE_ENTRIES = 1 << 22
@@ -29,7 +31,8 @@ class GridStrengths:
                  radix: np.ndarray, aggregation: Aggregation):
         self.partitions = partitions
         self.product = rb.inference.and_ == TNorm.PRODUCT
-        self.scatter = np.maximum if aggregation == Aggregation.MAX else np.add
+        self.accumulate = SCATTERS[aggregation]
+        self.scatter = self.accumulate.ufunc
         n_terms = [v.n_terms for v in rb.outputs]
         # Column T of each output collects "no rule / no consequent" and is dropped at the end.
         self.offsets = np.concatenate([[0], np.cumsum([t + 1 for t in n_terms])])
@@ -149,10 +152,10 @@ class GridStrengths:
             act = act * self.weights.take(cell, axis=1)
         index = scaled.take(cell, axis=1)                                   # (O * K, N)
         index += arange
-        alpha = np.zeros(self.width * n)
-        act = act.reshape(-1)
+        alpha = np.full(self.width * n, self.accumulate.start)
+        act = self.accumulate.values(act.reshape(-1))
         # one scatter per output: numpy 2.4's ufunc.at reads garbage when the values are
         # broadcast against a 2-D index, so the values are never broadcast
         for rows in index.reshape(len(self.slices), -1):
             self.scatter.at(alpha, rows, act)
-        return alpha.reshape(self.width, n)
+        return self.accumulate.finish(alpha.reshape(self.width, n))

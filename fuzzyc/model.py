@@ -45,9 +45,11 @@ S-norms S(a, b): MAX max; PROBSUM a+b-ab; BOUNDED_SUM min(1, a+b) (= fuzzylite 8
   else 1.
 Aggregated output membership of output o at u in [lo, hi]:
   M(u) = AGG over rules r with consequent[r, o] = j >= 0 of IMP(act_r, mu_j(u)).
+  AGG: MAX max; SUM the plain (unbounded) sum; PROBSUM 1 - prod_r (1 - m_r); BOUNDED_SUM
+  min(1, sum_r m_r) (the s-norms of the same names folded over the rules, in any order).
 Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives its default):
-  CENTROID   int u M(u) du / int M(u) du over [lo, hi], exact (closed form on piecewise-linear
-             terms, never sampled).  If the output's terms are all singletons, the masses
+  CENTROID   int u M(u) du / int M(u) du over [lo, hi], exact on piecewise-linear terms (also
+             under PROBSUM, where M is piecewise polynomial; see fuzzyc.defuzz).  If the output's terms are all singletons, the masses
              alpha_j = AGG of act_r over rules concluding j give sum(alpha_j v_j)/sum(alpha_j).
   BISECTOR   the u splitting int M in two equal halves (exact on piecewise-linear terms).
   MEAN_OF_MAXIMUM  the mean of the set where M is largest.
@@ -126,6 +128,8 @@ class Implication(IntEnum):
 class Aggregation(IntEnum):
     MAX = 0
     SUM = 1
+    PROBSUM = 2        # 1 - prod(1 - m): the s-norm PROBSUM over the rules
+    BOUNDED_SUM = 3    # min(1, sum m): the s-norm BOUNDED_SUM over the rules
 
 
 class Defuzzifier(IntEnum):

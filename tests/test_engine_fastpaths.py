@@ -134,6 +134,8 @@ def test_closed_form_declines_where_it_does_not_apply():
     (TNorm.PRODUCT, Implication.PRODUCT, Aggregation.SUM, 2, True),
     (TNorm.MIN, Implication.MIN, Aggregation.SUM, 1, True),
     (TNorm.PRODUCT, Implication.PRODUCT, Aggregation.MAX, 1, True),
+    (TNorm.MIN, Implication.MIN, Aggregation.PROBSUM, 2, True),
+    (TNorm.PRODUCT, Implication.PRODUCT, Aggregation.BOUNDED_SUM, 2, False),
 ])
 def test_fast_paths_equal_the_general_path(outputs, method, tnorm, imp, agg, depth, weights):
     rb = wedm_like(outputs, depth=depth, weights=weights, and_=tnorm, implication=imp,
