@@ -69,6 +69,8 @@ C_TNORMS, C_SNORMS = (TNorm.MIN, TNorm.PRODUCT), (SNorm.MAX, SNorm.PROBSUM)
 C_TERM_KINDS = (TermKind.TRAPEZOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind.SIGMOID,
                 TermKind.SINGLETON)
 C_HEDGES = (Hedge.NONE, Hedge.VERY, Hedge.SOMEWHAT, Hedge.EXTREMELY)
+C_AGGREGATIONS = (Aggregation.MAX, Aggregation.SUM)
+SUMMED_PER_RULE = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)  # no aggregation
 
 
 def _check_constructs(rb: RuleBase) -> None:
@@ -78,6 +80,10 @@ def _check_constructs(rb: RuleBase) -> None:
         raise _fail(f"the C back end emits and = min | product and or = max | probsum; "
                     f"this rule base has and = {inf.and_.name.lower()}, "
                     f"or = {inf.or_.name.lower()}")
+    if inf.aggregation not in C_AGGREGATIONS and inf.defuzzifier not in SUMMED_PER_RULE:
+        raise _fail(f"the C back end emits aggregation = max | sum; this rule base has "
+                    f"aggregation = {inf.aggregation.name.lower()} (use the lookup-table "
+                    f"back end, or weighted_average / weighted_sum, which sum over rules)")
     hedges = sorted({Hedge(int(h)) for h in np.unique(rb.hedges)} - set(C_HEDGES))
     if hedges:
         raise _fail("the C back end emits the hedges very, somewhat, extremely; not "

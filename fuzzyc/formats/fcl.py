@@ -5,7 +5,8 @@ real grammar.  Mapping (exact unless said):
   point-list terms that form a triangle, trapezoid or shoulder -> TRAPEZOID (IEC: a term keeps
   its first/last point's value beyond them, so (0,1) (4,0) is a left shoulder); a number ->
   SINGLETON; jFuzzyLogic's TRIAN, TRAPE, GAUSS, GBELL, SIGM -> TRAPEZOID, GAUSSIAN, BELL, SIGMOID.
-  AND MIN/PROD, OR MAX/ASUM, ACT MIN/PROD, ACCU MAX (and jFuzzyLogic's SUM).
+  AND MIN/PROD, OR MAX/ASUM, ACT MIN/PROD, ACCU MAX and BSUM (IEC's bounded sum, min(1, a+b)),
+  and jFuzzyLogic's SUM (unbounded) and PROBOR (a+b-ab, IEC's ASUM, which IEC has for OR only).
   METHOD COG -> CENTROID, COGS -> CENTER_OF_AREA (the centre of gravity of singletons, which the
   model computes over the terms' peaks), COA -> BISECTOR (IEC's "centre of area" halves the
   area), MM -> MEAN_OF_MAXIMUM.
@@ -33,7 +34,9 @@ OPERATORS = {
                                "BDIF": TNorm.BOUNDED_DIFFERENCE}),
     "or_op": ("OR", "or_", {"MAX": SNorm.MAX, "ASUM": SNorm.PROBSUM, "BSUM": SNorm.BOUNDED_SUM}),
     "act": ("ACT", "implication", {"MIN": Implication.MIN, "PROD": Implication.PRODUCT}),
-    "accu": ("ACCU", "aggregation", {"MAX": Aggregation.MAX, "SUM": Aggregation.SUM}),
+    "accu": ("ACCU", "aggregation", {"MAX": Aggregation.MAX, "SUM": Aggregation.SUM,
+                                     "PROBOR": Aggregation.PROBSUM,
+                                     "BSUM": Aggregation.BOUNDED_SUM}),
 }
 METHODS = {"COG": Defuzzifier.CENTROID, "COGS": Defuzzifier.CENTER_OF_AREA,
            "COA": Defuzzifier.BISECTOR, "MM": Defuzzifier.MEAN_OF_MAXIMUM}
@@ -307,6 +310,7 @@ def read_fcl(text: str, path: str = "<string>", block: str | None = None) -> Mod
 FCL_OPERATOR_WORDS = {field: (key, {v: k for k, v in words.items()})
                       for key, field, words in OPERATORS.values()}
 JFUZZYLOGIC = "a jFuzzyLogic extension, not IEC 61131-7"
+JFUZZYLOGIC_ACCU = {Aggregation.SUM: "SUM (unbounded)", Aggregation.PROBSUM: "PROBOR (a+b-ab)"}
 JFUZZYLOGIC_SHAPES = {TermKind.GAUSSIAN: lambda a, b, c: ("GAUSS", (a, b)),
                       TermKind.BELL: lambda a, b, c: ("GBELL", (b, c, a)),
                       TermKind.SIGMOID: lambda a, b, c: ("SIGM", (b, a))}
@@ -323,8 +327,8 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     outputs, method = _fcl_method(model, problems, notes)
     # A weighted average is COGS over the per-rule activations summed per term.
     accu = Aggregation.SUM if inf.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE else inf.aggregation
-    if accu == Aggregation.SUM:
-        notes.append(f"ACCU SUM (unbounded) is {JFUZZYLOGIC}")
+    if accu in JFUZZYLOGIC_ACCU:
+        notes.append(f"ACCU {JFUZZYLOGIC_ACCU[accu]} is {JFUZZYLOGIC}")
     if method == "MM":
         notes.append(f"METHOD MM is {JFUZZYLOGIC}")
     comments = [f"(* {text.replace('*)', '* )')} *)"

@@ -5,11 +5,11 @@ read line by line with a regular expression per line kind, every value keeping i
 Mapping (exact unless said): trimf, trapmf -> TRAPEZOID; gaussmf [sigma c] -> GAUSSIAN (c, sigma);
 gbellmf [a b c] -> BELL (c, a, b); sigmf [a c] -> SIGMOID (c, a); smf, zmf, pimf -> SSHAPE,
 ZSHAPE, PISHAPE; constant -> SINGLETON; linear [c1 .. cn c0] -> LINEAR (sugeno outputs).
-min/prod, max/probor, implication min/prod, aggregation max/sum; centroid, bisector, mom,
+min/prod, max/probor, implication min/prod, aggregation max/sum/probor; centroid, bisector, mom,
 wtaver, wtsum.  MATLAB evaluates Mamdani outputs on 101 points of the range; the model
 integrates exactly.  Rules: `i1 i2, o1 (w) : c` with 0 = any, a negative index = NOT,
 c = 1 (and) or 2 (or).  Not carried, reported: other MF types (dsigmf, psigmf, gauss2mf),
-som/lom, probor aggregation, custom functions, negated consequents.
+som/lom, custom functions, negated consequents.
 When no rule fires, MATLAB's evalfis sets an output to the middle of its range (with a
 warning): the imported output's default is that middle, so both give the same number.
 
@@ -29,7 +29,10 @@ Export (`write_fis`) is the exact inverse of that mapping, with these choices:
   compare fuzzyc on the re-imported file, not MATLAB.
 - Refused: hedges (the file has none), spike/cosine/concave terms, singleton inputs, rules
   without a clause or a conclusion, an and/or operator MATLAB lacks that a rule needs, singleton
-  terms beside area terms of a Mamdani output.  A rule mixing `and` and `or` cannot occur (the
+  terms beside area terms of a Mamdani output, bounded-sum aggregation (MATLAB's AggMethod is
+  max, sum, probor or a custom function: writing one of the first three would give other
+  numbers without a word, a custom function would need a .m file beside the .fis, so it is
+  refused).  A rule mixing `and` and `or` cannot occur (the
   model has one connective per rule, as the file does).
 """
 from __future__ import annotations
@@ -55,7 +58,8 @@ SETTINGS = {
     "AndMethod": ("and_", {"min": TNorm.MIN, "prod": TNorm.PRODUCT}),
     "OrMethod": ("or_", {"max": SNorm.MAX, "probor": SNorm.PROBSUM}),
     "ImpMethod": ("implication", {"min": Implication.MIN, "prod": Implication.PRODUCT}),
-    "AggMethod": ("aggregation", {"max": Aggregation.MAX, "sum": Aggregation.SUM}),
+    "AggMethod": ("aggregation", {"max": Aggregation.MAX, "sum": Aggregation.SUM,
+                                  "probor": Aggregation.PROBSUM}),
     "DefuzzMethod": ("defuzzifier", {"centroid": Defuzzifier.CENTROID,
                                      "bisector": Defuzzifier.BISECTOR,
                                      "mom": Defuzzifier.MEAN_OF_MAXIMUM,
@@ -337,7 +341,7 @@ def _fis_system(model: Model, problems: list[str], notes: list[str]):
                      "integrates exactly: MATLAB's numbers differ by that sampling error")
         return "mamdani", rb.outputs, [
             *operators, ("ImpMethod", FIS_WORDS["implication"][inf.implication]),
-            ("AggMethod", FIS_WORDS["aggregation"][inf.aggregation]),
+            ("AggMethod", _fis_aggregation(inf.aggregation, problems)),
             ("DefuzzMethod", FIS_WORDS["defuzzifier"][method])]
     if method in AREA_METHODS and not all(singletons):
         problems.append(f"{method.name.lower()} over outputs of which some are all singletons "
@@ -359,6 +363,16 @@ def _fis_system(model: Model, problems: list[str], notes: list[str]):
                                ("DefuzzMethod", word)]
 
 
+def _fis_aggregation(aggregation: Aggregation, problems: list[str]) -> str:
+    """MATLAB's AggMethod word; one MATLAB lacks (the bounded sum) is refused."""
+    words = FIS_WORDS["aggregation"]
+    if aggregation not in words:
+        problems.append(f"aggregation {aggregation.name.lower()} has no FIS word (AggMethod is "
+                        f"{', '.join(words.values())} or a custom function): FIS cannot say it")
+        return "max"
+    return words[aggregation]
+
+
 def _check_peak_ratio(model: Model, problems: list[str], notes: list[str]) -> None:
     """Center of area (or an area method over singletons) = sum_j z_j alpha_j / sum_j alpha_j
     with alpha_j the aggregation of the rules concluding term j; MATLAB's wtaver sums per rule.
@@ -377,12 +391,15 @@ def _check_peak_ratio(model: Model, problems: list[str], notes: list[str]) -> No
                    for j in np.flatnonzero(counts > 1)]
     if shared:
         more = f" and {len(shared) - 3} more" if len(shared) > 3 else ""
-        problems.append(f"{what} with max aggregation takes the strongest of the rules that "
+        agg = rb.inference.aggregation
+        how = "takes the strongest of" if agg == Aggregation.MAX else "combines"
+        problems.append(f"{what} with {agg.name.lower()} aggregation {how} the rules that "
                         f"conclude the same term ({', '.join(shared[:3])}{more}); MATLAB's "
                         "wtaver (Sugeno) sums over rules and its Mamdani outputs have no "
                         "peak-based defuzzifier: FIS cannot say it")
     else:
-        notes.append(f"{what} with max aggregation is written as Sugeno wtaver over the "
+        notes.append(f"{what} with {rb.inference.aggregation.name.lower()} aggregation is "
+                     "written as Sugeno wtaver over the "
                      "terms' peaks: the same numbers, as no two rules conclude the same term")
 
 

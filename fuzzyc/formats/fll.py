@@ -10,13 +10,16 @@ Mapping (exact unless said):
   -> LINEAR (coefficients per input, then the optional constant).  Every t-norm and s-norm of
   fuzzylite as conjunction/disjunction (NormalizedSum = BoundedSum: pyfuzzylite 8 computes
   (a+b)/max(1, a+b); fuzzylite 6 C++ computes a + b/max(1, max(a, b)), i.e. a+b).  Implication
-  Minimum/AlgebraicProduct; aggregation Maximum/UnboundedSum.  Hedges very, somewhat, seldom;
+  Minimum/AlgebraicProduct; aggregation Maximum/UnboundedSum/AlgebraicSum/BoundedSum (MAX, SUM,
+  PROBSUM, BOUNDED_SUM).  Hedges very, somewhat, seldom;
   fuzzylite's `extremely` (contrast intensification) -> SHARPLY; `x is any` -> the clause left
   out of an and-rule (the rule fires 1 if it is an or-rule; `not any` never fires).
   Centroid, Bisector, MeanOfMaximum -> exact integrals here; fuzzylite samples the range at
   `resolution` midpoints (see fuzzylite_compat).  WeightedAverage groups the activations of each
   term with the output's aggregation: `none`/UnboundedSum -> WEIGHTED_AVERAGE,
-  Maximum -> CENTER_OF_AREA.  WeightedSum with `none` -> WEIGHTED_SUM.
+  Maximum/AlgebraicSum/BoundedSum -> CENTER_OF_AREA with that aggregation (fuzzylite's
+  grouped_terms fold each term's degrees with the aggregation's s-norm).  WeightedSum with
+  `none` -> WEIGHTED_SUM.
 Anything else (Function, Discrete, Binary, the products/differences of sigmoids, term heights,
 implications and aggregations other than the above, activation methods other than General,
 lock-previous) is reported with its place.
@@ -52,7 +55,10 @@ SNORMS = {"Maximum": SNorm.MAX, "AlgebraicSum": SNorm.PROBSUM, "BoundedSum": SNo
 FLL_SHAPES = {"SShape": TermKind.SSHAPE, "ZShape": TermKind.ZSHAPE, "PiShape": TermKind.PISHAPE,
               "Spike": TermKind.SPIKE, "Cosine": TermKind.COSINE, "Concave": TermKind.CONCAVE}
 IMPLICATIONS = {"Minimum": Implication.MIN, "AlgebraicProduct": Implication.PRODUCT}
-AGGREGATIONS = {"Maximum": Aggregation.MAX, "UnboundedSum": Aggregation.SUM}
+AGGREGATIONS = {"Maximum": Aggregation.MAX, "UnboundedSum": Aggregation.SUM,
+                "AlgebraicSum": Aggregation.PROBSUM, "BoundedSum": Aggregation.BOUNDED_SUM}
+# WeightedAverage grouped by these is the center of area with that aggregation
+GROUPING = {k: v for k, v in AGGREGATIONS.items() if v != Aggregation.SUM}
 INTEGRAL = {"Centroid": Defuzzifier.CENTROID, "Bisector": Defuzzifier.BISECTOR,
             "MeanOfMaximum": Defuzzifier.MEAN_OF_MAXIMUM}
 KNOWN_UNSUPPORTED_TERMS = ("Function", "Discrete", "Binary", "GaussianProduct",
@@ -313,14 +319,16 @@ class _FllReader:
             self._forbid_constants(defuzz)
             if aggregation not in AGGREGATIONS:
                 self.rep.error(agg_loc, f"aggregation `{aggregation}` with {defuzz} is "
-                                               "not supported: use Maximum or UnboundedSum")
+                                        "not supported: use " + ", ".join(AGGREGATIONS))
             else:
                 inf.aggregation = AGGREGATIONS[aggregation]
-        elif defuzz == "WeightedAverage" and aggregation in ("none", "UnboundedSum", "Maximum"):
-            # Grouping by Maximum is the center of area; by a sum, the per-rule weighted average
-            # (whose result does not depend on the model's aggregation, left at its default).
-            inf.defuzzifier = (Defuzzifier.CENTER_OF_AREA if aggregation == "Maximum"
+        elif defuzz == "WeightedAverage" and aggregation in ("none", "UnboundedSum", *GROUPING):
+            # Grouping by an s-norm is the center of area; by a sum, the per-rule weighted
+            # average (whose result does not depend on the model's aggregation, left at its
+            # default).
+            inf.defuzzifier = (Defuzzifier.CENTER_OF_AREA if aggregation in GROUPING
                                else Defuzzifier.WEIGHTED_AVERAGE)
+            inf.aggregation = GROUPING.get(aggregation, inf.aggregation)
             self._require_constants(defuzz)
         elif defuzz == "WeightedSum" and aggregation in ("none", "UnboundedSum"):
             inf.defuzzifier = Defuzzifier.WEIGHTED_SUM
@@ -418,6 +426,7 @@ FLL_NAMES = {
     "implication": {Implication.MIN: "Minimum", Implication.PRODUCT: "AlgebraicProduct"},
 }
 FLL_INTEGRAL = {v: k for k, v in INTEGRAL.items()}
+FLL_AGGREGATIONS = {v: k for k, v in AGGREGATIONS.items()}
 
 
 def write_fll(model: Model, warnings: list[str] | None = None) -> str:
@@ -453,7 +462,7 @@ def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):
     rb = model.rulebase
     inf = rb.inference
     method = inf.defuzzifier
-    aggregation = "Maximum" if inf.aggregation == Aggregation.MAX else "UnboundedSum"
+    aggregation = FLL_AGGREGATIONS[inf.aggregation]
     singletons = all(all_singletons(v) for v in rb.outputs)
     if method in FLL_INTEGRAL and not (method == Defuzzifier.CENTROID and singletons):
         if any(np.any(v.kinds == TermKind.SINGLETON) for v in rb.outputs):
@@ -466,8 +475,8 @@ def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):
     notes.extend(changed)
     if method == Defuzzifier.WEIGHTED_SUM:
         return outputs, "none", "WeightedSum TakagiSugeno"
-    grouped = "Maximum" if (method != Defuzzifier.WEIGHTED_AVERAGE
-                            and inf.aggregation == Aggregation.MAX) else "none"
+    grouped = aggregation if (method != Defuzzifier.WEIGHTED_AVERAGE
+                              and inf.aggregation != Aggregation.SUM) else "none"
     return outputs, grouped, "WeightedAverage TakagiSugeno"
 
 

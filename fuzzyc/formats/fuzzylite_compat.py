@@ -27,10 +27,16 @@ import numpy as np
 
 from ..engine import activations, evaluate
 from ..membership import term_values
-from ..model import Aggregation, Defuzzifier, Implication, RuleBase, TermKind
+from ..model import Aggregation, Defuzzifier, Implication, RuleBase, SNorm, TermKind
+from ..norms import combine
 
 SAMPLED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
 CHUNK_FLOATS = 1 << 22
+# fuzzylite folds AlgebraicSum (a + b - ab) and BoundedSum (min(1, a + b)) over the rules in
+# order; the same fold here, so sampled ties fall where fuzzylite's do
+AGGREGATE = {Aggregation.MAX: lambda g: g.max(axis=1), Aggregation.SUM: lambda g: g.sum(axis=1),
+             Aggregation.PROBSUM: lambda g: _fold(g, SNorm.PROBSUM),
+             Aggregation.BOUNDED_SUM: lambda g: _fold(g, SNorm.BOUNDED_SUM)}
 
 
 def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int = 100) -> np.ndarray:
@@ -62,7 +68,7 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int) -> np.nda
     mu = term_values(var.kinds, var.params, u)[:, rb.consequents[rules, o]].T       # (R, K)
     a = act[:, rules, None]                                                          # (N, R, 1)
     clipped = np.minimum(a, mu) if inf.implication == Implication.MIN else a * mu
-    m = clipped.max(axis=1) if inf.aggregation == Aggregation.MAX else clipped.sum(axis=1)
+    m = AGGREGATE[inf.aggregation](clipped)
     total = m.sum(axis=1)
     fired = total > 0
     safe_total = np.where(fired, total, 1.0)
@@ -75,6 +81,12 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int) -> np.nda
         # Exact equality, as fuzzylite: which samples tie can hang on the last bit.
         value = _mean_where((m > 0) & (m == m.max(axis=1, keepdims=True)), u)
     return np.where(fired, value, var.default)
+
+
+def _fold(g: np.ndarray, norm: SNorm) -> np.ndarray:
+    """g (N, R, K) folded over the rules (axis 1) with the s-norm; 0 when there is no rule."""
+    return combine([g[:, r] for r in range(g.shape[1])], norm, False) if g.shape[1] \
+        else np.zeros((g.shape[0], g.shape[2]))
 
 
 def _mean_where(mask: np.ndarray, u: np.ndarray) -> np.ndarray:

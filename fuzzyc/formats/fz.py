@@ -24,7 +24,7 @@ FZ_INFERENCE = (
     ("and", "and_", {t: t.name.lower() for t in TNorm}),
     ("or", "or_", {s: s.name.lower() for s in SNorm}),
     ("implication", "implication", {Implication.MIN: "min", Implication.PRODUCT: "product"}),
-    ("aggregation", "aggregation", {Aggregation.MAX: "max", Aggregation.SUM: "sum"}),
+    ("aggregation", "aggregation", {a: a.name.lower() for a in Aggregation}),
     ("defuzzify", "defuzzifier", {d: d.name.lower() for d in Defuzzifier}),
 )
 
