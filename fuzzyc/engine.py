@@ -7,8 +7,9 @@ Two ways to find the rule activations, with identical results:
   fire at most 2**I rules.  Per sample the engine takes the two active terms of each input, forms
   the 2**I term-index tuples, and looks their rules up in a table built once from the rules.
 Defuzzification (`fuzzyc.defuzz`) takes either form.  Where every output can be defuzzified
-from its terms' strengths alpha_j (peak-based methods; area-based ones with MAX aggregation or
-PRODUCT implication), the sparse case goes one step further: `fuzzyc.grid` scatters the 2**I
+from its terms' strengths alpha_j (peak-based methods; area-based ones with MAX aggregation, or
+SUM with PRODUCT implication; not PROBSUM or BOUNDED_SUM, whose area methods need every rule's
+own shape), the sparse case goes one step further: `fuzzyc.grid` scatters the 2**I
 activations straight into alpha, with tables per cell of the input grid, and the exact centroid
 has a closed form in alpha (`fuzzyc.centroid`) where the output terms allow it.  Batches are
 processed in chunks so memory stays flat in the batch size.

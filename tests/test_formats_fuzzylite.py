@@ -7,7 +7,8 @@ Agreement reached (pyfuzzylite 8.0.6):
 - Centroid, Bisector, MeanOfMaximum: `fuzzylite_compat.evaluate_sampled` at the file's resolution
   agrees to 1e-9 (in practice 1e-13: same midpoints, same ties);
 - the exact centroid differs from fuzzylite's sampled one by at most 0.0087 (resolution 100) and
-  0.00015 (resolution 1000) on tipper.fll's [0, 30] output.
+  0.00015 (resolution 1000) on tipper.fll's [0, 30] output, under aggregation Maximum,
+  AlgebraicSum and BoundedSum alike (test_aggregation_snorms compares a case where they differ).
 """
 from __future__ import annotations
 
@@ -59,7 +60,9 @@ def test_weighted_defuzzifiers_agree_exactly(name, text):
 @pytest.mark.parametrize("method", ["Centroid", "Bisector", "MeanOfMaximum"])
 @pytest.mark.parametrize("resolution", [100, 1000])
 @pytest.mark.parametrize("aggregation, implication", [("Maximum", "Minimum"),
-                                                      ("UnboundedSum", "AlgebraicProduct")])
+                                                      ("UnboundedSum", "AlgebraicProduct"),
+                                                      ("AlgebraicSum", "Minimum"),
+                                                      ("BoundedSum", "AlgebraicProduct")])
 def test_sampled_compat_reproduces_fuzzylite(method, resolution, aggregation, implication):
     text = (TIPPER.replace("Centroid 100", f"{method} {resolution}")
             .replace("aggregation: Maximum", f"aggregation: {aggregation}")
@@ -71,8 +74,10 @@ def test_sampled_compat_reproduces_fuzzylite(method, resolution, aggregation, im
 
 
 @pytest.mark.parametrize("resolution, bound", [(100, 0.0087), (1000, 0.00015)])
-def test_exact_centroid_differs_by_the_sampling_error_only(resolution, bound):
-    text = TIPPER.replace("Centroid 100", f"Centroid {resolution}")
+@pytest.mark.parametrize("aggregation", ["Maximum", "AlgebraicSum", "BoundedSum"])
+def test_exact_centroid_differs_by_the_sampling_error_only(resolution, bound, aggregation):
+    text = TIPPER.replace("Centroid 100", f"Centroid {resolution}").replace(
+        "aggregation: Maximum", f"aggregation: {aggregation}")
     rb = read_fll(text, "tipper.fll").rulebase
     x = random_inputs(rb)
     gap = np.max(np.abs(evaluate(rb, x) - fuzzylite_outputs(text, x)))
