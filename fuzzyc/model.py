@@ -49,8 +49,9 @@ Aggregated output membership of output o at u in [lo, hi]:
   min(1, sum_r m_r) (the s-norms of the same names folded over the rules, in any order).
 Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives its default):
   CENTROID   int u M(u) du / int M(u) du over [lo, hi], exact on piecewise-linear terms (also
-             under PROBSUM, where M is piecewise polynomial; see fuzzyc.defuzz).  If the output's terms are all singletons, the masses
-             alpha_j = AGG of act_r over rules concluding j give sum(alpha_j v_j)/sum(alpha_j).
+             under PROBSUM, where M is piecewise polynomial; see fuzzyc.defuzz).  If the
+             output's terms are all singletons, the masses alpha_j = AGG of act_r over rules
+             concluding j give sum(alpha_j v_j)/sum(alpha_j).
   BISECTOR   the u splitting int M in two equal halves (exact on piecewise-linear terms).
   MEAN_OF_MAXIMUM  the mean of the set where M is largest.
   CENTER_OF_AREA   paper eq. 2: sum_j alpha_j peak_j / sum_j alpha_j, alpha_j = AGG of act_r over

@@ -346,34 +346,12 @@ def test_fis_export_refuses_the_bounded_sum_with_a_reason():
         write_fis(model)
 
 
-COA_FLL = """Engine: coa
-InputVariable: x
-  enabled: true
-  range: 0 1
-  lock-range: false
-  term: lo Ramp 1 0
-  term: hi Ramp 0.25 0.875
-  term: mid Ramp -0.25 1
-OutputVariable: z
-  enabled: true
-  range: 0 3
-  lock-range: false
-  aggregation: {agg}
-  defuzzifier: WeightedAverage
-  default: 0
-  lock-previous: false
-  term: A Constant 1
-  term: B Constant 2
-RuleBlock:
-  enabled: true
-  conjunction: Minimum
-  disjunction: Maximum
-  implication: Minimum
-  activation: General
-  rule: if x is lo then z is A
-  rule: if x is hi then z is A
-  rule: if x is mid then z is B
-"""
+# the same file with a third term and rule concluding B, and constant output terms
+COA_FLL = (FLL.replace("term: hi Ramp 0.25 0.875",
+                       "term: hi Ramp 0.25 0.875\n  term: mid Ramp -0.25 1")
+           .replace("range: 0 2", "range: 0 3").replace("Centroid 1000", "WeightedAverage")
+           .replace("term: A Ramp 2 0", "term: A Constant 1\n  term: B Constant 2")
+           + "  rule: if x is mid then y is B\n")
 
 
 @pytest.mark.parametrize("word, aggregation, expected", [
