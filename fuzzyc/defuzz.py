@@ -25,8 +25,8 @@ do not fire are dropped first (a level 0 adds 0 to a sum and a factor 1 to the p
   integrated exactly, not sampled: Gauss-Legendre with (K + 3) // 2 nodes per piece is exact
   for u M(u), of degree K + 1 (chosen over the grid because the centroid is exact everywhere
   else, and the degree is small: at most 2**I rules fire in a partitioned rule base).  The
-  bisector finds the piece from those exact areas and the point inside it by bisection
-  (BISECTION_STEPS halvings of the piece, to the last bits), each partial integral again by
+  bisector finds the piece from those exact areas and the point inside it by Newton's method
+  kept in a shrinking bracket (to the last bits), each partial integral again by
   Gauss-Legendre.  The mean of maximum needs no integral: each 1 - g_r is linear and >= 0 on a
   piece, so their product is log-concave and takes its minimum at an end of the piece; M's
   maximum is at break points, and a piece is flat at the top iff M is top at its ends and its
@@ -47,8 +47,9 @@ from .model import Aggregation, Defuzzifier, Implication, Inference, TermKind, V
 
 GRID_POINTS = 2001
 FLAT_TOLERANCE = 1e-12  # relative: how close to max(M) a value must be to count as a maximum
-# assumption: 60 halvings take a piece of any width in the range to below one ulp of its
-# position (2**-60 < eps / 2**8), so the probsum bisector is exact to the last bits.
+# assumption: at most 60 steps for the probsum bisector inside its piece: Newton's method
+# converges in a handful, and 60 halvings (the fallback) take a piece of any width below one ulp
+# of its position (2**-60 < eps / 2**8), so it is exact to the last bits either way.
 BISECTION_STEPS = 60
 # assumption: rules firing at once in a sample, for sizing chunks under probsum / bounded sum
 # (the rules that do not fire are dropped); a partitioned rule base fires at most 2**I, 8 for
@@ -187,13 +188,13 @@ class OutputDefuzzifier:
             return 8 * n_candidates
         if self.closed_form is not None:
             return self.closed_form.work_per_sample()
-        if self._static_items():
-            n_items = self.var.n_terms
-        elif self.inference.aggregation in (Aggregation.PROBSUM, Aggregation.BOUNDED_SUM):
-            n_items = min(n_candidates, FIRING_GUESS)     # only the firing rules are kept
-        else:
-            n_items = n_candidates
-        n_points = GRID_POINTS if self.sampled else len(self.static_points) + 8 * n_items ** 2
+        n_items = self.var.n_terms if self._static_items() else n_candidates
+        n_dynamic = 8 * n_items ** 2
+        if self.inference.aggregation in (Aggregation.PROBSUM, Aggregation.BOUNDED_SUM):
+            # only the firing rules are kept, each clipped on its own: 2 points per rule
+            n_items = min(n_candidates, FIRING_GUESS)
+            n_dynamic = 2 * n_items
+        n_points = GRID_POINTS if self.sampled else len(self.static_points) + n_dynamic
         if self.inference.aggregation == Aggregation.PROBSUM and not self.sampled:
             n_points *= (n_items + 3) // 2                # Gauss-Legendre nodes per piece
         return 4 * n_points * n_items
@@ -324,20 +325,32 @@ class OutputDefuzzifier:
 
     def _probsum_bisector(self, x0, dx, piece_area, area, levels, ids) -> np.ndarray:
         """The leftmost u with int_lo^u M = area / 2: its piece from the exact areas, the point
-        inside by bisection on the exact partial integral."""
+        inside by Newton's method on the exact partial integral F(t) (F' = M), inside a bracket
+        that every step narrows; a step that would leave the bracket halves it instead."""
         half = 0.5 * area
         before = np.cumsum(piece_area, axis=1) - piece_area
         k = np.argmax(before + piece_area >= half[:, None], axis=1)[:, None]
         a0 = np.take_along_axis(x0, k, axis=1)                       # (N, 1)
-        rem = half - np.take_along_axis(before, k, axis=1)[:, 0]
-        lo_t, hi_t = np.zeros_like(a0), np.take_along_axis(dx, k, axis=1)
+        rem = half[:, None] - np.take_along_axis(before, k, axis=1)
+        # samples without area (their default is taken) get an empty bracket: nothing to solve
+        lo_t = np.zeros_like(a0)
+        hi_t = np.where(area[:, None] > 0, np.take_along_axis(dx, k, axis=1), 0.0)
+        t = 0.5 * hi_t
         nodes, weights = _gauss_legendre(ids.shape[1])
-        for _ in range(BISECTION_STEPS):       # halvings of every sample's interval at once
-            t = 0.5 * (lo_t + hi_t)
-            partial = self._gauss(a0, t, levels, ids, nodes, weights)[0][:, 0]
-            below = (partial < rem)[:, None]
-            lo_t, hi_t = np.where(below, t, lo_t), np.where(below, hi_t, t)
-        return (a0 + 0.5 * (lo_t + hi_t))[:, 0]
+        for _ in range(BISECTION_STEPS):       # every sample's step at once
+            gap = self._gauss(a0, t, levels, ids, nodes, weights)[0] - rem
+            slope = _probsum(self._items_at(a0 + t, levels, ids))   # M(a0 + t), (N, 1)
+            lo_t, hi_t = np.where(gap < 0, t, lo_t), np.where(gap < 0, hi_t, t)
+            with np.errstate(divide="ignore", invalid="ignore"):
+                newton = t - gap / slope
+            nxt = np.where((newton >= lo_t) & (newton <= hi_t), newton, 0.5 * (lo_t + hi_t))
+            # converged where a step moves u = a0 + t by a few ulps at most (a last-bit
+            # oscillation would otherwise run every sample through all the steps)
+            done = np.all(np.abs(nxt - t) <= 4.0 * np.spacing(np.abs(a0) + np.abs(t)))
+            t = nxt
+            if done:
+                break
+        return (a0 + t)[:, 0]
 
     def _dynamic_points(self, levels: np.ndarray, ids: np.ndarray) -> np.ndarray:
         """The break points of M that move with the levels, clipped into [lo, hi]."""
