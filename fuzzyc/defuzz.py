@@ -235,6 +235,9 @@ class OutputDefuzzifier:
             return safe_ratio(num, den, var.default)
         if self.closed_form is not None:
             return self.closed_form(alpha)
+        if not self._static_items():
+            raise ValueError(f"{method.name.lower()} with {self.inference.describe()} needs "
+                             "every rule's own shape, not the terms' strengths")
         # max_r IMP(act_r, mu_j) = IMP(max_r act_r, mu_j); sum_r act_r mu_j = (sum act_r) mu_j
         x, f = self._aggregated(alpha, np.arange(var.n_terms))
         return _area_defuzzify(method, x, f, var.default)

@@ -32,12 +32,12 @@ import pytest
 
 from fuzzyc.backends.c import generate_header
 from fuzzyc.backends.c_fixed import generate_fixed_header
-from fuzzyc.defuzz import term_strengths
+from fuzzyc.defuzz import OutputDefuzzifier, term_strengths
 from fuzzyc.engine import CompiledRuleBase, evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fcl, read_fis, read_fll, write_fcl, write_fis, write_fll
 from fuzzyc.formats.fz import write_fz
-from fuzzyc.model import Aggregation, Defuzzifier, Implication, TNorm
+from fuzzyc.model import Aggregation, Defuzzifier, Implication, Inference, TNorm
 from fuzzyc.parser import parse
 from fuzzyc.verify import Status, proof
 from test_engine_core import SINGLE_OUT, TRI_OUT, driven, random_inputs, var, wedm_like
@@ -189,6 +189,12 @@ def test_area_methods_step_aside_from_grid_and_closed_form(aggregation, method):
     np.testing.assert_allclose(engine.evaluate_chunk(x),
                                CompiledRuleBase(rb, allow_sparse=False).evaluate_chunk(x),
                                rtol=0, atol=1e-12)
+
+
+def test_strengths_alone_are_refused_where_each_rule_shape_is_needed():
+    d = OutputDefuzzifier(RAMP, Inference(aggregation=PROBSUM))
+    with pytest.raises(ValueError, match="every rule's own shape"):
+        d.from_strengths(np.array([[0.7]]))
 
 
 def test_smooth_terms_under_probsum_are_sampled_like_the_others():
