@@ -353,6 +353,14 @@ def test_fis_export_refuses_the_bounded_sum_with_a_reason():
 
 
 # the same file with a third term and rule concluding B, and constant output terms
+def test_fis_export_of_a_center_of_area_names_the_aggregation_that_has_no_wtaver():
+    # two rules conclude A: probsum combines them, MATLAB's wtaver would sum them
+    model = read_fll(COA_FLL.format(agg="AlgebraicSum"), "coa.fll")
+    with pytest.raises(FuzzycError, match=r"center_of_area with probsum aggregation combines the "
+                                          r"rules that conclude the same term \(`A` of `y`"):
+        write_fis(model)
+
+
 COA_FLL = (FLL.replace("term: hi Ramp 0.25 0.875",
                        "term: hi Ramp 0.25 0.875\n  term: mid Ramp -0.25 1")
            .replace("range: 0 2", "range: 0 3").replace("Centroid 1000", "WeightedAverage")

@@ -13,12 +13,14 @@ rows = st.lists(st.tuples(anything, anything, anything), min_size=1, max_size=20
 
 BOUNDED = [Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM,
            Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE]
+CHOICES = {0: (TNorm.MIN, Implication.MIN, Aggregation.MAX),
+           1: (TNorm.PRODUCT, Implication.PRODUCT, Aggregation.SUM),
+           2: (TNorm.MIN, Implication.MIN, Aggregation.PROBSUM),
+           3: (TNorm.PRODUCT, Implication.PRODUCT, Aggregation.BOUNDED_SUM)}
 RULEBASES = {(m, tri, agg): wedm_like(TRI_OUT if tri else SINGLE_OUT, seed=7, weights=True,
-                                      and_=TNorm.PRODUCT if agg else TNorm.MIN,
-                                      implication=Implication.PRODUCT if agg else Implication.MIN,
-                                      aggregation=Aggregation.SUM if agg else Aggregation.MAX,
-                                      defuzzifier=m)
-             for m in BOUNDED for tri in (False, True) for agg in (False, True)}
+                                      and_=CHOICES[agg][0], implication=CHOICES[agg][1],
+                                      aggregation=CHOICES[agg][2], defuzzifier=m)
+             for m in BOUNDED for tri in (False, True) for agg in CHOICES}
 KEYS = sorted(RULEBASES)
 
 
