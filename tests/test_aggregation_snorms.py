@@ -172,6 +172,9 @@ def test_grid_strengths_are_bit_equal_to_the_sparse_scatter(aggregation):
     for o, d in enumerate(engine.defuzzifiers):
         expected = term_strengths(act, engine.consequents[rid, o], d.var.n_terms, aggregation)
         np.testing.assert_array_equal(alpha[engine.grid.slices[o]].T, expected)
+    # and the controller's row layout gives the very same outputs
+    np.testing.assert_array_equal(engine.evaluate_rows(np.ascontiguousarray(x.T)),
+                                  engine.evaluate_chunk(x).T)
 
 
 @pytest.mark.parametrize("aggregation", [PROBSUM, BOUNDED])
