@@ -5,12 +5,13 @@ real grammar.  Mapping (exact unless said):
   point-list terms that form a triangle, trapezoid or shoulder -> TRAPEZOID (IEC: a term keeps
   its first/last point's value beyond them, so (0,1) (4,0) is a left shoulder); a number ->
   SINGLETON; jFuzzyLogic's TRIAN, TRAPE, GAUSS, GBELL, SIGM -> TRAPEZOID, GAUSSIAN, BELL, SIGMOID.
-  AND MIN/PROD, OR MAX/ASUM, ACT MIN/PROD, ACCU MAX and BSUM (IEC's bounded sum, min(1, a+b)),
-  and jFuzzyLogic's SUM (unbounded) and PROBOR (a+b-ab, IEC's ASUM, which IEC has for OR only).
+  AND MIN/PROD/BDIF, OR MAX/ASUM/BSUM, ACT MIN/PROD, ACCU MAX and BSUM (IEC's bounded sum,
+  min(1, a+b)), and jFuzzyLogic's SUM (unbounded) and PROBOR (a+b-ab, IEC's ASUM, which IEC has
+  for OR only).
   METHOD COG -> CENTROID, COGS -> CENTER_OF_AREA (the centre of gravity of singletons, which the
   model computes over the terms' peaks), COA -> BISECTOR (IEC's "centre of area" halves the
   area), MM -> MEAN_OF_MAXIMUM.
-Not carried, reported: other point lists, BDIF, BSUM, NSUM, LM, RM, DEFAULT NC, hedges.
+Not carried, reported: other point lists, ACCU NSUM, LM, RM, DEFAULT NC, hedges.
 Several RULEBLOCKs are merged when their operators agree.  Of several FUNCTION_BLOCKs one is
 read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_fcl`).
 """
