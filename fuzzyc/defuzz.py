@@ -188,9 +188,8 @@ class OutputDefuzzifier:
             return 8 * n_candidates
         if self.closed_form is not None:
             return self.closed_form.work_per_sample()
-        n_items = self.var.n_terms if self._static_items() else n_candidates
-        n_dynamic = 8 * n_items ** 2
-        if self.inference.aggregation in (Aggregation.PROBSUM, Aggregation.BOUNDED_SUM):
+        n_items, n_dynamic = self.var.n_terms, 8 * self.var.n_terms ** 2
+        if not self._static_items():
             # only the firing rules are kept, each clipped on its own: 2 points per rule
             n_items = min(n_candidates, FIRING_GUESS)
             n_dynamic = 2 * n_items
@@ -250,10 +249,10 @@ class OutputDefuzzifier:
         levels = np.where(J >= 0, act, 0.0)
         ids = np.broadcast_to(J, act.shape)
         method, agg = self.inference.defuzzifier, self.inference.aggregation
+        levels, ids = _firing(levels, ids)
         if agg == Aggregation.SUM:
             x, items = self._sample(levels, ids)
             return _area_defuzzify(method, x, items.sum(axis=2), self.var.default)
-        levels, ids = _firing(levels, ids)
         if agg == Aggregation.PROBSUM and not self.sampled:
             return self._probsum_area(levels, ids)
         x, items = self._sample(levels, ids)
