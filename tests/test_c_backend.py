@@ -148,11 +148,11 @@ def test_hand_computed_center_of_area():
     np.testing.assert_allclose(got, [[0.25, 0.25]], atol=1e-6)
 
 
-def test_unsupported_defuzzifier_is_a_diagnostic():
-    # The centroid of a sum of MIN-clipped rules needs every rule on its own: not emitted.
-    with pytest.raises(FuzzycError, match="centroid of sum-aggregated min-implied"):
-        generate_header(variant("wedm_three_region", defuzzifier=Defuzzifier.CENTROID,
-                                aggregation=Aggregation.SUM))
+def test_unsupported_numeric_is_a_diagnostic():
+    # (The centroid of sum-aggregated min-implied rules, refused here before, is emitted now:
+    # tests/test_c_sum_min.py.)
+    with pytest.raises(FuzzycError, match="numeric `long double` is not emitted"):
+        generate_header(shipped("wedm_three_region"), numeric="long double")
 
 
 def test_header_names_source_hash_and_choices():

@@ -22,6 +22,7 @@ from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
 from .c_area import AreaWriter, is_sampled
 from .c_centroid import CentroidEmitter, area_segments, supported
 from .c_expr import REAL_TYPES, ExprPrinter, RealType
+from .c_items import ItemWriter, per_item
 
 PEAK_BASED = (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
 
@@ -59,10 +60,10 @@ def check_supported(rb: RuleBase) -> None:
     for var in rb.outputs:
         if _uses_peaks(var, method):
             continue
-        if not supported(rb.inference):
+        if not supported(rb.inference) and not per_item(rb.inference):
             raise _fail(f"the C back end does not emit the {method.name.lower()} of "
-                        f"sum-aggregated min-implied rules; use aggregation = max or "
-                        f"implication = product")
+                        f"{rb.inference.aggregation.name.lower()}-aggregated "
+                        f"{rb.inference.implication.name.lower()}-implied rules")
 
 
 C_TNORMS, C_SNORMS = (TNorm.MIN, TNorm.PRODUCT), (SNorm.MAX, SNorm.PROBSUM)
@@ -106,7 +107,24 @@ class HeaderWriter:
         self.P = self.name.upper() + "_"
         self.sparse = CompiledRuleBase(self.rb).sparse
         self.area = AreaWriter(real, self.p, self.rb.inference)
+        self.items = self.item_writer()
         self.lines: list[str] = []
+
+    def item_writer(self) -> ItemWriter | None:
+        """The writer of the outputs kept rule by rule (c_items), where there are any; the
+        items are the engine's candidates: every rule, or the sparse path's cell slots."""
+        if not any(self.by_items(var) for var in self.rb.outputs):
+            return None
+        if not self.sparse:
+            return ItemWriter(self.area, self.P, self.rb.n_rules, None)
+        depth = CompiledRuleBase(self.rb).lookup.shape[1]
+        return ItemWriter(self.area, self.P, depth << len(self.rb.inputs),
+                          _index_type(self.rb.n_rules))
+
+    def by_items(self, var) -> bool:
+        """Whether this output is defuzzified item by item (SUM of MIN-clipped rules)."""
+        return not _uses_peaks(var, self.rb.inference.defuzzifier) and \
+            per_item(self.rb.inference)
 
     # -- small helpers ----------------------------------------------------------------------
 
@@ -211,10 +229,13 @@ class HeaderWriter:
             return Aggregation.SUM
         return self.rb.inference.aggregation
 
-    def accumulate(self, act: str, rule: str) -> list[str]:
-        """Statements adding `act` of rule index `rule` into every output's term strengths."""
-        code = []
+    def accumulate(self, act: str, rule: str, slot: str) -> list[str]:
+        """Statements adding `act` of rule index `rule` into every output's term strengths,
+        and storing it as item `slot` where outputs keep the rules on their own."""
+        code = [] if self.items is None else self.items.store(act, rule, slot)
         for o, var in enumerate(self.rb.outputs):
+            if self.by_items(var):
+                continue
             slot = f"alpha{o}[{self.P}CONSEQUENTS[{rule}][{o}]]"
             if self.aggregation_of(var) == Aggregation.MAX:
                 code.append(f"{slot} = {self.p}greater({slot}, {act});")
@@ -293,7 +314,7 @@ class HeaderWriter:
                 a, o = self.combine(a, g, True), self.combine(o, g, False)
             act = f"({P}IS_OR[r] ? {o} : {a})"
         code.append(f"    {t} act = {self.weighted(act, 'r')};")
-        code += ["    " + s for s in self.accumulate("act", "r")]
+        code += ["    " + s for s in self.accumulate("act", "r", "r")]
         code.append("}")
         return code
 
@@ -400,7 +421,7 @@ class HeaderWriter:
                  f"    for (d = 0; d < {depth}; ++d) {{",
                  f"        int rule = {P}CELLS[cell][d];",
                  f"        {t} a = {self.weighted('act', 'rule')};"]
-        code += ["        " + s for s in self.accumulate("a", "rule")]
+        code += ["        " + s for s in self.accumulate("a", "rule", f"r * {depth} + d")]
         code += ["    }", "}"]
         return code
 
@@ -408,6 +429,8 @@ class HeaderWriter:
         lit, t = self.real.lit, self.real.name
         method = self.rb.inference.defuzzifier
         alpha = f"alpha{o}"
+        if self.by_items(var):
+            return self.items.defuzzify(o, var)
         if _uses_peaks(var, method):
             peaks = var.peaks()
             num = " + ".join(f"{alpha}[{j}] * {lit(v)}" for j, v in enumerate(peaks))
@@ -437,7 +460,20 @@ class HeaderWriter:
                                                     for o in walked)))
         for o in walked:
             if is_sampled(self.rb.outputs[o]):
-                self.out(*self.area.grid_getter(o, self.rb.outputs[o]))
+                n_items = self.items.n_items if self.by_items(self.rb.outputs[o]) else 0
+                self.out(*self.area.grid_getter(o, self.rb.outputs[o], n_items))
+        if self.items is not None:
+            self.item_support()
+
+    def item_support(self) -> None:
+        """c_items' functions and per-output tables (outputs kept rule by rule)."""
+        outputs = [(o, var) for o, var in enumerate(self.rb.outputs) if self.by_items(var)]
+        exact = [not is_sampled(var) for _, var in outputs]
+        centroid = self.rb.inference.defuzzifier == Defuzzifier.CENTROID
+        self.out(*self.items.helpers(centroid=centroid and any(exact),
+                                     polygon=not centroid and any(exact)))
+        for o, var in outputs:
+            self.out(*self.items.tables(o, var, self.term_rows(var)))
 
     def rulebase_function(self) -> None:
         rb, t, p, lit = self.rb, self.real.name, self.p, self.real.lit
@@ -458,7 +494,10 @@ class HeaderWriter:
                  f"{t} y[{self.P}N_RB_OUTPUTS]) {{",
                  "    int r;")
         for o, var in enumerate(rb.outputs):
-            self.out(f"    {t} alpha{o}[{var.n_terms + 1}] = {{{lit(0)}}};")
+            if not self.by_items(var):
+                self.out(f"    {t} alpha{o}[{var.n_terms + 1}] = {{{lit(0)}}};")
+        if self.items is not None:
+            self.out(*("    " + s for s in self.items.declarations()))
         self.out(*("    " + s for s in body))
         for o, var in enumerate(rb.outputs):
             self.out(*("    " + s for s in self.defuzzify(o, var)))

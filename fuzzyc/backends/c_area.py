@@ -195,10 +195,11 @@ class AreaWriter:
 
     # -- per output -------------------------------------------------------------------------
 
-    def grid_getter(self, o: int, var: Variable) -> list[str]:
+    def grid_getter(self, o: int, var: Variable, n_items: int = 0) -> list[str]:
         """The constant table of the terms at the grid points and the point function forming
-        M at grid point i from the levels (ctx = alpha); nothing where an earlier output has
-        the same terms."""
+        M at grid point i from the levels (ctx = alpha), or with n_items from the items of
+        c_items (ctx = n_items levels, then their term ids); nothing where an earlier output
+        has the same terms."""
         if self._grid_key(var) in self.grids:
             return []
         self.grids[self._grid_key(var)] = o
@@ -208,11 +209,7 @@ class AreaWriter:
         mu = term_values(var.kinds, var.params, grid)                    # (P, T), the engine's
         table = f"{self.p.upper()}GRID_{o}"
         rows = ",\n".join("{" + ", ".join(self._grid_lit(v) for v in row) + "}" for row in mu)
-        terms = [self._implied(f"alpha[{j}]", f"mu[{j}]") for j in range(var.n_terms)]
-        value = terms[0]
-        for term in terms[1:]:
-            value = f"{p}greater({value}, {term})" \
-                if self.inf.aggregation == Aggregation.MAX else f"{value} + {term}"
+        body = self._item_sum(n_items) if n_items else [f"    *f = {self._strengths_m(var)};"]
         return [f"/* `{var.name}`: its terms at the {GRID_POINTS} grid points over "
                 f"[{lo:g}, {hi:g}] (the engine's sampling of smooth terms). */",
                 f"static const {t} {table}[{GRID_POINTS}][{var.n_terms}] = {{\n{rows}}};",
@@ -221,8 +218,25 @@ class AreaWriter:
                 f"static inline void {p}grid_{o}(const {t} *alpha, int i, {t} *u, {t} *f) {{",
                 f"    const {t} *mu = {table}[i];",
                 f"    *u = ({t})i;",
-                f"    *f = {value};",
+                *body,
                 "}"]
+
+    def _strengths_m(self, var: Variable) -> str:
+        """M at the grid point from the terms' levels alpha[j] and memberships mu[j]."""
+        terms = [self._implied(f"alpha[{j}]", f"mu[{j}]") for j in range(var.n_terms)]
+        value = terms[0]
+        for term in terms[1:]:
+            value = f"{self.p}greater({value}, {term})" \
+                if self.inf.aggregation == Aggregation.MAX else f"{value} + {term}"
+        return value
+
+    def _item_sum(self, n_items: int) -> list[str]:
+        """M at the grid point as the sum over the items of min(level, its term's mu)."""
+        return [f"    {self.t} m = {self.real.lit(0)};",
+                "    int k;",
+                f"    for (k = 0; k < {n_items}; ++k) "
+                f"m += {self.p}lesser(alpha[k], mu[(int)alpha[{n_items} + k]]);",
+                "    *f = m;"]
 
     def _grid_lit(self, value: float) -> str:
         """A table entry, rounded to the real type first (shortest text, no underflowing

@@ -71,11 +71,16 @@ def area_segments(var: Variable) -> list[Segment]:
     return segments
 
 
+STRENGTH_PAIRS = {(Aggregation.MAX, Implication.MIN), (Aggregation.MAX, Implication.PRODUCT),
+                  (Aggregation.SUM, Implication.PRODUCT)}
+
+
 def supported(inference: Inference) -> bool:
-    """Whether the levels alpha_j (one per term) determine M: MAX aggregation or PRODUCT
-    implication.  SUM of MIN-clipped rules needs every rule as its own item (not emitted)."""
-    return inference.aggregation == Aggregation.MAX or \
-        inference.implication == Implication.PRODUCT
+    """Whether the levels alpha_j (one per term) determine M and this module emits it: MAX
+    aggregation or PRODUCT implication, named pair by pair so an aggregation added to the
+    model is not emitted as one of these by accident.  SUM of MIN-clipped rules needs every
+    rule as its own item (c_items)."""
+    return (inference.aggregation, inference.implication) in STRENGTH_PAIRS
 
 
 class CentroidEmitter:
