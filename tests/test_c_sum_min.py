@@ -5,8 +5,9 @@ Every rule is its own item: M(u) = sum_k min(level_k, mu_{t_k}(u)).  Hand-comput
 where two rules conclude the same term at different levels, then the C against the engine
 on 100,000 random inputs plus every edge for each method x (piecewise-linear, smooth terms) x
 (float, double), on the sparse path (WEDM three-region: 2**3 candidate slots) and the dense
-one (WEDM with NOT, hedges, OR, wildcards and weights: all 75 rules), compiled with the
-strict flags.  Tolerances as in test_c_area: double 1e-10 of the range, float 1e-5; the
+one (WEDM with NOT, hedges, OR, wildcards and weights: all 75 rules), and on a small rule
+base of edge shapes (shoulders, a term past the range, a singleton, vertical edges), compiled
+with the strict flags.  Tolerances as in test_c_area: double 1e-10 of the range, float 1e-5; the
 float mean of maximum over smooth terms only to the engine's float-resolution maxima
 (test_c_area.check_float_mean_of_maximum says why).
 """
@@ -118,6 +119,40 @@ def test_vertical_edge_in_float_has_its_own_points():
     assert points.dtype == np.float32 and below in points and above in points
     # x = (0, 0, 1): only b, the rectangle [4, 5]: bisector 4.5 (mean of maximum 4.5 too).
     np.testing.assert_allclose(run_both(text, [[0.0, 0.0, 1.0]]), [[4.5]], atol=1e-12)
+
+
+SHAPES = """controller shapes {
+  input x1 in [0, 1]
+  input x2 in [0, 1]
+  terms x1 : lo = lshoulder(0, 1), hi = rshoulder(0, 1)
+  terms x2 : lo = lshoulder(0, 0.6), mid = tri(0.2, 0.5, 0.8), hi = rshoulder(0.4, 1)
+  var y in [0, 5]
+  terms y : a = lshoulder(0.5, 2), b = trap(1, 2, 2, 6), c = singleton(3),
+            d = rshoulder(4, 4.8), e = trap(3, 3, 4, 4)
+  inference implication = min, aggregation = sum, defuzzify = DEFUZZ
+  rule if x1 is lo and x2 is lo then y is a
+  rule if x1 is lo and x2 is mid then y is b
+  rule if x1 is lo and x2 is hi then y is c
+  rule if x1 is hi and x2 is lo then y is b
+  rule if x1 is hi and x2 is mid then y is d
+  rule if x1 is hi and x2 is hi then y is e
+  rule if x1 is hi then y is a
+  output u in [0, 5] = y
+}
+"""
+# A shoulder reaching to -inf, a term running past hi (b falls to 6), a singleton among
+# trapezoids (no area: its rule adds nothing), vertical edges inside the range (e is the
+# rectangle [3, 4]), and a rule with a wildcard (dense path), where a and b are each
+# concluded by two rules.
+
+
+@pytest.mark.parametrize("numeric", ["float", "double"])
+@pytest.mark.parametrize("method", ["centroid", "bisector", "mean_of_maximum"])
+def test_edge_shapes_match_engine(method, numeric):
+    model = parse(SHAPES.replace("DEFUZZ", method), "shapes.fz")
+    x = inputs_for(model.rulebase, n_random=20_000)
+    check_against_engine(f"shapes_{method}", model, x, evaluate(model.rulebase, x), numeric,
+                         ill_conditioned=False)
 
 
 def wedm(method, smooth=False):
