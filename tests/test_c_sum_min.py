@@ -25,6 +25,7 @@ from fuzzyc.parser import parse
 
 from test_c_area import check_against_engine, smooth_outputs
 from test_c_backend import general_dense, inputs_for, variant
+from test_c_chain import SANITIZE, build_example, run_csv
 
 SUM_MIN = dict(implication=Implication.MIN, aggregation=Aggregation.SUM)
 METHODS = {"centroid": Defuzzifier.CENTROID, "bisector": Defuzzifier.BISECTOR,
@@ -199,3 +200,21 @@ def test_matches_engine(case, numeric):
     name, model, x, expected = case
     check_against_engine(name, model, x, expected, numeric,
                          ill_conditioned=numeric == "float" and name.endswith("mom_smooth"))
+
+
+@pytest.mark.parametrize("method", sorted(METHODS))
+@pytest.mark.parametrize("builder, smooth", [(wedm, False), (dense, False), (wedm, True)],
+                         ids=["sparse", "dense", "sparse_smooth"])
+def test_under_sanitizers(tmp_path, builder, smooth, method):
+    """The items, the in-place merge of the polygon and the grid sums under ASan + UBSan,
+    float, against the engine within 1e-5 of the range (the float mean of maximum over
+    smooth terms is left to test_matches_engine)."""
+    model = builder(METHODS[method], smooth)
+    model.name = "variant"
+    (tmp_path / "variant.h").write_text(generate_header(model))
+    program = build_example(tmp_path, "variant", tmp_path / "controller", SANITIZE)
+    rb = model.rulebase
+    x = inputs_for(rb, seed=5, n_random=500)
+    span = np.array([v.hi - v.lo for v in rb.outputs])
+    error = np.abs(run_csv(program, x, "-r") - evaluate(rb, x)) / span
+    assert smooth and method == "mom" or error.max() <= 1e-5

@@ -8,6 +8,9 @@
 Two ways to find the activations, chosen like the engine chooses: a dense loop over all rules
 (any rule base), or, for plain AND rules over partitions where at most two terms are positive
 at a time, the at most 2**I rules of the active term tuples through a cell table.
+Outputs are defuzzified from the terms' strengths alpha_j, accumulated in the rule loop, except
+the area-based ones of sum-aggregated min-implied rules, which keep every rule's level as its
+own item (c_items).
 """
 from __future__ import annotations
 
@@ -105,7 +108,9 @@ class HeaderWriter:
         self.name = c_identifier(model.name)
         self.p = self.name + "_"
         self.P = self.name.upper() + "_"
-        self.sparse = CompiledRuleBase(self.rb).sparse
+        compiled = CompiledRuleBase(self.rb)
+        self.sparse = compiled.sparse
+        self.depth = compiled.lookup.shape[1] if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
         self.items = self.item_writer()
         self.lines: list[str] = []
@@ -117,8 +122,7 @@ class HeaderWriter:
             return None
         if not self.sparse:
             return ItemWriter(self.area, self.P, self.rb.n_rules, None)
-        depth = CompiledRuleBase(self.rb).lookup.shape[1]
-        return ItemWriter(self.area, self.P, depth << len(self.rb.inputs),
+        return ItemWriter(self.area, self.P, self.depth << len(self.rb.inputs),
                           _index_type(self.rb.n_rules))
 
     def by_items(self, var) -> bool:
@@ -236,11 +240,11 @@ class HeaderWriter:
         for o, var in enumerate(self.rb.outputs):
             if self.by_items(var):
                 continue
-            slot = f"alpha{o}[{self.P}CONSEQUENTS[{rule}][{o}]]"
+            strength = f"alpha{o}[{self.P}CONSEQUENTS[{rule}][{o}]]"
             if self.aggregation_of(var) == Aggregation.MAX:
-                code.append(f"{slot} = {self.p}greater({slot}, {act});")
+                code.append(f"{strength} = {self.p}greater({strength}, {act});")
             else:
-                code.append(f"{slot} += {act};")
+                code.append(f"{strength} += {act};")
         return code
 
     def combine(self, a: str, b: str, conjunction: bool) -> str:
