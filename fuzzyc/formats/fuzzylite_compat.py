@@ -75,7 +75,11 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int) -> np.nda
     if inf.defuzzifier == Defuzzifier.CENTROID:
         value = (m @ u) / safe_total
     elif inf.defuzzifier == Defuzzifier.BISECTOR:
-        gap = np.abs(np.cumsum(m, axis=1) / safe_total[:, None] - 0.5)
+        # Normalised by the cumsum's last element as fuzzylite does, not by m.sum (pairwise
+        # summation): the two differ in the last bit, which moves near-ties by one sample.
+        area = np.cumsum(m, axis=1)
+        last = np.where(fired, area[:, -1], 1.0)
+        gap = np.abs(area / last[:, None] - 0.5)
         value = _mean_where(gap == gap.min(axis=1, keepdims=True), u)
     else:
         # Exact equality, as fuzzylite: which samples tie can hang on the last bit.
