@@ -10,6 +10,9 @@ k = 0..n-1, n = the defuzzifier's resolution (C++ default 100, pyfuzzylite 8 def
     instead differs in the last bit and moved near-ties by one sample, 0.001-0.002 off on
     tests/format_corpus/ramp.fll at n = 1000 under Maximum and UnboundedSum aggregation);
   MeanOfMaximum = the mean of the u_k where M is largest (and positive).
+The Bisector is pyfuzzylite 8's; C++ fuzzylite's (read in the 4.x source, 6 not checked) sweeps
+the midpoints from both ends, adding to the smaller side's area, and returns the two last
+midpoints' area-weighted average: a different answer, not reproduced here and not measured.
 The model's own defuzzifiers integrate exactly.  Agreement with pyfuzzylite 8.0.6, all three
 methods, n = 100 and 1000, aggregation Maximum / AlgebraicSum / BoundedSum / UnboundedSum x
 implication Minimum / AlgebraicProduct (tests/test_formats_fuzzylite.py, live; and
