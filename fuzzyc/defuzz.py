@@ -363,8 +363,10 @@ class OutputDefuzzifier:
                 pts = np.concatenate([p[..., 0] + levels * (p[..., 1] - p[..., 0]),
                                       p[..., 3] - levels * (p[..., 3] - p[..., 2])], axis=1)
             elif self.inference.implication == Implication.MIN:
+                # (terms with only vertical edges, rectangles, have no sloped line to meet)
                 pts = np.stack([(levels[:, j] - q) / s for j, k in self.pairs
-                                for s, q in self.lines[k] if s != 0.0], axis=1)
+                                for s, q in self.lines[k] if s != 0.0] or
+                               [np.full(len(levels), lo)], axis=1)
             else:                  # scaled pieces of two different terms cross
                 pts = np.stack([(levels[:, k] * q2 - levels[:, j] * q1)
                                 / (levels[:, j] * s1 - levels[:, k] * s2)

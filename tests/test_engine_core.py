@@ -320,3 +320,30 @@ def test_shipped_wedm_rule_base_equals_the_plain_baseline():
     rb = load(root / "rulebases" / "wedm_three_region.fz").rulebase
     x = np.random.default_rng(5).uniform(-1, 1, (2000, 3))
     np.testing.assert_allclose(evaluate(rb, x), baseline(x), rtol=0, atol=1e-12)
+
+
+RECTANGLES = """controller rect {
+  input x in [0, 1]
+  terms x : lo = lshoulder(0, 1), hi = rshoulder(0, 1)
+  var y in [0, 1]
+  terms y : a = trap(0, 0, 0.5, 0.5), b = trap(0.5, 0.5, 1, 1)
+  inference implication = min, aggregation = max, defuzzify = METHOD
+  rule if x is lo then y is a
+  rule if x is hi then y is b
+  output u in [0, 1] = y
+}
+"""
+
+
+@pytest.mark.parametrize("method, expected", [
+    # x = 0.25: lo 0.75, hi 0.25, so M = 0.75 on [0, 0.5) and 0.25 on (0.5, 1]
+    ("centroid", 0.375),        # (0.75*0.125 + 0.25*0.375) / (0.375 + 0.125) = 0.1875 / 0.5
+    ("bisector", 1 / 3),        # half the area, 0.25, is reached at 0.25 / 0.75
+    ("mean_of_maximum", 0.25),  # the plateau [0, 0.5] at 0.75
+])
+def test_rectangle_output_terms(method, expected):
+    """Output terms with only vertical edges: no sloped line meets a clip level (this once
+    stacked an empty list of candidate points)."""
+    from fuzzyc.parser import parse
+    rb = parse(RECTANGLES.replace("METHOD", method), "rect.fz").rulebase
+    assert evaluate(rb, np.array([[0.25]]))[0, 0] == pytest.approx(expected, abs=1e-12)
