@@ -25,7 +25,7 @@ from fuzzyc.parser import parse
 
 from test_c_area import check_against_engine, smooth_outputs
 from test_c_backend import general_dense, inputs_for, variant
-from test_c_chain import SANITIZE, build_example, run_csv
+from test_c_chain import sanitized_error
 
 SUM_MIN = dict(implication=Implication.MIN, aggregation=Aggregation.SUM)
 METHODS = {"centroid": Defuzzifier.CENTROID, "bisector": Defuzzifier.BISECTOR,
@@ -209,12 +209,5 @@ def test_under_sanitizers(tmp_path, builder, smooth, method):
     """The items, the in-place merge of the polygon and the grid sums under ASan + UBSan,
     float, against the engine within 1e-5 of the range (the float mean of maximum over
     smooth terms is left to test_matches_engine)."""
-    model = builder(METHODS[method], smooth)
-    model.name = "variant"
-    (tmp_path / "variant.h").write_text(generate_header(model))
-    program = build_example(tmp_path, "variant", tmp_path / "controller", SANITIZE)
-    rb = model.rulebase
-    x = inputs_for(rb, seed=5, n_random=500)
-    span = np.array([v.hi - v.lo for v in rb.outputs])
-    error = np.abs(run_csv(program, x, "-r") - evaluate(rb, x)) / span
+    error = sanitized_error(tmp_path, builder(METHODS[method], smooth), n_random=500)
     assert smooth and method == "mom" or error.max() <= 1e-5
