@@ -92,11 +92,10 @@ def term_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
         onehot = J[:, None] == np.arange(n_terms)
         if scatter.ufunc is np.add:
             return scatter.finish(act @ onehot.astype(float))
-        if aggregation == Aggregation.PROBSUM:
-            return 1.0 - np.stack([np.prod(1.0 - act[:, onehot[:, j]], axis=1)
-                                   for j in range(n_terms)], axis=1)
-        return np.stack([act[:, onehot[:, j]].max(axis=1, initial=0.0)
-                         for j in range(n_terms)], axis=1)
+        values = scatter.values(act)
+        return scatter.finish(np.stack([
+            scatter.ufunc.reduce(values[:, onehot[:, j]], axis=1, initial=scatter.start)
+            for j in range(n_terms)], axis=1))
     # Per-sample consequents: scatter into (N, T + 1), column T collecting "no consequent".
     n = act.shape[0]
     flat = (np.arange(n) * (n_terms + 1))[:, None] + np.where(J >= 0, J, n_terms)

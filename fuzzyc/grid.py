@@ -32,7 +32,6 @@ class GridStrengths:
         self.partitions = partitions
         self.product = rb.inference.and_ == TNorm.PRODUCT
         self.accumulate = SCATTERS[aggregation]
-        self.scatter = self.accumulate.ufunc
         n_terms = [v.n_terms for v in rb.outputs]
         # Column T of each output collects "no rule / no consequent" and is dropped at the end.
         self.offsets = np.concatenate([[0], np.cumsum([t + 1 for t in n_terms])])
@@ -157,5 +156,5 @@ class GridStrengths:
         # one scatter per output: numpy 2.4's ufunc.at reads garbage when the values are
         # broadcast against a 2-D index, so the values are never broadcast
         for rows in index.reshape(len(self.slices), -1):
-            self.scatter.at(alpha, rows, act)
+            self.accumulate.ufunc.at(alpha, rows, act)
         return self.accumulate.finish(alpha.reshape(self.width, n))

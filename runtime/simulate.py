@@ -134,14 +134,19 @@ def _loop_signals(scenario) -> tuple[set[str] | None, set[str] | None]:
     """The signals the loop offers a controller and those it reads from one; None where the
     plant does not declare its OUTPUTS or INPUTS (then nothing can be checked)."""
     module = scenario.plant_module()
-    observers = [scenario.make(f"observers.{i}", spec)
-                 for i, spec in enumerate(scenario.data.get("observers") or [])]
+    observers = make_observers(scenario)
     plant_in, plant_out = getattr(module, "INPUTS", None), getattr(module, "OUTPUTS", None)
     offered = None if plant_out is None else {
         *scenario.schedules, *plant_out, *(scenario.data.get("initial") or {}),
         *(n for b in observers for n in b.output_names)}
     read = None if plant_in is None else {*plant_in, *(n for b in observers for n in b.input_names)}
     return offered, read
+
+
+def make_observers(scenario) -> list:
+    """The scenario's observer blocks (estimators, filters), in its order."""
+    return [scenario.make(f"observers.{i}", spec)
+            for i, spec in enumerate(scenario.data.get("observers") or [])]
 
 
 def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
@@ -157,8 +162,7 @@ def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
     inputs = getattr(module, "INPUTS", None)
     plant = PlantBlock(module, params, None if inputs is None else list(inputs),
                        list(getattr(module, "OUTPUTS", ())), seed=seed)
-    observers = [scenario.make(f"observers.{i}", spec)
-                 for i, spec in enumerate(scenario.data.get("observers") or [])]
+    observers = make_observers(scenario)
     followed = _followed_params(scenario, controller)
     return [*schedules, plant, *observers,
             ControllerBlock(controller, followed, expose=list(expose))]

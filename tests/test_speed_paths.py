@@ -39,7 +39,7 @@ def per_input_strengths(grid, x: np.ndarray) -> np.ndarray:
     index = grid.columns.take(cell, axis=1) * n + np.arange(n)
     alpha = np.full(grid.width * n, grid.accumulate.start)
     for rows in index.reshape(len(grid.slices), -1):
-        grid.scatter.at(alpha, rows, grid.accumulate.values(act.reshape(-1)))
+        grid.accumulate.ufunc.at(alpha, rows, grid.accumulate.values(act.reshape(-1)))
     return grid.accumulate.finish(alpha.reshape(grid.width, n))
 
 
