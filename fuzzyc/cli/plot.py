@@ -1,8 +1,8 @@
 """`fuzzyc plot FILE -o DIR`: membership functions and control surfaces as PNG."""
 from __future__ import annotations
 
-from .cli import RULE_FILE_HELP
-from .errors import Diagnostic, FuzzycError
+from .common import RULE_FILE_HELP
+from ..errors import Diagnostic, FuzzycError
 
 
 def add_parser(subparsers) -> None:
@@ -18,8 +18,8 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from .formats import load_any
-    from .plotting import plot_model
+    from ..formats import load_any
+    from ..plotting import plot_model
     model = load_any(args.file)
     names = [v.name for v in model.rulebase.inputs]
     axes = None

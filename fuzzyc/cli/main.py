@@ -5,15 +5,10 @@ import argparse
 import importlib
 import sys
 
-from .errors import FuzzycError
-
-# What every command that reads through formats.load_any says of its rule-file argument.
-RULE_FILE_HELP = ("a .fz, .fll, .fcl or .fis rule file; FILE.fcl::NAME reads the FUNCTION_BLOCK "
-                  "NAME of an FCL file that has several")
+from ..errors import FuzzycError
 
 # Each module has add_parser(subparsers) and run(args) -> exit status.
-COMMAND_MODULES = ("cli_check", "cli_eval", "cli_plot", "cli_compile", "cli_simulate",
-                   "cli_learn", "cli_verify", "cli_convert")
+COMMAND_MODULES = ("check", "eval", "plot", "compile", "simulate", "learn", "verify", "convert")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -23,7 +18,7 @@ def build_parser() -> argparse.ArgumentParser:
                     "compile to C, simulate against plant models, learn, verify, convert.")
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for name in COMMAND_MODULES:
-        importlib.import_module(f"fuzzyc.{name}").add_parser(subparsers)
+        importlib.import_module(f"fuzzyc.cli.{name}").add_parser(subparsers)
     return parser
 
 

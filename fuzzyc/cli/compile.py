@@ -3,8 +3,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
-from .atomic import write_text
-from .cli import RULE_FILE_HELP
+from ..atomic import write_text
+from .common import RULE_FILE_HELP
 
 NUMERIC = ("float", "double", "q15", "q31")
 
@@ -41,13 +41,13 @@ def _entry_points(name: str, target: str) -> list[str]:
 
 
 def run(args) -> int:
-    from .backends.c import c_identifier, generate_header
-    from .backends.cload import footprint
-    from .formats import load_any
+    from ..backends.c import c_identifier, generate_header
+    from ..backends.cload import footprint
+    from ..formats import load_any
     model = load_any(args.file)
     name = c_identifier(model.name)
     if args.target == "lut":
-        from .backends.lut import LookupTable, generate_lut_header
+        from ..backends.lut import LookupTable, generate_lut_header
         table = LookupTable(model.rulebase, args.resolution)
         error = table.measure_error()
         for var, e in zip(model.rulebase.outputs, error):
@@ -55,7 +55,7 @@ def run(args) -> int:
                   f"({e / (var.hi - var.lo):.3e} of its range)")
         header_name, text = f"{name}_lut.h", generate_lut_header(model, table, error)
     elif args.numeric in ("q15", "q31"):
-        from .backends.c_fixed import generate_fixed_header
+        from ..backends.c_fixed import generate_fixed_header
         header_name = f"{name}_{args.numeric}.h"
         text = generate_fixed_header(model, args.numeric)
     else:

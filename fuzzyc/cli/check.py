@@ -3,9 +3,9 @@ from __future__ import annotations
 
 import sys
 
-from .cli import RULE_FILE_HELP
-from .errors import FuzzycError
-from .model import Model
+from .common import RULE_FILE_HELP
+from ..errors import FuzzycError
+from ..model import Model
 
 
 def summary(model: Model) -> str:
@@ -25,7 +25,7 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from .formats import load_any
+    from ..formats import load_any
     status = 0
     for path in args.files:
         try:

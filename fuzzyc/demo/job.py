@@ -6,20 +6,19 @@ against its baseline, and prints the verification summary. Pictures and reports 
 """
 from __future__ import annotations
 
-import sys
 from importlib import resources
 from pathlib import Path
 
 import numpy as np
 
-from . import demo_simulate
-from .cli import main as fuzzyc
-from .cli_check import summary
-from .cli_eval import evaluate_batch
-from .parser import load
-from .plotting import plot_model
-from .verify import Options, verify_model
-from .verify.report import format_result
+from ..cli import main as fuzzyc
+from ..cli.check import summary
+from ..cli.eval import evaluate_batch
+from ..parser import load
+from ..plotting import plot_model
+from ..verify import Options, verify_model
+from ..verify.report import format_result
+from . import simulate as demo_simulate
 
 OUT = Path("out")
 
@@ -77,7 +76,3 @@ def main() -> int:
                 print(f"          {result.finding[:150]}...")
     print(f"\nreports, traces and pictures are in {OUT.resolve()}")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main())

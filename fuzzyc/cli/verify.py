@@ -12,8 +12,8 @@ from __future__ import annotations
 
 import sys
 
-from .cli import RULE_FILE_HELP
-from .errors import FuzzycError
+from .common import RULE_FILE_HELP
+from ..errors import FuzzycError
 
 
 def add_parser(subparsers) -> None:
@@ -51,7 +51,7 @@ class _Progress:
 
 def defaults_note(path: str, model) -> str | None:
     """What verify checks in a file without properties, and why those; None when it has some."""
-    from .verify.runner import default_properties, default_level
+    from ..verify.runner import default_properties, default_level
     if model.properties:
         return None
     texts = "; ".join(p.text for p in default_properties(model))
@@ -64,9 +64,9 @@ def defaults_note(path: str, model) -> str | None:
 
 
 def run(args) -> int:
-    from .formats import load_any
-    from .verify import Options, verify_model
-    from .verify.report import format_text, write_reports
+    from ..formats import load_any
+    from ..verify import Options, verify_model
+    from ..verify.report import format_text, write_reports
     progress = _Progress()
     options = Options(backend=args.backend, max_examples=args.max_examples, seed=args.seed,
                       report_dir=args.report, only=args.only, progress=progress)

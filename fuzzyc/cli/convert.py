@@ -8,7 +8,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .cli import RULE_FILE_HELP
+from .common import RULE_FILE_HELP
 
 
 def add_parser(subparsers) -> None:
@@ -23,8 +23,8 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from .errors import Diagnostic, FuzzycError
-    from .formats import WRITERS, load_any, save
+    from ..errors import Diagnostic, FuzzycError
+    from ..formats import WRITERS, load_any, save
 
     model = load_any(args.input)
     imported = _suffix(args.input) != ".fz"   # a .fz file's notes are its own findings

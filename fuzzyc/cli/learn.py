@@ -11,9 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .atomic import save_figure, write_text
-from .cli import RULE_FILE_HELP
-from .errors import Diagnostic, FuzzycError
+from ..atomic import save_figure, write_text
+from .common import RULE_FILE_HELP
+from ..errors import Diagnostic, FuzzycError
 
 
 def add_parser(subparsers) -> None:
@@ -51,7 +51,7 @@ def plot_pi(pi: np.ndarray, path: str | Path, title: str) -> None:
 def check_learnable(path: str, table: str) -> None:
     """FuzzycError unless FILE's output `table` has learnable terms; said before the scenario
     runs, and for an imported model (FLL, FCL and FIS have no way to mark a term learnable)."""
-    from .formats import load_any, split_block
+    from ..formats import load_any, split_block
     rb = load_any(path).rulebase
     learnable = [v.name for v in rb.outputs if np.any(v.learnable)]
     if table in learnable:
@@ -71,8 +71,8 @@ def check_learnable(path: str, table: str) -> None:
 def run(args) -> int:
     from fuzzyc.plants import scenario as scenarios
 
-    from .cli_simulate import absolute_ref
-    from .learn import learn_scenario, trained_text
+    from .simulate import absolute_ref
+    from ..learn import learn_scenario, trained_text
 
     if args.cycles < 1:
         print("error: --cycles must be at least 1", file=sys.stderr)

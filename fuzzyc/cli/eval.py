@@ -14,9 +14,9 @@ import sys
 
 import numpy as np
 
-from .cli import RULE_FILE_HELP
-from .errors import Diagnostic, FuzzycError
-from .model import Model
+from .common import RULE_FILE_HELP
+from ..errors import Diagnostic, FuzzycError
+from ..model import Model
 
 
 def add_parser(subparsers) -> None:
@@ -72,8 +72,8 @@ def warn_out_of_range(model: Model, values: dict[str, np.ndarray], core: bool) -
 
 def evaluate_batch(model: Model, columns: dict[str, np.ndarray], core: bool) -> dict[str, np.ndarray]:
     """Every output for a batch of independent points (rule-base outputs, then the chain's)."""
-    from .controller import Controller
-    from .engine import evaluate
+    from ..controller import Controller
+    from ..engine import evaluate
     rb = model.rulebase
     if core:
         x = np.column_stack([columns[v.name] for v in rb.inputs])
@@ -88,7 +88,7 @@ def evaluate_batch(model: Model, columns: dict[str, np.ndarray], core: bool) -> 
 
 
 def run(args) -> int:
-    from .formats import load_any
+    from ..formats import load_any
     model = load_any(args.file)
     if args.csv:
         return _run_csv(model, args)
@@ -106,8 +106,8 @@ def run(args) -> int:
 
 def _explain(model: Model, columns, core: bool):
     """The rules that fired at the rule base's inputs, strongest first."""
-    from .controller import Controller
-    from .engine import explain
+    from ..controller import Controller
+    from ..engine import explain
     rb = model.rulebase
     if core:
         x = np.array([columns[v.name][0] for v in rb.inputs])

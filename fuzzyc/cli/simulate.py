@@ -9,9 +9,9 @@ import json
 import sys
 from pathlib import Path
 
-from .atomic import write_text
-from .cli import RULE_FILE_HELP
-from .errors import Diagnostic, FuzzycError
+from ..atomic import write_text
+from .common import RULE_FILE_HELP
+from ..errors import Diagnostic, FuzzycError
 
 CSV_LOOPS = 8    # a batch of thousands would make a huge CSV: keep the first loops
 
@@ -49,7 +49,7 @@ def parse_sets(items: list[str]) -> dict[str, str]:
 def absolute_ref(ref: str) -> str:
     """FILE made absolute (a scenario takes a relative one from its rulebases folder), keeping a
     `::NAME` block choice."""
-    from .formats import split_block
+    from ..formats import split_block
     path, block = split_block(ref)
     return str(path.resolve()) + ("" if block is None else f"::{block}")
 

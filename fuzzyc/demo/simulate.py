@@ -6,12 +6,11 @@ Plots and summaries go to out/simulate/NAME/{fuzzy,baseline}/.
 """
 from __future__ import annotations
 
-import sys
 import time
 from pathlib import Path
 
-from .atomic import write_text
-from .cli_simulate import format_summary
+from ..atomic import write_text
+from ..cli.simulate import format_summary
 
 OUT = Path("out") / "simulate"
 
@@ -53,7 +52,3 @@ def main(names: list[str] | None = None) -> int:
             print(f"  {label:{width}s}{cells}  {unit}")
     print(f"\n(plots and summaries in {OUT}; {time.perf_counter() - start:.0f} s)")
     return 0
-
-
-if __name__ == "__main__":
-    sys.exit(main(sys.argv[1:]))
