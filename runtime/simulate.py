@@ -24,6 +24,10 @@ METRICS = {
     "steady_change": lambda t, y, target, spec: M.steady_change(y, spec.get("tail", 0.2)),
     "events": lambda t, y, target, spec: M.event_count(y),
     "max": lambda t, y, target, spec: np.max(y, axis=0),
+    "std": lambda t, y, target, spec: np.std(y, axis=0),
+    "mean_abs_error": lambda t, y, target, spec: np.mean(np.abs(y - target), axis=0),
+    # (last - first) / elapsed: a removal or erosion rate from a cumulative signal
+    "rate": lambda t, y, target, spec: (y[-1] - y[0]) / max(t[-1] - t[0], 1e-300),
     "min": lambda t, y, target, spec: np.min(y, axis=0),
     "final": lambda t, y, target, spec: np.mean(y[-max(1, len(y) // 20):], axis=0),
     "mean": lambda t, y, target, spec: np.mean(y[int(len(y) * (1 - spec.get("tail", 1.0))):],
@@ -223,7 +227,9 @@ def summarize(scenario, trace: Trace) -> dict[str, dict[str, float]]:
     """metric label -> {mean, min, max, unit} over the batch (one loop: all three equal).
 
     A metric spec may say `smooth: SECONDS` (trailing moving average of signal and target
-    first: a 40-ms count is noisy) and `after: SECONDS` (judge only from then on)."""
+    first: a 40-ms count is noisy), `after: SECONDS` (judge only from then on), `where: FLAG`
+    (judge only the samples where the 0/1 signal FLAG is on: the force error while the tool
+    cuts) and `scale: K` (the value times K: mm/s as mm/min)."""
     out: dict[str, dict[str, float]] = {}
     for i, spec in enumerate(scenario.metrics):
         kind, signal = spec.get("name"), spec.get("signal")
@@ -240,6 +246,9 @@ def summarize(scenario, trace: Trace) -> dict[str, dict[str, float]]:
         keep = trace.time >= float(spec.get("after", 0.0))
         target = target[keep] if isinstance(target, np.ndarray) else target
         values = METRICS[kind](trace.time[keep], y[keep], target, spec)
+        if spec.get("where"):
+            values = _where(scenario, trace, spec, i, kind, y[keep], target, keep)
+        values = values * float(spec.get("scale", 1.0))
         label = spec.get("label") or f"{kind}({signal})"
         out[label] = {"mean": float(np.nanmean(values)) if np.isfinite(values).any() else
                       float("nan"),
@@ -249,3 +258,20 @@ def summarize(scenario, trace: Trace) -> dict[str, dict[str, float]]:
                       float("nan"),
                       "unit": spec.get("unit", "")}
     return out
+
+
+def _where(scenario, trace: Trace, spec: dict, i: int, kind: str, y: np.ndarray, target,
+           keep: np.ndarray) -> np.ndarray:
+    """mean_abs_error or mean of y over the samples where spec['where'] is on, per loop
+    (NaN for a loop where it never is)."""
+    flag_name = spec["where"]
+    if flag_name not in trace:
+        raise scenario.error(f"metrics.{i}.where", f"no recorded signal `{flag_name}`")
+    if kind not in ("mean", "mean_abs_error"):
+        raise scenario.error(f"metrics.{i}.where", f"`where` goes with mean and "
+                             f"mean_abs_error, not {kind}")
+    on = trace[flag_name][keep] > 0.5
+    value = np.abs(y - target) if kind == "mean_abs_error" else y
+    count = on.sum(axis=0)
+    total = np.where(on, value, 0.0).sum(axis=0)
+    return np.where(count > 0, total / np.maximum(count, 1), np.nan)

@@ -149,3 +149,30 @@ def test_progress_bar_when_asked_and_silent_off_a_tty():
     bar.update(50)
     bar.close()
     assert quiet.getvalue() == ""
+
+
+def test_metrics_where_rate_std_and_scale_by_hand():
+    """Two loops over t = 0, 1, 2, 3 s.
+    y = [[0, 0], [310, 0], [290, 0], [320, 0]], cutting flag = [[0, 0], [1, 0], [1, 0], [1, 0]]:
+    mean |y - 300| where cutting: loop 0 (10 + 10 + 20) / 3 = 13.333..., loop 1 never cuts: NaN.
+    removal r = [[0, 0], [1, 2], [2, 4], [3, 6]] mm: rate (3 - 0) / 3 = 1 and 2 mm/s, x60 -> 60,
+    120 mm/min.  std of y: loop 0, mean 920 / 4 = 230, mean(x^2) = (96100 + 84100 + 102400) / 4
+    = 70650, sqrt(70650 - 230^2) = sqrt(17750) = 133.23; loop 1: 0."""
+    from types import SimpleNamespace
+
+    from fuzzyc.runtime.simulate import summarize
+    from fuzzyc.runtime.trace import Trace
+
+    y = np.array([[0, 0], [310, 0], [290, 0], [320, 0]], float)
+    flag = np.array([[0, 0], [1, 0], [1, 0], [1, 0]], float)
+    removal = np.array([[0, 0], [1, 2], [2, 4], [3, 6]], float)
+    trace = Trace(np.arange(4.0), {"y": y, "cutting": flag, "removal": removal}, period=1.0)
+    sc = SimpleNamespace(metrics=[
+        {"name": "mean_abs_error", "signal": "y", "target": 300.0, "where": "cutting",
+         "label": "err"},
+        {"name": "rate", "signal": "removal", "scale": 60.0, "label": "rate"},
+        {"name": "std", "signal": "y", "label": "std"}], error=None)
+    out = summarize(sc, trace)
+    assert out["err"]["mean"] == pytest.approx(40 / 3)        # loop 1 (NaN) is left out
+    assert out["rate"]["min"] == pytest.approx(60.0) and out["rate"]["max"] == pytest.approx(120.0)
+    assert out["std"]["max"] == pytest.approx(17750 ** 0.5) and out["std"]["min"] == 0.0
