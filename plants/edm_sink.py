@@ -28,7 +28,7 @@ assumption: 5 V at 50 Hz, 2 V at 100 Hz (random phases per batch element), white
 
 Input `velocity` (mm/s, > 0 advances the electrode and closes the gap). Outputs:
 `measured_voltage` (noisy, V), `mean_voltage` (noise-free V(g)), `gap` (um), `velocity_actual`
-(mm/s), `removal` (workpiece surface advance, mm).
+(mm/s), `removal` (workpiece surface advance, mm), `short` (1 while the gap is shorted).
 """
 from __future__ import annotations
 
@@ -38,7 +38,7 @@ import numpy as np
 
 
 INPUTS = ("velocity",)
-OUTPUTS = ("measured_voltage", "mean_voltage", "gap", "velocity_actual", "removal")
+OUTPUTS = ("measured_voltage", "mean_voltage", "gap", "velocity_actual", "removal", "short")
 
 
 @dataclass
@@ -107,7 +107,8 @@ def step(params: EdmSinkParams, state: dict[str, np.ndarray], inputs: dict[str, 
         noise = noise + params.spark_noise * rng.standard_normal(gap.shape)
     new_state = {**state, "z": z, "v": v, "surface": surface}
     return new_state, {"measured_voltage": mean + noise, "mean_voltage": mean, "gap": gap * 1e3,
-                       "velocity_actual": v * 1e3, "removal": surface - params.gap0}
+                       "velocity_actual": v * 1e3, "removal": surface - params.gap0,
+                       "short": (gap <= params.g_short).astype(float)}
 
 
 @dataclass

@@ -3,7 +3,8 @@
 One call of `step` is one spindle revolution (the controller's sample: the controlled value is
 the peak resultant force in a revolution). Inputs: `feed` = command feed rate U_com (mm/min).
 Outputs: `force` (N, peak resultant in the revolution), `feed_actual` V_f (mm/min), `position`
-(tool-centre travel along the path, mm), `done` (1.0 once the tool has left the workpiece).
+(tool-centre travel along the path, mm), `done` (1.0 once the tool has left the workpiece),
+`cutting` (1.0 in a revolution where the tool takes a chip: force > 0).
 
 Physics, by equation of the chapter:
   (6.1)  V_f/U_com = Kn / ((s/wn)^2 + 2 zeta (s/wn) + 1): solved exactly over the revolution
@@ -43,7 +44,7 @@ import numpy as np
 
 
 INPUTS = ("feed",)
-OUTPUTS = ("force", "feed_actual", "position", "done")
+OUTPUTS = ("force", "feed_actual", "position", "done", "cutting")
 
 
 @dataclass
@@ -209,7 +210,8 @@ def step(params: MillingParams, state: dict[str, np.ndarray], inputs: dict[str, 
     x = state["x"] + travel
     done = (x - params.radius >= params.workpiece.end).astype(float)
     return ({"x": x, "v": v, "dv": dv},
-            {"force": force, "feed_actual": v, "position": x, "done": done})
+            {"force": force, "feed_actual": v, "position": x, "done": done,
+             "cutting": (force > 0).astype(float)})
 
 
 def run_constant_feed(params: MillingParams, feeds: np.ndarray, max_time: float

@@ -113,6 +113,12 @@ class Scenario:
         return str(self.data.get("title", self.name))
 
     @property
+    def notes(self) -> list[str]:
+        """What a reader of the comparison must know (where the baseline is better, say)."""
+        notes = self.data.get("notes") or []
+        return [notes] if isinstance(notes, str) else [str(n) for n in notes]
+
+    @property
     def duration(self) -> float:
         return float(self.data.get("duration", 60.0))
 

@@ -210,7 +210,7 @@ def test_names_that_do_not_match_are_an_error_naming_them(feeder, capsys):
     err = capsys.readouterr().err
     assert status == 2
     assert ("typo.fz:3:9: error: input `forse` is not a signal of scenario `milling_step` "
-            "(plant milling); it has: done, feed, feed_actual, force, position") in err
+            "(plant milling); it has: cutting, done, feed, feed_actual, force, position") in err
 
 
 def test_a_scenario_param_an_imported_model_lacks_keeps_its_error(feeder, capsys):
