@@ -163,8 +163,22 @@ _TABLE = r"table\s+{name}\b[^{{]*\blearnable\s*\{{(?P<body>[^}}]*)\}}"
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 
 
-def trained_text(model: Model, weights: np.ndarray, output: str = "du") -> str:
-    """The model's source with the learnable table's numbers replaced by `weights`.
+# The first line of a learned rule file: learned weights are a result, never hand-written.
+PROVENANCE = "# LEARNED WEIGHTS, written by"
+_SET_LEARN = re.compile(r"^([ \t]*)(set[ \t]+learn\.\w+[ \t]*=[^\n#]*?)[ \t]*$", re.MULTILINE)
+
+
+def provenance(file_name: str, scenario: str, cycles: int, eta: float, rho: float,
+               pi: np.ndarray) -> str:
+    """How a learned file was made: the command that remakes it, and the PI it reached."""
+    return (f"`fuzzyc learn {file_name} --scenario {scenario} --cycles {cycles} --eta {eta:g} "
+            f"--rho {rho:g}` ({pi[0]:.4g} -> {pi[-1]:.4g} performance index)")
+
+
+def trained_text(model: Model, weights: np.ndarray, output: str = "du",
+                 provenance: str = "") -> str:
+    """The model's source with the learnable table's numbers replaced by `weights`, and
+    `provenance` (how they were learned) as a first comment line, replacing an earlier one.
 
     Everything else (comments, layout, other statements) is kept; numbers in comments inside
     the table are left alone. The k-th number in the table body is the k-th learnable term
@@ -188,8 +202,26 @@ def trained_text(model: Model, weights: np.ndarray, output: str = "du") -> str:
     body = "\n".join(_NUMBER.sub(lambda _: next(values).rjust(width), code) + sep + comment
                      for code, sep, comment in lines)
     new_text = text[:match.start("body")] + body + text[match.end("body"):]
+    if new_text.startswith(PROVENANCE):
+        new_text = new_text.partition("\n")[2]
+    if provenance:
+        new_text = f"{PROVENANCE} {provenance}\n{new_text}"
+        # a closed-loop property's `set learn.cycles = N` trains an untrained file first; the
+        # learned file is checked as it is
+        new_text = _SET_LEARN.sub(r"\1# \2   (already learned: the table above)", new_text)
     check = parse(new_text, model.source_path or "<trained>")
     got = check.rulebase.outputs[check.rulebase.output_index(output)]
     if not np.array_equal(got.params[got.learnable, 0], np.array(written, float)):
         raise ValueError("the rewritten table does not read back as the learned weights")
     return new_text
+
+
+def untrained_note(model: Model) -> str | None:
+    """A warning for a model whose learnable terms all still hold 0 (as shipped, before
+    `fuzzyc learn`): its output is 0 whatever the input, so its runs say nothing of the method."""
+    for var in model.rulebase.outputs:
+        if var.learnable is not None and var.learnable.any() \
+                and not np.any(var.params[var.learnable, 0]):
+            return (f"UNTRAINED: the {int(var.learnable.sum())} learnable weights of `{var.name}` "
+                    f"are all 0 (train them with `fuzzyc learn`)")
+    return None

@@ -105,10 +105,11 @@ def test_shipped_rule_bases_round_trip(path, suffix):
 
 
 def test_fis_says_which_shipped_rule_bases_it_can_carry():
-    """Only the milling controller (weighted sum) is sayable; the three max-min center-of-area
-    controllers are refused (FIS_REFUSED), so the parametrized test covers both kinds."""
+    """Only the milling controller (weighted sum; untrained and learned) is sayable; the three
+    max-min center-of-area controllers are refused (FIS_REFUSED), so the parametrized test
+    covers both kinds."""
     sayable = {p.stem for p in RULEBASES} - set(FIS_REFUSED)
-    assert sayable == {"milling_neurofuzzy"}
+    assert sayable == {"milling_neurofuzzy", "milling_neurofuzzy_learned"}
     model = load_any(ROOT / "rulebases/milling_neurofuzzy.fz")
     text, warnings = write_fis_text(model)
     assert "Type='sugeno'" in text and "DefuzzMethod='wtsum'" in text

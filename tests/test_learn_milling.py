@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.learn import Learner, learn_scenario, run_cycle, trained_text
+from fuzzyc.learn import Learner, learn_scenario, provenance, run_cycle, trained_text
 from fuzzyc.parser import load, parse
 from fuzzyc.plants import milling, scenario
 from fuzzyc.runtime.simulate import load_controller
@@ -18,8 +18,22 @@ RULES = ROOT / "rulebases" / "milling_neurofuzzy.fz"
 
 @pytest.fixture(scope="module")
 def learned():
-    controller, result = learn_scenario(scenario.load("milling_step"), cycles=15)
+    """15 cycles from the untrained file (the scenario itself runs the learned one)."""
+    step = scenario.load("milling_step", {"controller.rulebase": str(RULES)})
+    controller, result = learn_scenario(step, cycles=15)
     return controller.model, result
+
+
+def test_shipped_learned_rule_base_is_what_fuzzyc_learn_writes(learned):
+    """rulebases/milling_neurofuzzy_learned.fz is a result, not hand-tuned: its first line
+    names the command (`fuzzyc learn` runs learn_scenario and trained_text as this fixture
+    does, with the defaults 15 cycles, eta 0.25, rho 6), and the same learning writes it again
+    byte for byte, performance indices included."""
+    model, result = learned
+    shipped = (ROOT / "rulebases" / "milling_neurofuzzy_learned.fz").read_text()
+    made = provenance("milling_neurofuzzy.fz", "milling_step", 15, 0.25, 6.0, result.pi)
+    assert trained_text(model, result.weights, provenance=made) == shipped
+    assert "set learn.cycles" not in shipped.replace("# set learn.cycles", "")
 
 
 def test_learning_rule_hand_computed():

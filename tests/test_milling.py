@@ -2,7 +2,12 @@
 import numpy as np
 import pytest
 
+from pathlib import Path
+
+from fuzzyc.formats import load_any
+from fuzzyc.learn import untrained_note
 from fuzzyc.plants import milling, scenario
+from fuzzyc.runtime.simulate import simulate, summarize
 
 SQRT_1_KR2 = np.sqrt(1 + 0.6 ** 2)    # |F_t + F_r| per tooth = F_t * sqrt(1 + kr^2)
 
@@ -92,3 +97,28 @@ def test_scenario_baseline_is_the_largest_feed_within_330_N(name):
     sc = scenario.load(name)
     feed = milling.max_constant_feed(sc.plant_params(), 330.0)
     assert sc.baseline["params"]["feed"] == pytest.approx(feed, abs=0.1)
+
+
+ROOT = Path(__file__).parents[1]
+
+
+@pytest.mark.parametrize("name", ["milling_step", "milling_pocket"])
+def test_learned_controller_against_constant_feed_as_the_scenario_note_says(name):
+    """The scenario's note: the learned controller overshoots the 330 N limit on entry, then
+    holds Fr closer than the constant feed and finishes sooner."""
+    sc = scenario.load(name)
+    assert sc.rulebase_ref().endswith("milling_neurofuzzy_learned.fz")
+    fuzzy = summarize(sc, simulate(sc))
+    base = summarize(sc, simulate(sc, baseline=True))
+    peak, error, time = "peak force (limit 330)", "mean force error while cutting (Fr = 300)", \
+        "machining time"
+    assert base[peak]["mean"] <= 331.0 < fuzzy[peak]["mean"]
+    assert fuzzy[error]["mean"] < 0.5 * base[error]["mean"]
+    assert fuzzy[time]["mean"] < base[time]["mean"]
+
+
+def test_untrained_rule_base_is_said_untrained():
+    untrained = load_any(ROOT / "rulebases" / "milling_neurofuzzy.fz")
+    learned = load_any(ROOT / "rulebases" / "milling_neurofuzzy_learned.fz")
+    assert "UNTRAINED: the 49 learnable weights of `du` are all 0" in untrained_note(untrained)
+    assert untrained_note(learned) is None

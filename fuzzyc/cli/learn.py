@@ -72,7 +72,7 @@ def run(args) -> int:
     from fuzzyc.plants import scenario as scenarios
 
     from .simulate import absolute_ref
-    from ..learn import learn_scenario, trained_text
+    from ..learn import learn_scenario, provenance, trained_text
 
     if args.cycles < 1:
         print("error: --cycles must be at least 1", file=sys.stderr)
@@ -87,7 +87,8 @@ def run(args) -> int:
         scenario = scenarios.load(args.scenario, overrides)
         scenario.data.setdefault("controller", {})["rulebase"] = absolute_ref(args.file)
         controller, result = learn_scenario(scenario, args.cycles, args.eta, args.rho, args.table)
-        text = trained_text(controller.model, result.weights, args.table)
+        text = trained_text(controller.model, result.weights, args.table, provenance(
+            Path(args.file).name, args.scenario, args.cycles, args.eta, args.rho, result.pi))
     except FuzzycError as exc:
         for diagnostic in exc.diagnostics:
             print(diagnostic.format(), file=sys.stderr)

@@ -54,7 +54,8 @@ def absolute_ref(ref: str) -> str:
     return str(path.resolve()) + ("" if block is None else f"::{block}")
 
 
-def format_summary(title: str, controller: str, summary: dict, trace) -> str:
+def format_summary(title: str, controller: str, summary: dict, trace,
+                   notes: list[str] = ()) -> str:
     lines = [f"{title}", f"controller: {controller}; batch {trace.batch}; "
              f"{trace.steps} periods of {trace.period * 1000:g} ms"]
     if trace.deadline_misses:
@@ -66,7 +67,19 @@ def format_summary(title: str, controller: str, summary: dict, trace) -> str:
             continue
         spread = "" if v["min"] == v["max"] else f"  (min {v['min']:.4g}, max {v['max']:.4g})"
         lines.append(f"  {label:45s} {v['mean']:.4g} {v['unit']}{spread}")
+    lines += [f"note: {note}" for note in notes]
     return "\n".join(lines) + "\n"
+
+
+def controller_notes(scenario, baseline: bool) -> list[str]:
+    """The warning that the scenario's rule base is untrained, when it is (and it runs)."""
+    from ..formats import load_any
+    from ..learn import untrained_note
+    from fuzzyc.runtime.simulate import rulebase_ref
+    if baseline:
+        return []
+    note = untrained_note(load_any(rulebase_ref(scenario)))
+    return [note] if note else []
 
 
 def run(args) -> int:
@@ -86,7 +99,8 @@ def run(args) -> int:
     panels = [name for name in scenario.plots if name in trace] or None
     plot_trace(trace, out / "trace.png", panels, references(scenario), title=scenario.title)
     controller = "baseline" if args.baseline else rulebase_ref(scenario)
-    text = format_summary(scenario.title, controller, summary, trace)
+    text = format_summary(scenario.title, controller, summary, trace,
+                          controller_notes(scenario, args.baseline) + scenario.notes)
     write_text(out / "summary.txt", text)
     write_text(out / "summary.json", _json(scenario, controller, trace, summary))
     sys.stdout.write(text)

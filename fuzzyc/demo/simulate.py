@@ -10,7 +10,7 @@ import time
 from pathlib import Path
 
 from ..atomic import write_text
-from ..cli.simulate import format_summary
+from ..cli.simulate import controller_notes, format_summary
 
 OUT = Path("out") / "simulate"
 
@@ -30,7 +30,8 @@ def run_one(scenario, baseline: bool) -> dict:
     plot_trace(trace, folder / "trace.png", panels, references(scenario),
                title=scenario.title)
     write_text(folder / "summary.txt", format_summary(
-        scenario.title, "baseline" if baseline else "fuzzy", summary, trace))
+        scenario.title, "baseline" if baseline else "fuzzy", summary, trace,
+        controller_notes(scenario, baseline) + scenario.notes))
     return summary
 
 
@@ -50,5 +51,7 @@ def main(names: list[str] | None = None) -> int:
             unit = runs["fuzzy"][label]["unit"]
             cells = "".join(f"{_cell(r[label]):>12s}" for r in runs.values())
             print(f"  {label:{width}s}{cells}  {unit}")
+        for note in controller_notes(scenario, False) + scenario.notes:
+            print(f"  note: {note}")
     print(f"\n(plots and summaries in {OUT}; {time.perf_counter() - start:.0f} s)")
     return 0
