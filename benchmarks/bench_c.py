@@ -2,7 +2,8 @@
 of the WEDM rule base and a batch-1 call of the numpy engine, all in the same run.
 
 The timing loop is inside a C driver (gcc -O2, one translation unit per run): per function,
-the median over REPEATS runs of ITERATIONS calls cycling through 4096 random inputs over the
+the median over REPEATS runs (in CPU time, so load from other processes does not count) of
+ITERATIONS calls cycling through 4096 random inputs over the
 rule base's input ranges; the runs go round-robin over all functions.  Writes benchmarks/results/c.md atomically.
 
     python3 benchmarks/bench_c.py
@@ -50,7 +51,7 @@ static volatile float sink;
 
 static double now_ns(void) {{
     struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);   /* CPU time: another process on the core does not count */
     return (double)t.tv_sec * 1e9 + (double)t.tv_nsec;
 }}
 static int by_value(const void *a, const void *b) {{
