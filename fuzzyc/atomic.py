@@ -1,10 +1,26 @@
-"""Atomic file output: write beside the target, then rename, so a crash leaves no half file."""
+"""Atomic file output: write beside the target, then rename, so a crash leaves no half file.
+
+The temporary file is created with mode 0666 and the kernel takes the umask off, so a written
+file gets the mode any other tool would give it (0644 under umask 022); tempfile.mkstemp would
+make it 0600.
+"""
 from __future__ import annotations
 
 import contextlib
 import os
-import tempfile
+import secrets
 from pathlib import Path
+
+
+def _create_beside(path: Path) -> Path:
+    """A new empty file next to `path` (O_EXCL: never one that already exists)."""
+    while True:
+        tmp = path.with_name(f".{path.name}.{secrets.token_hex(6)}{path.suffix}")
+        try:
+            os.close(os.open(tmp, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o666))
+            return tmp
+        except FileExistsError:
+            continue
 
 
 @contextlib.contextmanager
@@ -12,8 +28,7 @@ def atomic_path(path: str | Path):
     """Yields a temporary path in the target's folder; renamed onto `path` on success."""
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=path.suffix, dir=path.parent)
-    os.close(fd)
+    tmp = _create_beside(path)
     try:
         yield Path(tmp)
         os.replace(tmp, path)

@@ -11,6 +11,7 @@ import numpy as np  # noqa: E402
 
 from .atomic import save_figure  # noqa: E402
 from .engine import evaluate  # noqa: E402
+from .escape import OutputFolder, plot_text  # noqa: E402
 from .membership import memberships  # noqa: E402
 from .model import Model, TermKind, Variable  # noqa: E402
 
@@ -25,11 +26,11 @@ def plot_variable(var: Variable, path: Path) -> Path:
     mu = memberships(var, x)
     for t, name in enumerate(var.names):
         if var.kinds[t] == TermKind.SINGLETON:
-            ax.vlines(var.params[t, 0], 0, 1, lw=2, label=name)
+            ax.vlines(var.params[t, 0], 0, 1, lw=2, label=plot_text(name))
         else:
-            ax.plot(x, mu[:, t], lw=1.6, label=name)
+            ax.plot(x, mu[:, t], lw=1.6, label=plot_text(name))
     unit = f" [{var.unit}]" if var.unit else ""
-    ax.set(xlabel=var.name + unit, ylabel="membership", ylim=(-0.03, 1.08), xlim=(var.lo, var.hi))
+    ax.set(xlabel=plot_text(var.name + unit), ylabel="membership", ylim=(-0.03, 1.08), xlim=(var.lo, var.hi))
     if var.n_terms <= 12:
         ax.legend(loc="upper center", ncol=min(var.n_terms, 7), fontsize=7, frameon=False,
                   bbox_to_anchor=(0.5, 1.25))
@@ -55,22 +56,24 @@ def plot_surface(model: Model, output: str, axes: tuple[str, str], fixed: dict[s
     ax = fig.add_subplot(projection="3d")
     ax.plot_surface(X, Y, z, cmap="viridis", linewidth=0, antialiased=True)
     held = ", ".join(f"{k}={v:g}" for k, v in fixed.items() if k not in axes)
-    ax.set(xlabel=axes[0], ylabel=axes[1], zlabel=output,
-           title=f"{model.name}: {output}" + (f" ({held})" if held else ""))
+    ax.set(xlabel=plot_text(axes[0]), ylabel=plot_text(axes[1]), zlabel=plot_text(output),
+           title=plot_text(f"{model.name}: {output}" + (f" ({held})" if held else "")))
     fig.tight_layout()
     return save(fig, path)
 
 
 def plot_model(model: Model, out_dir: Path, axes: tuple[str, str] | None = None,
                fixed: dict[str, float] | None = None) -> list[Path]:
+    """Writes MODEL_VAR_terms.png per variable and MODEL_OUTPUT_surface.png per output into
+    out_dir, the names made safe (`OutputFolder`): variable names come from the input file."""
     rb = model.rulebase
-    out_dir = Path(out_dir)
-    written = [plot_variable(v, out_dir / f"{model.name}_{v.name}_terms.png")
+    folder = OutputFolder(out_dir)
+    written = [plot_variable(v, folder.file(f"{model.name}_{v.name}_terms", ".png"))
                for v in rb.inputs + rb.outputs if v.n_terms <= 12]
     if len(rb.inputs) >= 2:
         axes = axes or (rb.inputs[-2].name, rb.inputs[-1].name)
         fixed = fixed or {v.name: v.hi if v.hi <= 1 else 0.5 * (v.lo + v.hi) for v in rb.inputs}
         for v in rb.outputs:
             written.append(plot_surface(model, v.name, axes, fixed,
-                                        out_dir / f"{model.name}_{v.name}_surface.png"))
+                                        folder.file(f"{model.name}_{v.name}_surface", ".png")))
     return written

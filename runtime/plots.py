@@ -9,6 +9,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 from fuzzyc.atomic import save_figure  # noqa: E402
+from fuzzyc.escape import plot_text  # noqa: E402
 
 from .trace import Trace  # noqa: E402
 
@@ -28,13 +29,13 @@ def plot_trace(trace: Trace, path: str | Path, signals: list[str] | None = None,
         ax.plot(trace.time, trace[name][:, :MAX_LINES], lw=0.8)
         ref = references.get(name)
         if isinstance(ref, str) and ref in trace:
-            ax.plot(trace.time, trace[ref][:, 0], "k--", lw=0.8, label=ref)
+            ax.plot(trace.time, trace[ref][:, 0], "k--", lw=0.8, label=plot_text(ref))
         elif ref is not None:
             ax.axhline(float(ref), color="k", ls="--", lw=0.8)
-        ax.set_ylabel(name, fontsize=8)
+        ax.set_ylabel(plot_text(name), fontsize=8)
         ax.grid(alpha=0.3)
     axes[-1, 0].set_xlabel("time (s)")
     if title:
-        axes[0, 0].set_title(title, fontsize=9)
+        axes[0, 0].set_title(plot_text(title), fontsize=9)
     fig.tight_layout()
     return save_figure(fig, path, dpi=100)

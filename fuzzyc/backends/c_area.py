@@ -19,6 +19,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..defuzz import FLAT_TOLERANCE, GRID_POINTS
+from ..escape import c_comment
 from ..membership import term_values
 from ..model import Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable
 from .c_centroid import CentroidEmitter, area_segments
@@ -210,7 +211,7 @@ class AreaWriter:
         table = f"{self.p.upper()}GRID_{o}"
         rows = ",\n".join("{" + ", ".join(self._grid_lit(v) for v in row) + "}" for row in mu)
         body = self._item_sum(n_items) if n_items else [f"    *f = {self._strengths_m(var)};"]
-        return [f"/* `{var.name}`: its terms at the {GRID_POINTS} grid points over "
+        return [f"/* `{c_comment(var.name)}`: its terms at the {GRID_POINTS} grid points over "
                 f"[{lo:g}, {hi:g}] (the engine's sampling of smooth terms). */",
                 f"static const {t} {table}[{GRID_POINTS}][{var.n_terms}] = {{\n{rows}}};",
                 "/* u is the grid index (exact in float); the caller maps it to lo + i * step: "

@@ -24,7 +24,7 @@ import sympy
 
 from ..errors import Diagnostic, FuzzycError
 from ..model import Model, Op, OutputKind
-from .c import c_identifier
+from ..escape import c_identifier
 
 CHAIN_BITS = 31
 # assumption: integrator states carry 16 fraction bits more than their range allows in 31 bits

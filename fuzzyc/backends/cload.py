@@ -2,8 +2,9 @@
 the exact code that ships.
 
 `CController(model, numeric)` writes the header, compiles it with a small batch shim into a
-shared library (gcc -shared -fPIC, cached under a key of the header text and the flags) and
-loads it with ctypes.  A step of the whole batch is one C call; the loop over the batch is in C.
+shared library (gcc -shared -fPIC, cached under a key of the header text and the flags, in a
+private per-user folder: see `cache_dir`) and loads it with ctypes.  A step of the whole batch
+is one C call; the loop over the batch is in C.
 The header is generated once, at construction: later changes to the model (learning) need a new
 CController.
 """
@@ -13,6 +14,7 @@ import ctypes
 import hashlib
 import os
 import platform
+import stat
 import subprocess
 import tempfile
 from pathlib import Path
@@ -21,7 +23,8 @@ import numpy as np
 
 from ..errors import Diagnostic, FuzzycError
 from ..model import Model
-from .c import c_identifier, generate_header
+from ..escape import c_identifier
+from .c import generate_header
 
 STRICT_FLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion",
                 "-Wshadow", "-Werror")
@@ -58,11 +61,43 @@ REAL_OF = {"float": "float", "double": "double"}
 
 
 def cache_dir() -> Path:
-    root = os.environ.get("FUZZYC_CACHE") or os.path.join(tempfile.gettempdir(),
-                                                          f"fuzzyc-c-cache-{os.getuid()}")
+    """The per-user folder of compiled libraries: $FUZZYC_CACHE, else $XDG_CACHE_HOME/fuzzyc,
+    else ~/.cache/fuzzyc, created with mode 0700.  A library found there is loaded and run, so
+    the folder must be this user's and writable by nobody else (FuzzycError otherwise)."""
+    root = os.environ.get("FUZZYC_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"),
+        "fuzzyc")
     path = Path(root)
-    path.mkdir(parents=True, exist_ok=True)
+    try:
+        path.mkdir(mode=0o700, parents=True, exist_ok=True)
+        problem = _not_private(path)
+    except OSError as exc:
+        problem = f"cannot be made ({exc.strerror})"
+    if problem:
+        raise FuzzycError([Diagnostic(None, f"the C library cache {path} {problem}: fuzzyc "
+                                            "loads the code it finds there; point "
+                                            "FUZZYC_CACHE at a folder of your own (mode 0700)")])
     return path
+
+
+def _not_private(path: Path) -> str:
+    """Why another user could have put `path` there or could change it ('' if none can)."""
+    st = path.stat()
+    if st.st_uid != os.getuid():
+        return f"belongs to user id {st.st_uid}, not to you ({os.getuid()})"
+    if st.st_mode & 0o022:
+        return f"is writable by others (mode {stat.S_IMODE(st.st_mode):04o})"
+    return ""
+
+
+def _trusted_library(path: Path) -> bool:
+    """A regular file (not a link) of this user that nobody else can write; anything else in
+    the cache is compiled anew over it, never loaded."""
+    try:
+        st = path.lstat()
+    except FileNotFoundError:
+        return False
+    return stat.S_ISREG(st.st_mode) and not _not_private(path)
 
 
 def compile_shared(sources: dict[str, str], main: str, flags: tuple[str, ...] = ()) -> Path:
@@ -70,7 +105,7 @@ def compile_shared(sources: dict[str, str], main: str, flags: tuple[str, ...] = 
     key = hashlib.sha256(repr((sorted(sources.items()), main, STRICT_FLAGS, flags))
                          .encode()).hexdigest()[:20]
     target = cache_dir() / f"fz_{key}.so"
-    if target.exists():
+    if _trusted_library(target):
         return target
     with tempfile.TemporaryDirectory(dir=cache_dir()) as work:
         for fname, text in sources.items():
@@ -82,6 +117,7 @@ def compile_shared(sources: dict[str, str], main: str, flags: tuple[str, ...] = 
         if result.returncode != 0:
             raise FuzzycError([Diagnostic(None, "the C compiler rejected the generated code:\n"
                                                 + result.stderr)])
+        os.chmod(tmp_lib, 0o700)      # private whatever the umask (see _trusted_library)
         os.replace(tmp_lib, target)   # atomic: a concurrent reader sees all or nothing
     return target
 

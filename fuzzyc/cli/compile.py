@@ -41,7 +41,8 @@ def _entry_points(name: str, target: str) -> list[str]:
 
 
 def run(args) -> int:
-    from ..backends.c import c_identifier, generate_header
+    from ..backends.c import generate_header
+    from ..escape import c_identifier
     from ..backends.cload import footprint
     from ..formats import load_any
     model = load_any(args.file)

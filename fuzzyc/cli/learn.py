@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..atomic import save_figure, write_text
+from ..escape import plot_text
 from .common import RULE_FILE_HELP
 from ..errors import Diagnostic, FuzzycError
 
@@ -42,7 +43,7 @@ def plot_pi(pi: np.ndarray, path: str | Path, title: str) -> None:
     ax.plot(np.arange(1, len(pi) + 1), pi, "o-")
     ax.set_xlabel("learning (cutting) cycle")
     ax.set_ylabel("performance index PI")
-    ax.set_title(title)
+    ax.set_title(plot_text(title))
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
     save_figure(fig, path)

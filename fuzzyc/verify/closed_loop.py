@@ -14,12 +14,12 @@ from __future__ import annotations
 
 import copy
 import dataclasses
-import os
 import re
 
 import numpy as np
 from hypothesis import HealthCheck, Phase, given, seed as hseed, settings, strategies as st
 
+from ..escape import OutputFolder
 from ..model import Model, Property
 from .draws import without_local_constants
 from . import temporal
@@ -64,7 +64,7 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     shrunk = _shrink(loop, checks, {i: cases[k] for i, k in failing.items()},
                      {i: _column(time, signals, k) for i, k in failing.items()}, a["vary"],
                      options.shrink_rounds)
-    results = []
+    results, plots = [], OutputFolder(options.report_dir or ".")
     for i, (c, (violated, _)) in enumerate(zip(checks, verdicts)):
         if i not in shrunk:
             results.append([Evidence("closed-loop", Status.HELD, f"{len(cases)} loops of "
@@ -80,7 +80,7 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
             name = re.sub(r"[^A-Za-z0-9]+", "_", f"{model.name}_{c.text}").strip("_")[:80]
             shown = temporal.names_in(c) + [o.name for o in model.outputs] + _event_signals(case)
             trace["plot"] = str(plot_trace(trace, shown, f"{model.name}: {c.text}",
-                                           os.path.join(options.report_dir, name + ".png")))
+                                           plots.file(name, ".png")))
         results.append([Evidence("closed-loop", Status.VIOLATED, detail, cases=len(cases),
                                  trace=trace)])
     return results

@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 
 from ..atomic import save_figure, write_text
+from ..escape import plot_text
 from .result import Result, Status
 
 MARK = {Status.PROVED: "PROVED  ", Status.HELD: "HELD    ", Status.VIOLATED: "VIOLATED",
@@ -130,10 +131,10 @@ def plot_trace(trace: dict, signals: list[str], title: str, path: str | os.PathL
     t = np.asarray(trace["t"])
     for ax, name in zip(axes[:, 0], shown):
         ax.plot(t, trace["signals"][name], lw=1)
-        ax.set_ylabel(name)
+        ax.set_ylabel(plot_text(name))
         if trace.get("violated_at") is not None:
             ax.axvline(trace["violated_at"], color="r", ls="--", lw=1)
     axes[-1, 0].set_xlabel("t [s]")
-    fig.suptitle(title, fontsize=9)
+    fig.suptitle(plot_text(title), fontsize=9)
     fig.tight_layout()
     return save_figure(fig, path, dpi=90)
