@@ -70,13 +70,13 @@ def plot_text(text: str) -> str:
     return text.replace("$", r"\$")
 
 
-def name_problems(names, fmt: str, allowed: re.Pattern = SAFE_NAME) -> list[str]:
+def name_problems(names, fmt: str, allowed: re.Pattern = SAFE_NAME,
+                  rule: str = "letters, digits and _, not starting with a digit") -> list[str]:
     """A sentence per name the target format cannot say as written (`allowed` must match all
     of it), for the exporters' refusal lists; the name is shown with repr so the odd
     characters are visible."""
-    return [f"the name {name!r} cannot be written in {fmt} (a name there is "
-            f"{allowed.pattern}); rename it" for name in dict.fromkeys(names)
-            if not allowed.fullmatch(name)]
+    return [f"the name {name!r} cannot be written in {fmt} (a name there is {rule}); "
+            "rename it" for name in dict.fromkeys(names) if not allowed.fullmatch(name)]
 
 
 class OutputFolder:

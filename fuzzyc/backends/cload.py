@@ -100,11 +100,16 @@ def _trusted_library(path: Path) -> bool:
     return stat.S_ISREG(st.st_mode) and not _not_private(path)
 
 
-def compile_shared(sources: dict[str, str], main: str, flags: tuple[str, ...] = ()) -> Path:
-    """Compile `main` (a key of sources) with its sibling files into a cached shared library."""
+def library_path(sources: dict[str, str], main: str, flags: tuple[str, ...] = ()) -> Path:
+    """Where the cache keeps the library of these sources and flags."""
     key = hashlib.sha256(repr((sorted(sources.items()), main, STRICT_FLAGS, flags))
                          .encode()).hexdigest()[:20]
-    target = cache_dir() / f"fz_{key}.so"
+    return cache_dir() / f"fz_{key}.so"
+
+
+def compile_shared(sources: dict[str, str], main: str, flags: tuple[str, ...] = ()) -> Path:
+    """Compile `main` (a key of sources) with its sibling files into a cached shared library."""
+    target = library_path(sources, main, flags)
     if _trusted_library(target):
         return target
     with tempfile.TemporaryDirectory(dir=cache_dir()) as work:
@@ -122,6 +127,14 @@ def compile_shared(sources: dict[str, str], main: str, flags: tuple[str, ...] = 
     return target
 
 
+def controller_sources(model: Model, numeric: str) -> dict[str, str]:
+    """The files CController compiles: NAME.h and the batch shim, shim.c, that includes it."""
+    name = c_identifier(model.name)
+    shim = SHIM.format(name=name, P=name.upper() + "_", real=REAL_OF[numeric],
+                       n_in=len(model.signals), n_out=len(model.outputs))
+    return {f"{name}.h": generate_header(model, numeric), "shim.c": shim}
+
+
 class CController:
     """Same interface as `fuzzyc.controller.Controller`, running the generated C."""
 
@@ -130,11 +143,7 @@ class CController:
         self.numeric = numeric
         self.input_names = [s.name for s in model.signals]
         self.output_names = [o.name for o in model.outputs]
-        self.header = generate_header(model, numeric)
-        name = c_identifier(model.name)
-        shim = SHIM.format(name=name, P=name.upper() + "_", real=REAL_OF[numeric],
-                           n_in=len(model.signals), n_out=len(model.outputs))
-        path = compile_shared({f"{name}.h": self.header, "shim.c": shim}, "shim.c")
+        path = compile_shared(controller_sources(model, numeric), "shim.c")
         self._lib = ctypes.CDLL(str(path))
         dptr = ctypes.POINTER(ctypes.c_double)
         self._lib.fz_step.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr]

@@ -8,11 +8,13 @@ rule base itself cannot be said in the target format.
 from __future__ import annotations
 
 import math
+import re
 
 import numpy as np
 import sympy
 
 from ..errors import Diagnostic, FuzzycError
+from ..escape import name_problems
 from ..model import Connective, Hedge, Model, OutputKind, TermKind, Variable
 
 
@@ -22,6 +24,19 @@ def num(value: float) -> str:
     if math.isfinite(value) and value == int(value) and abs(value) < 1e15:
         return str(int(value))
     return repr(value)
+
+
+def model_identifier(model: Model) -> str:
+    """The model's name as .fz, FLL and FCL can say it: [A-Za-z_][A-Za-z0-9_]*."""
+    name = re.sub(r"[^A-Za-z0-9_]", "_", model.name) or "imported"
+    return name if re.match(r"[A-Za-z_]", name) else "_" + name
+
+
+def unsayable_names(model: Model, fmt: str) -> list[str]:
+    """The variable and term names of the rule base that are not letters, digits and _ (the
+    names of .fz, FLL and FCL): written as they are they would read back as something else."""
+    rb = model.rulebase
+    return name_problems([n for v in rb.inputs + rb.outputs for n in (v.name, *v.names)], fmt)
 
 
 def refuse(model: Model, fmt: str, problems: list[str]) -> None:

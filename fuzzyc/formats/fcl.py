@@ -26,8 +26,8 @@ from ..errors import Reporter
 from ..model import (Aggregation, Connective, Defuzzifier, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
 from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
-from .export import (all_singletons, finish, left_out, num, peaks_instead, rule_sentence,
-                     unsayable_hedges)
+from .export import (all_singletons, finish, left_out, model_identifier, num, peaks_instead,
+                     rule_sentence, unsayable_hedges, unsayable_names)
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
 OPERATORS = {
@@ -324,7 +324,7 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     rb = model.rulebase
     inf = rb.inference
     notes = left_out(model)
-    problems = unsayable_hedges(model, {}, "FCL")
+    problems = unsayable_hedges(model, {}, "FCL") + unsayable_names(model, "FCL")
     outputs, method = _fcl_method(model, problems, notes)
     # A weighted average is COGS over the per-rule activations summed per term.
     accu = Aggregation.SUM if inf.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE else inf.aggregation
@@ -334,7 +334,7 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
         notes.append(f"METHOD MM is {JFUZZYLOGIC}")
     comments = [f"(* {text.replace('*)', '* )')} *)"
                 for text in (model.title, *model.notes) if text]
-    lines = [*comments, f"FUNCTION_BLOCK {model.name}", ""]
+    lines = [*comments, f"FUNCTION_BLOCK {model_identifier(model)}", ""]
     for section, variables in (("VAR_INPUT", rb.inputs), ("VAR_OUTPUT", outputs)):
         lines += [section, *(f"  {v.name} : REAL;" for v in variables), "END_VAR", ""]
     for var in rb.inputs:

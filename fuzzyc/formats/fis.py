@@ -44,6 +44,7 @@ import numpy as np
 
 from ..builder import RuleSpec
 from ..errors import Reporter
+from ..escape import name_problems
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, SNorm,
                      SourceLoc, TermKind, TNorm, Variable)
 from ..membership import linear_coefficients
@@ -52,6 +53,7 @@ from .export import finish, left_out, num, peaks_instead, unsayable_hedges
 
 SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")
 KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$")
+FIS_NAME = re.compile(r"[^'%\x00-\x1f\x7f]*")   # quoted in '...'; % starts a comment
 MF = re.compile(r"'([^']*)'\s*:\s*'([^']*)'\s*,\s*\[([^\]]*)\]\s*$")
 RULE = re.compile(r"\s*([-\d.\s]+?)\s*,\s*([-\d.\s]+?)\s*\(\s*([-+\d.eE]+)\s*\)\s*:\s*(\d+)\s*$")
 SETTINGS = {
@@ -489,6 +491,6 @@ def _fis_rule(rb, r: int, problems: list[str]) -> str:
 
 
 def _quote(name: str, problems: list[str]) -> str:
-    if "'" in name or "%" in name:
-        problems.append(f"the name {name!r} cannot be quoted in a FIS file")
+    problems += name_problems([name], "FIS", FIS_NAME, "any text without ', % and line breaks "
+                                                       "or other control characters")
     return f"'{name}'"

@@ -33,13 +33,14 @@ import numpy as np
 from lark.exceptions import UnexpectedInput
 
 from ..errors import Reporter
+from ..escape import one_line
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
 from ..membership import linear_coefficients
 from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none)
-from .export import (all_singletons, finish, left_out, num, peaks_instead, rule_sentence,
-                     unsayable_hedges)
+from .export import (all_singletons, finish, left_out, model_identifier, num, peaks_instead,
+                     rule_sentence, unsayable_hedges, unsayable_names)
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
 HEDGES = {"very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT, "seldom": Hedge.SELDOM,
@@ -435,11 +436,12 @@ def write_fll(model: Model, warnings: list[str] | None = None) -> str:
     rb = model.rulebase
     inf = rb.inference
     notes = left_out(model)
-    problems = unsayable_hedges(model, FLL_HEDGES, "FLL")
+    problems = unsayable_hedges(model, FLL_HEDGES, "FLL") + unsayable_names(model, "FLL")
     outputs, aggregation, defuzzifier = _fll_defuzzifier(model, problems, notes)
-    lines = [f"# {note}" for note in model.notes] + [f"Engine: {model.name}"]
+    lines = [f"# {one_line(note)}" for note in model.notes]
+    lines.append(f"Engine: {model_identifier(model)}")
     if model.title:
-        lines.append(f"description: {model.title}")
+        lines.append(f"description: {one_line(model.title)}")
     for var in rb.inputs:
         lines += _fll_variable("InputVariable", var, problems, is_input=True)
     for var in outputs:

@@ -8,16 +8,16 @@ its bare rule base, with warnings naming what was left out.
 from __future__ import annotations
 
 import math
-import re
 
 import numpy as np
 
 from ..model import (Aggregation, Defuzzifier, Hedge, Implication, Model, SNorm,
                      TermKind, TNorm, Variable)
 from ..builder import PLAIN_SHAPES
+from ..escape import one_line
 from ..membership import linear_coefficients
 from .common import OUTPUT_SUFFIX
-from .export import left_out, num, refuse, rule_sentence
+from .export import left_out, model_identifier, num, refuse, rule_sentence, unsayable_names
 
 FZ_HEDGES = {h: h.name.lower() for h in Hedge if h != Hedge.NONE}
 FZ_INFERENCE = (
@@ -31,11 +31,9 @@ FZ_INFERENCE = (
 
 def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     rb = model.rulebase
-    problems: list[str] = []
-    name = re.sub(r"\W", "_", model.name) or "imported"
-    if not re.match(r"[A-Za-z_]", name):
-        name = "_" + name
-    lines = [f"controller {name} {_string(model.title)} {{".replace("  ", " ")]
+    problems = unsayable_names(model, ".fz")
+    lines = [f"controller {model_identifier(model)} {_string(model.title)} {{"
+             .replace("  ", " ")]
     lines += [f"  note {_string(n)}" for n in model.notes]
     for var in rb.inputs:
         lines.append(f"  input {var.name}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}]")
@@ -61,8 +59,9 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
 
 
 def _string(text: str) -> str:
-    """A .fz string literal (the language has no escapes: quotes and backslashes are replaced)."""
-    return '"' + text.replace("\\", "/").replace('"', "'").replace("\n", " ") + '"'
+    """A .fz string literal on one line (the language has no escapes: quotes and backslashes
+    are replaced)."""
+    return '"' + one_line(text).replace("\\", "/").replace('"', "'") + '"'
 
 
 def _unit(var: Variable) -> str:
