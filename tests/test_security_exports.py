@@ -1,0 +1,132 @@
+"""Issue 13, exports: a model whose names or texts are hostile is written so that it reads back
+to the same rule base, or refused with a message naming the name; never a file that parses to
+something else."""
+from __future__ import annotations
+
+import tempfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import HealthCheck, assume, given, settings, strategies as st
+
+from fuzzyc.engine import evaluate
+from fuzzyc.errors import FuzzycError
+from fuzzyc.escape import SAFE_NAME
+from fuzzyc.formats import load_any, save
+
+FIS = """\
+[System]
+Name='m'
+Type='sugeno'
+Version=2.0
+NumInputs=1
+NumOutputs=1
+NumRules=2
+AndMethod='min'
+OrMethod='max'
+ImpMethod='prod'
+AggMethod='sum'
+DefuzzMethod='wtaver'
+
+[Input1]
+Name='{x}'
+Range=[0 1]
+NumMFs=2
+MF1='{lo}':'trimf',[-1 0 1]
+MF2='{hi}':'trimf',[0 1 2]
+
+[Output1]
+Name='{u}'
+Range=[0 10]
+NumMFs=2
+MF1='{small}':'constant',[2]
+MF2='{big}':'constant',[8]
+
+[Rules]
+1, 1 (1) : 1
+2, 2 (1) : 1
+"""
+KEYS = ("x", "lo", "hi", "u", "small", "big")
+FORMATS = (".fz", ".fll", ".fcl", ".fis")
+
+
+def names_of(model) -> list[str]:
+    rb = model.rulebase
+    return [n for v in rb.inputs + rb.outputs for n in (v.name, *v.names)]
+
+
+def fis_model(folder: Path, names: dict[str, str]):
+    path = folder / "m.fis"
+    path.write_text(FIS.format(**names))
+    return load_any(path)
+
+
+def test_hostile_names_are_refused_by_name_or_kept(tmp_path):
+    names = dict(zip(KEYS, ("x */ int injected = 5; /* y", "lo", "hi", "u", "a b", "big")))
+    model = fis_model(tmp_path, names)
+    for suffix in (".fz", ".fll", ".fcl"):
+        with pytest.raises(FuzzycError) as refused:
+            save(model, tmp_path / f"out{suffix}")
+        message = str(refused.value)
+        assert "'x */ int injected = 5; /* y' cannot be written" in message
+        assert "'a b' cannot be written" in message
+        assert not (tmp_path / f"out{suffix}").exists()
+    save(model, tmp_path / "out.fis")       # FIS quotes its names: they are kept
+    back = load_any(tmp_path / "out.fis")
+    assert names_of(back) == names_of(model)
+    x = np.array([[0.0], [0.25], [1.0]])
+    # wtaver of 2 and 8 with weights (1 - x, x): 2 + 6x = 2, 3.5, 8
+    assert np.allclose(evaluate(back.rulebase, x)[:, 0], [2.0, 3.5, 8.0])
+
+
+def test_fis_refuses_what_its_quotes_cannot_hold(tmp_path):
+    model = fis_model(tmp_path, dict(zip(KEYS, ("x", "lo", "hi", "u", "small", "big"))))
+    var = model.rulebase.inputs[0]
+    var.names[0] = "it's"
+    var.names[1] = "line\nbreak"
+    with pytest.raises(FuzzycError) as refused:
+        save(model, tmp_path / "out.fis")
+    assert "\"it's\" cannot be written in FIS" in str(refused.value)
+    assert "'line\\nbreak' cannot be written in FIS" in str(refused.value)
+
+
+def test_titles_and_notes_stay_on_their_line(tmp_path):
+    source = tmp_path / "m.fis"
+    source.write_text(FIS.format(**dict(zip(KEYS, ("x", "lo", "hi", "u", "small", "big")))))
+    model = load_any(source)
+    model.title = 'title\nInputVariable: z\n  term: q Constant 1\n"}\\'
+    model.notes = ["note\nrule if x is lo then u is big"]
+    for suffix in FORMATS:
+        save(model, tmp_path / f"out{suffix}")
+        back = load_any(tmp_path / f"out{suffix}")
+        assert names_of(back) == names_of(model)
+        assert back.rulebase.n_rules == 2
+        np.testing.assert_array_equal(back.rulebase.consequents, model.rulebase.consequents)
+
+
+NASTY = st.text(alphabet="ab_9 */\\'%\n#:;=,[]()\"$é.-", min_size=1, max_size=5)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(st.tuples(*([NASTY] * len(KEYS))))
+def test_any_names_read_back_the_same_or_are_refused(values):
+    names = dict(zip(KEYS, values))
+    with tempfile.TemporaryDirectory() as work:
+        folder = Path(work)
+        try:
+            model = fis_model(folder, names)
+        except FuzzycError:
+            assume(False)     # the FIS reader refused them (duplicates, quotes, ...)
+        for suffix in FORMATS:
+            out = folder / f"out{suffix}"
+            try:
+                save(model, out)
+            except FuzzycError as exc:
+                unsafe = [n for n in names_of(model) if not SAFE_NAME.fullmatch(n)]
+                assert suffix == ".fis" or unsafe, str(exc)
+                continue
+            back = load_any(out)
+            assert names_of(back) == names_of(model)
+            np.testing.assert_array_equal(back.rulebase.antecedents, model.rulebase.antecedents)
+            np.testing.assert_array_equal(back.rulebase.consequents, model.rulebase.consequents)
