@@ -14,39 +14,8 @@ from fuzzyc.engine import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.escape import SAFE_NAME
 from fuzzyc.formats import load_any, save
+from hostile_fis import sugeno_fis
 
-FIS = """\
-[System]
-Name='m'
-Type='sugeno'
-Version=2.0
-NumInputs=1
-NumOutputs=1
-NumRules=2
-AndMethod='min'
-OrMethod='max'
-ImpMethod='prod'
-AggMethod='sum'
-DefuzzMethod='wtaver'
-
-[Input1]
-Name='{x}'
-Range=[0 1]
-NumMFs=2
-MF1='{lo}':'trimf',[-1 0 1]
-MF2='{hi}':'trimf',[0 1 2]
-
-[Output1]
-Name='{u}'
-Range=[0 10]
-NumMFs=2
-MF1='{small}':'constant',[2]
-MF2='{big}':'constant',[8]
-
-[Rules]
-1, 1 (1) : 1
-2, 2 (1) : 1
-"""
 KEYS = ("x", "lo", "hi", "u", "small", "big")
 FORMATS = (".fz", ".fll", ".fcl", ".fis")
 
@@ -58,7 +27,8 @@ def names_of(model) -> list[str]:
 
 def fis_model(folder: Path, names: dict[str, str]):
     path = folder / "m.fis"
-    path.write_text(FIS.format(**names))
+    path.write_text(sugeno_fis("m", [(names["x"], names["lo"], names["hi"])],
+                               (names["u"], names["small"], names["big"])))
     return load_any(path)
 
 
@@ -92,9 +62,7 @@ def test_fis_refuses_what_its_quotes_cannot_hold(tmp_path):
 
 
 def test_titles_and_notes_stay_on_their_line(tmp_path):
-    source = tmp_path / "m.fis"
-    source.write_text(FIS.format(**dict(zip(KEYS, ("x", "lo", "hi", "u", "small", "big")))))
-    model = load_any(source)
+    model = fis_model(tmp_path, dict(zip(KEYS, ("x", "lo", "hi", "u", "small", "big"))))
     model.title = 'title\nInputVariable: z\n  term: q Constant 1\n"}\\'
     model.notes = ["note\nrule if x is lo then u is big"]
     for suffix in FORMATS:

@@ -18,56 +18,13 @@ from fuzzyc.engine import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.escape import OutputFolder
 from fuzzyc.formats import load_any
+from hostile_fis import sugeno_fis
 
-FIS = """\
-[System]
-Name='../../up'
-Type='sugeno'
-Version=2.0
-NumInputs=3
-NumOutputs=1
-NumRules=2
-AndMethod='min'
-OrMethod='max'
-ImpMethod='prod'
-AggMethod='sum'
-DefuzzMethod='wtaver'
-
-[Input1]
-Name='a/../../../x'
-Range=[0 1]
-NumMFs=2
-MF1='lo':'trimf',[-1 0 1]
-MF2='hi':'trimf',[0 1 2]
-
-[Input2]
-Name='a_.._.._.._x'
-Range=[0 1]
-NumMFs=2
-MF1='lo':'trimf',[-1 0 1]
-MF2='hi':'trimf',[0 1 2]
-
-[Input3]
-Name='$\\frac{$'
-Range=[0 1]
-NumMFs=2
-MF1='lo':'trimf',[-1 0 1]
-MF2='hi':'trimf',[0 1 2]
-
-[Output1]
-Name='/tmp/u'
-Range=[0 10]
-NumMFs=2
-MF1='small':'constant',[2]
-MF2='big':'constant',[8]
-
-[Rules]
-1 1 1, 1 (1) : 1
-2 2 2, 2 (1) : 1
-"""
-
+FIS = sugeno_fis("../../up", [("a/../../../x", "lo", "hi"), ("a_.._.._.._x", "lo", "hi"),
+                               ("$\\frac{$", "lo", "hi")], ("/tmp/u", "small", "big"))
 # The same with names that do not meet as C names.
-C_FIS = FIS.replace("Name='a_.._.._.._x'", "Name='w'").replace("Name='$\\frac{$'", "Name='z'")
+C_FIS = sugeno_fis("../../up", [("a/../../../x", "lo", "hi"), ("w", "lo", "hi"),
+                                ("z", "lo", "hi")], ("/tmp/u", "small", "big"))
 
 
 def every_file(folder: Path) -> set[Path]:

@@ -18,6 +18,7 @@ from fuzzyc.backends.lut import LookupTable, generate_lut_header
 from fuzzyc.errors import FuzzycError
 from fuzzyc.escape import SAFE_NAME, c_comment, c_identifier
 from fuzzyc.formats import load_any
+from hostile_fis import sugeno_fis
 
 pytestmark = pytest.mark.skipif(shutil.which("gcc") is None or shutil.which("nm") is None,
                                 reason="needs gcc and nm (binutils)")
@@ -62,45 +63,12 @@ RuleBlock: rules
   rule: if x is hi then u is big
 """
 
-FIS = """\
-[System]
-Name='sys */ int injected_sys = 5; /* x'
-Type='sugeno'
-Version=2.0
-NumInputs=2
-NumOutputs=1
-NumRules=2
-AndMethod='min'
-OrMethod='max'
-ImpMethod='prod'
-AggMethod='sum'
-DefuzzMethod='wtaver'
-
-[Input1]
-Name='a/../x */ int injected_in = 5; /* y'
-Range=[0 10]
-NumMFs=2
-MF1='lo */ int injected_term = 5; /* b':'trimf',[-10 0 10]
-MF2='hi':'trimf',[0 10 20]
-
-[Input2]
-Name='b*??/'
-Range=[0 10]
-NumMFs=2
-MF1='lo':'trimf',[-10 0 10]
-MF2='hi':'trimf',[0 10 20]
-
-[Output1]
-Name='out */ int injected_out = 5; /* z'
-Range=[0 30]
-NumMFs=2
-MF1='small */ int injected_oterm = 5; /* ':'constant',[5]
-MF2='big':'constant',[25]
-
-[Rules]
-1 1, 1 (1) : 1
-2 2, 2 (1) : 1
-"""
+FIS = sugeno_fis("sys */ int injected_sys = 5; /* x",
+                 [("a/../x */ int injected_in = 5; /* y", "lo */ int injected_term = 5; /* b",
+                   "hi"),
+                  ("b*??/", "lo", "hi")],
+                 ("out */ int injected_out = 5; /* z", "small */ int injected_oterm = 5; /* ",
+                  "big"))
 
 
 def compiled(header: str, tmp_path) -> tuple[str, str]:
@@ -214,8 +182,8 @@ def test_c_identifier_is_an_identifier(name):
 
 def test_names_that_meet_as_c_names_are_refused(tmp_path):
     path = tmp_path / "clash.fis"
-    path.write_text(FIS.replace("Name='b*??/'", "Name='a-b'")
-                    .replace("Name='a/../x */ int injected_in = 5; /* y'", "Name='a_b'"))
+    path.write_text(sugeno_fis("m", [("a_b", "lo", "hi"), ("a-b", "lo", "hi")],
+                               ("u", "small", "big")))
     model = load_any(path)
     with pytest.raises(FuzzycError, match="`a_b` and `a-b` give the same C name a_b"):
         generate_header(model)
