@@ -30,7 +30,8 @@ def plot_variable(var: Variable, path: Path) -> Path:
         else:
             ax.plot(x, mu[:, t], lw=1.6, label=plot_text(name))
     unit = f" [{var.unit}]" if var.unit else ""
-    ax.set(xlabel=plot_text(var.name + unit), ylabel="membership", ylim=(-0.03, 1.08), xlim=(var.lo, var.hi))
+    ax.set(xlabel=plot_text(var.name + unit), ylabel="membership", ylim=(-0.03, 1.08),
+           xlim=(var.lo, var.hi))
     if var.n_terms <= 12:
         ax.legend(loc="upper center", ncol=min(var.n_terms, 7), fontsize=7, frameon=False,
                   bbox_to_anchor=(0.5, 1.25))

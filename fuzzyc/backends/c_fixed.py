@@ -378,8 +378,8 @@ class FixedPointWriter:
             rows.append(row)
         ids = part.table[:, 6:8].astype(int)
         nb = len(breaks)
-        return [f"/* {c_comment(var.name)}: break points, and per segment (anchor, width, offset) x 2 in "
-                f"input units at 2^-{gi} of an LSB (width 0 = constant). */",
+        return [f"/* {c_comment(var.name)}: break points, and per segment (anchor, width, "
+                f"offset) x 2 in input units at 2^-{gi} of an LSB (width 0 = constant). */",
                 f"static const int64_t {P}BREAKS_{i}[{nb}] = {_ints(breaks)};",
                 f"static const int64_t {P}PIECES_{i}[{nb + 1}][6] = "
                 "{" + ", ".join(_ints(r) for r in rows) + "};",
@@ -447,8 +447,8 @@ class FixedPointWriter:
         for o, var in enumerate(rb.outputs):
             if self.weighted_sum:   # value / range * FULL * 2^G: relative to 0, not to lo
                 scale = self.full * 2.0 ** self.guard[o] / (var.hi - var.lo)
-                out.append(f"/* {c_comment(var.name)}: peaks at 2^-{self.guard[o]} of an output LSB, "
-                           f"relative to the value 0 (a weighted sum is not normalised). */")
+                out.append(f"/* {c_comment(var.name)}: peaks at 2^-{self.guard[o]} of an output "
+                           "LSB, relative to the value 0 (a weighted sum is not normalised). */")
                 out.append(f"static const int64_t {P}PEAKS_{o}[{var.n_terms}] = "
                            + _ints([round(v * scale) for v in var.peaks()]) + ";")
             else:
