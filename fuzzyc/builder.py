@@ -13,7 +13,7 @@ import numpy as np
 import sympy
 
 from . import units
-from .errors import Reporter, suggest
+from .errors import Reporter, source_lines, suggest
 from .model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                     Op, Output, OutputKind, Param, Property, RuleBase, Signal, SNorm, SourceLoc,
                     Step, TermKind, TNorm, Variable)
@@ -136,8 +136,10 @@ class Builder:
     def _range(self, rng, what: str) -> tuple[float, float] | None:
         lo, hi = rng
         if not lo.value < hi.value:
+            fix = ("write the lower bound first" if lo.value > hi.value
+                   else "the upper bound must be above the lower")
             self.error(lo.loc, f"the range of {what} is empty: [{lo.value:g}, {hi.value:g}]; "
-                               "write the lower bound first")
+                               f"{fix}")
             return None
         return lo.value, hi.value
 
@@ -172,6 +174,8 @@ class Builder:
     def _stmt_input(self, s: Stmt) -> None:
         name = s.data["name"]
         rng = self._range(s.data["range"], f"input `{name.text}`")
+        if rng is None:
+            self.broken.add(name.text)
         if self._declare(name, "input") and rng:
             unit = units.make(s.data["unit"]) if s.data["unit"] else None
             self.signals[name.text] = Signal(name.text, rng[0], rng[1],
@@ -185,7 +189,7 @@ class Builder:
         declared = units.make(s.data["unit"]) if s.data["unit"] else None
         expr, unit = self._sympy(s.data["expr"], allow_stateful=True, owner=name.text)
         rng = self._range(s.data["range"], f"`{name.text}`") if s.data["range"] else None
-        if expr is None:
+        if expr is None or (s.data["range"] and rng is None):
             self.broken.add(name.text)
             return
         if declared is not None and unit is not None and declared != unit:
@@ -208,8 +212,10 @@ class Builder:
             return
         var = _LinguisticVar(name.text, name.loc)
         rng = self._range(s.data["range"], f"`{name.text}`")
-        if rng:
-            var.lo, var.hi = rng
+        if rng is None:   # reported; its terms, rules and tables say nothing more
+            self.broken.add(name.text)
+            return
+        var.lo, var.hi = rng
         if s.data["unit"]:
             var.unit = units.make(s.data["unit"])
         if s.data["default"] is not None:
@@ -393,6 +399,8 @@ class Builder:
 
     def _output_var(self, name: Name) -> _LinguisticVar | None:
         var = self.vars.get(name.text)
+        if var is None and name.text in self.broken:
+            return None
         if var is None:
             known = [v for v, lv in self.vars.items() if not lv.is_input]
             self.error(name.loc, f"unknown output `{name.text}`: {suggest(name.text, known)}")
@@ -652,13 +660,19 @@ class Builder:
             return sympy.Symbol(name), self.units.get(name)
         if op == "call":
             return self._call(node, allow_stateful, owner)
-        parts = [self._sympy(a, allow_stateful, owner) for a in node.args]
-        if any(p[0] is None for p in parts):
-            return None, None
-        (a, ua), *rest = parts
         if op == "neg":
-            return -a, ua
-        b, ub = rest[0]
+            a, ua = self._sympy(node.args[0], allow_stateful, owner)
+            return (None, None) if a is None else (-a, ua)
+        return fold_left(node, lambda n: self._sympy(n, allow_stateful, owner),
+                         self._sympy_binary)
+
+    def _sympy_binary(self, node: Expr, left, right):
+        """(sympy, unit) of a binary `node` from its operands' (either (None, None) after an
+        error)."""
+        op = node.op
+        (a, ua), (b, ub) = left, right
+        if a is None or b is None:
+            return None, None
         if op in ("add", "sub"):
             return (a + b if op == "add" else a - b), self._same_unit(ua, ub, node, op)
         if op == "mul":
@@ -749,7 +763,7 @@ class Builder:
                                                 self._source_text(prop)))
 
     def _source_text(self, s: Stmt) -> str:
-        lines = self.rep.text.splitlines()
+        lines = source_lines(self.rep.text)
         if s.end is None or s.loc.line > len(lines):
             return ""
         if s.loc.line == s.end.line:
@@ -877,12 +891,13 @@ class Builder:
         if node.op == "call":
             self.error(node.loc, f"`{node.name}` is not allowed in a loop property: abs, min, max")
             return None
-        args = [self._free_expr(a) for a in node.args]
-        if None in args:
-            return None
+        if node.op == "neg":
+            arg = self._free_expr(node.args[0])
+            return None if arg is None else -arg
         ops = {"add": lambda a, b: a + b, "sub": lambda a, b: a - b, "mul": lambda a, b: a * b,
-               "div": lambda a, b: a / b, "pow": lambda a, b: a ** b, "neg": lambda a: -a}
-        return ops[node.op](*args)
+               "div": lambda a, b: a / b, "pow": lambda a, b: a ** b}
+        return fold_left(node, self._free_expr, lambda n, a, b: None if a is None or b is None
+                         else ops[n.op](a, b))
 
     def _temporal(self, item: Stmt):
         d = item.data
@@ -927,6 +942,23 @@ class Builder:
             if any(params[n_inputs + 1:]):     # zeros are the (T, 4) padding
                 self.error(loc, f"linear `{name}` has more coefficients than c0 and one per "
                                 f"rule-base input ({n_inputs})")
+
+
+BINARY_OPS = ("add", "sub", "mul", "div", "pow")
+
+
+def fold_left(node: Expr, leaf, binary):
+    """Evaluate an expression tree without recursing down left operands: a sum of 1000 terms is
+    a left-deep chain 1000 deep. `leaf(n)` gives the value of a node that is no binary operator
+    (and of every right operand), `binary(n, left_value, right_value)` that of a binary node."""
+    spine = []
+    while node.op in BINARY_OPS:
+        spine.append(node)
+        node = node.args[0]
+    value = leaf(node)
+    for parent in reversed(spine):
+        value = binary(parent, value, leaf(parent.args[1]))
+    return value
 
 
 def assemble_rulebase(inputs: list[Variable], outputs: list[Variable], rules: list[RuleSpec],

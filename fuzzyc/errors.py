@@ -5,8 +5,16 @@ from __future__ import annotations
 
 import difflib
 from dataclasses import dataclass, field
+from pathlib import Path
 
 from .model import SourceLoc
+
+
+def source_lines(text: str) -> list[str]:
+    r"""The lines as lark numbers them: split at newlines only (str.splitlines also splits at
+    vertical tab, form feed, U+2028 and others, which would put the caret on the wrong line);
+    the \r of a \r\n ending is dropped."""
+    return [line.removesuffix("\r") for line in text.split("\n")]
 
 
 @dataclass
@@ -20,7 +28,8 @@ class Diagnostic:
             return f"error: {self.message}"
         text = f"{self.loc}: error: {self.message}"
         if self.source_line is not None:
-            line = self.source_line.rstrip("\n").expandtabs(1)
+            # One column per character: a tab, a form feed or a U+2028 shows as a space.
+            line = "".join(c if c.isprintable() else " " for c in self.source_line.rstrip("\r\n"))
             caret = " " * max(self.loc.col - 1, 0) + "^"
             text += f"\n    {line}\n    {caret}"
         return text
@@ -32,6 +41,25 @@ class FuzzycError(Exception):
     def __init__(self, diagnostics: list[Diagnostic]):
         self.diagnostics = diagnostics
         super().__init__("\n".join(d.format() for d in diagnostics))
+
+
+def read_source(path: str | Path) -> str:
+    """A rule file's text (UTF-8, a byte-order mark allowed); FuzzycError when it cannot be read,
+    with file:line:col of the first byte that is not UTF-8."""
+    try:
+        data = Path(path).read_bytes()
+    except OSError as exc:
+        raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
+    try:
+        return data.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        line_start = data.rfind(b"\n", 0, exc.start) + 1
+        line = data.count(b"\n", 0, exc.start) + 1
+        col = len(data[line_start:exc.start].decode("utf-8-sig", errors="replace")) + 1
+        shown = data[line_start:].split(b"\n", 1)[0].decode("utf-8-sig", errors="replace")
+        raise FuzzycError([Diagnostic(SourceLoc(str(path), line, col),
+                                      f"byte 0x{data[exc.start]:02x} is not UTF-8: save the file "
+                                      "as UTF-8", shown)]) from None
 
 
 @dataclass
@@ -47,7 +75,7 @@ class Reporter:
     def error(self, loc: SourceLoc | None, message: str) -> None:
         line = None
         if loc is not None and self.text:
-            lines = self.text.splitlines()
+            lines = source_lines(self.text)
             if 1 <= loc.line <= len(lines):
                 line = lines[loc.line - 1]
         self.diagnostics.append(Diagnostic(loc, message, line))

@@ -10,16 +10,20 @@ import re
 from importlib import resources
 from pathlib import Path
 
-from lark import Lark, Token
+from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from .builder import Builder
-from .errors import Diagnostic, FuzzycError, Reporter
+from .errors import Reporter, read_source, source_lines
 from .model import Model
 from .syntax import ToSyntax
 
 STATEMENT_KEYWORDS = ("period", "param", "input", "let", "var", "terms", "inference", "rule",
                       "table", "output", "note", "verify")
+
+# Tree depth the transformer and the builder recurse through (Python's stack stops near 1000
+# frames; a statement and its expression's operators each take a level).
+MAX_NESTING = 200
 
 # How the parser's terminal names read in a message.
 READABLE = {
@@ -44,12 +48,7 @@ def _lark() -> Lark:
 
 def load(path: str | Path) -> Model:
     """Parse and check a .fz file; raises FuzzycError with every diagnostic found."""
-    path = Path(path)
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
-    return parse(text, str(path))
+    return parse(read_source(path), str(path))
 
 
 def parse(text: str, path: str = "<string>") -> Model:
@@ -60,13 +59,31 @@ def parse(text: str, path: str = "<string>") -> Model:
         _report_syntax_errors(text, reporter)
         reporter.raise_if_any()
         raise AssertionError("a syntax error was found but not reported")  # pragma: no cover
+    too_deep = _first_too_deep(tree)
+    if too_deep is not None:
+        reporter.error(reporter.loc(too_deep.meta.line, too_deep.meta.column),
+                       f"an expression nested more than {MAX_NESTING} operators deep; split it "
+                       "with `let` signals")
+        reporter.raise_if_any()
     syntax = ToSyntax(path).transform(tree)
     return Builder(reporter).build(syntax, text, path)
 
 
+def _first_too_deep(tree: Tree) -> Tree | None:
+    """The first node nested deeper than MAX_NESTING: what follows recurses through the tree, and
+    long sums and products are flat lists, so only brackets nest this deep."""
+    stack = [(tree, 1)]
+    while stack:
+        node, depth = stack.pop()
+        if depth > MAX_NESTING:
+            return node
+        stack.extend((child, depth + 1) for child in node.children if isinstance(child, Tree))
+    return None
+
+
 def _report_syntax_errors(text: str, reporter: Reporter) -> None:
     """Parse statement by statement so that independent mistakes are all reported."""
-    lines = text.splitlines()
+    lines = source_lines(text)
     chunks = _statement_chunks(lines)
     if not chunks:
         _report(_first_error(text, "start"), reporter)
@@ -107,11 +124,12 @@ def _report(exc: UnexpectedInput | None, reporter: Reporter) -> None:
     if exc is None:
         return
     if isinstance(exc, UnexpectedCharacters):
-        char = reporter.text.splitlines()[exc.line - 1][exc.column - 1] if exc.line > 0 else "?"
-        reporter.error(reporter.loc(exc.line, exc.column), f"unexpected character `{char}`")
+        char = f"`{exc.char}`" if exc.char.isprintable() else f"U+{ord(exc.char):04X}"
+        reporter.error(reporter.loc(exc.line, exc.column), f"unexpected character {char}")
         return
     if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken) and exc.token.type == "$END"):
-        last = max(len(reporter.text.splitlines()), 1)
+        lines = source_lines(reporter.text)
+        last = max(len(lines) - (lines[-1] == ""), 1)
         reporter.error(reporter.loc(last, 1), "the file ends too early: a statement or the "
                                               "closing `}` of the controller is missing")
         return

@@ -35,6 +35,14 @@ class Expr:
     name: str = ""
 
 
+def _fold_left(items: list) -> Expr:
+    """[a, op, b, op, c, ...] -> op(op(a, b), c): each binary Expr at its left operand's place."""
+    left = items[0]
+    for op, right in zip(items[1::2], items[2::2]):
+        left = Expr(op, [left, right], items[0].loc)
+    return left
+
+
 @dataclass
 class Clause:
     var: Name
@@ -134,17 +142,16 @@ class ToSyntax(Transformer):
         return items[0]
 
     # ---- expressions
-    def add(self, items):
-        return Expr("add", list(items), items[0].loc)
+    def sum(self, items):
+        return _fold_left(items)
 
-    def sub(self, items):
-        return Expr("sub", list(items), items[0].loc)
+    product = sum
 
-    def mul(self, items):
-        return Expr("mul", list(items), items[0].loc)
+    def add_op(self, items):
+        return {"+": "add", "-": "sub"}[str(items[0])]
 
-    def div(self, items):
-        return Expr("div", list(items), items[0].loc)
+    def mul_op(self, items):
+        return {"*": "mul", "/": "div"}[str(items[0])]
 
     def pow(self, items):
         return Expr("pow", list(items), items[0].loc)

@@ -13,7 +13,7 @@ import re
 from pathlib import Path
 
 from ..atomic import write_text
-from ..errors import Diagnostic, FuzzycError
+from ..errors import Diagnostic, FuzzycError, read_source
 from ..model import Model
 from .fcl import read_fcl, write_fcl
 from .fis import read_fis, write_fis
@@ -42,10 +42,7 @@ def load_any(path: str | Path) -> Model:
     if suffix not in READERS:
         raise FuzzycError([Diagnostic(None, f"cannot read `{path}`: unknown extension "
                                             f"`{suffix}` (known: .fz .fll .fcl .fis)")])
-    try:
-        text = path.read_text(encoding="utf-8")
-    except (OSError, UnicodeDecodeError) as exc:
-        raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
+    text = read_source(path)
     if block is not None:
         return read_fcl(text, str(path), block)
     return READERS[suffix](text, str(path))

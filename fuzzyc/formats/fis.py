@@ -43,7 +43,7 @@ import re
 import numpy as np
 
 from ..builder import RuleSpec
-from ..errors import Reporter
+from ..errors import Reporter, source_lines
 from ..escape import name_problems
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, SNorm,
                      SourceLoc, TermKind, TNorm, Variable)
@@ -84,7 +84,7 @@ class _FisReader:
         self.pending_rules: list[tuple[int, str]] = []
 
     def read(self, text: str) -> Model:
-        for number, line in enumerate(text.splitlines(), start=1):
+        for number, line in enumerate(source_lines(text), start=1):
             body = line.split("%", 1)[0]
             if body.strip():
                 self._line(number, body)

@@ -32,7 +32,7 @@ import re
 import numpy as np
 from lark.exceptions import UnexpectedInput
 
-from ..errors import Reporter
+from ..errors import Reporter, source_lines
 from ..escape import one_line
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
@@ -104,7 +104,7 @@ class _FllReader:
         return self.rep.loc(line.number, col)
 
     def read(self, text: str) -> Model:
-        for number, raw in enumerate(text.splitlines(), start=1):
+        for number, raw in enumerate(source_lines(text), start=1):
             if raw.split("#", 1)[0].strip():
                 self._line(_Line(number, raw))
         for line in self.rule_lines:   # after every variable, wherever the rule blocks stand
