@@ -11,6 +11,8 @@ import os
 import secrets
 from pathlib import Path
 
+from .errors import Diagnostic, FuzzycError
+
 
 def _create_beside(path: Path) -> Path:
     """A new empty file next to `path` (O_EXCL: never one that already exists)."""
@@ -25,16 +27,26 @@ def _create_beside(path: Path) -> Path:
 
 @contextlib.contextmanager
 def atomic_path(path: str | Path):
-    """Yields a temporary path in the target's folder; renamed onto `path` on success."""
+    """Yields a temporary path in the target's folder; renamed onto `path` on success.
+    An OSError on the way (a full disk, a read-only folder) is a FuzzycError naming `path`."""
     path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = _create_beside(path)
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        tmp = _create_beside(path)
+    except OSError as exc:
+        raise cannot_write(path, exc.strerror or str(exc)) from exc
     try:
         yield Path(tmp)
         os.replace(tmp, path)
+    except OSError as exc:
+        raise cannot_write(path, exc.strerror or str(exc)) from exc
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def cannot_write(path: str | Path, reason: str) -> FuzzycError:
+    return FuzzycError([Diagnostic(None, f"cannot write to {path}: {reason}")])
 
 
 def write_text(path: str | Path, text: str) -> None:

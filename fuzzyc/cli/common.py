@@ -1,5 +1,52 @@
 """What the command modules share."""
+from __future__ import annotations
+
+import os
+import tempfile
+from pathlib import Path
+
+from ..atomic import cannot_write
 
 # What every command that reads through formats.load_any says of its rule-file argument.
 RULE_FILE_HELP = ("a .fz, .fll, .fcl or .fis rule file; FILE.fcl::NAME reads the FUNCTION_BLOCK "
                   "NAME of an FCL file that has several")
+
+
+def check_output(path: str | Path, folder: bool = False) -> None:
+    """Before any work: FuzzycError `cannot write to PATH: reason` unless PATH can be written,
+    a folder (folder=True) or a file, made with its missing parent folders. Tried for real,
+    by creating and removing a temporary file (or folder) where the first one would go: a
+    read-only folder, /proc or a name under a file (/dev/full/x) all fail here, in a moment,
+    not after a long simulation or training."""
+    path = Path(path)
+    try:
+        reason = _unwritable(path, folder)
+    except OSError as exc:   # e.g. a parent folder that may not be searched
+        reason = exc.strerror or str(exc)
+    if reason:
+        raise cannot_write(path, reason)
+
+
+def _unwritable(path: Path, folder: bool) -> str | None:
+    if path.exists() or path.is_symlink():
+        if folder and not path.is_dir():
+            return "it is a file, not a folder"
+        if not folder and not path.is_file():
+            # the file is replaced atomically: a folder, a device or a pipe cannot be
+            return "it is a folder" if path.is_dir() else "it is not a regular file"
+    target = path if folder else path.parent
+    existing = target
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir():
+        return f"{existing} is not a folder"
+    try:
+        if existing == target:
+            fd, probe = tempfile.mkstemp(prefix=".fuzzyc-probe-", dir=existing)
+            os.close(fd)
+            os.unlink(probe)
+        else:
+            os.rmdir(tempfile.mkdtemp(prefix=".fuzzyc-probe-", dir=existing))
+    except OSError as exc:
+        return f"cannot create anything in {existing} ({exc.strerror or exc})"
+    return None

@@ -4,7 +4,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..atomic import write_text
-from .common import RULE_FILE_HELP
+from .common import RULE_FILE_HELP, check_output
 
 NUMERIC = ("float", "double", "q15", "q31")
 
@@ -45,6 +45,7 @@ def run(args) -> int:
     from ..escape import c_identifier
     from ..backends.cload import footprint
     from ..formats import load_any
+    check_output(args.output, folder=True)
     model = load_any(args.file)
     name = c_identifier(model.name)
     if args.target == "lut":

@@ -8,7 +8,7 @@ from __future__ import annotations
 import sys
 from pathlib import Path
 
-from .common import RULE_FILE_HELP
+from .common import RULE_FILE_HELP, check_output
 
 
 def add_parser(subparsers) -> None:
@@ -26,6 +26,7 @@ def run(args) -> int:
     from ..errors import Diagnostic, FuzzycError
     from ..formats import WRITERS, load_any, save
 
+    check_output(args.output)
     model = load_any(args.input)
     imported = _suffix(args.input) != ".fz"   # a .fz file's notes are its own findings
     for note in model.notes if imported else []:

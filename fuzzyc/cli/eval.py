@@ -15,7 +15,7 @@ import sys
 import numpy as np
 
 from .common import RULE_FILE_HELP
-from ..errors import Diagnostic, FuzzycError
+from ..errors import Diagnostic, FuzzycError, read_source, source_lines
 from ..model import Model
 
 
@@ -136,11 +136,7 @@ def _print_table(model: Model, rb_inputs, outputs, fired) -> None:
 
 def _run_csv(model: Model, args) -> int:
     names = input_names(model, args.core)
-    try:
-        with open(args.csv, newline="", encoding="utf-8") as handle:
-            rows = list(csv.reader(handle))
-    except OSError as exc:
-        raise _fail(f"cannot read {args.csv}: {exc}") from None
+    rows = read_csv(args.csv)
     if not rows:
         raise _fail(f"{args.csv}: the file is empty; its first line must name the inputs")
     header = [h.strip() for h in rows[0]]
@@ -156,7 +152,8 @@ def _run_csv(model: Model, args) -> int:
                 columns[name][line_no - 2] = float(row[col])
             except (ValueError, IndexError):
                 cell = row[col] if col < len(row) else ""
-                raise _fail(f"{args.csv}:{line_no}:{col + 1}: `{cell}` is not a number "
+                shown = cell if len(cell) <= 40 else cell[:40] + "..."
+                raise _fail(f"{args.csv}:{line_no}:{col + 1}: `{shown}` is not a number "
                             f"(column {name})") from None
     warn_out_of_range(model, columns, args.core)
     outputs = evaluate_batch(model, columns, args.core)
@@ -167,6 +164,26 @@ def _run_csv(model: Model, args) -> int:
         writer.writerow([_fmt(columns[n][i]) for n in names] + [_fmt(v[i]) for v in outputs.values()])
     sys.stdout.write(out.getvalue())
     return 0
+
+
+def read_csv(path: str) -> list[list[str]]:
+    """The rows of a UTF-8 CSV file; FuzzycError with file:line:col for a byte that is not UTF-8
+    or what the csv module refuses (a field over its 128 KiB limit)."""
+    text = read_source(path)
+    reader = csv.reader(io.StringIO(text, newline=""))
+    try:
+        return list(reader)
+    except csv.Error as exc:
+        line = reader.line_num
+        if "field limit" not in str(exc):
+            raise _fail(f"{path}:{line}:1: {exc}") from None
+        # the field starts after the comma that begins the longest stretch of the line
+        lines = source_lines(text)
+        fields = lines[min(line, len(lines)) - 1].split(",")
+        longest = max(range(len(fields)), key=lambda i: len(fields[i]))
+        col = sum(len(f) + 1 for f in fields[:longest]) + 1
+        raise _fail(f"{path}:{line}:{col}: a field longer than {csv.field_size_limit()} "
+                    "characters: not a number") from None
 
 
 def _fmt(value: float) -> str:

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..atomic import save_figure, write_text
 from ..escape import plot_text
-from .common import RULE_FILE_HELP
+from .common import RULE_FILE_HELP, check_output
 from ..errors import Diagnostic, FuzzycError
 
 
@@ -78,6 +78,9 @@ def run(args) -> int:
     if args.cycles < 1:
         print("error: --cycles must be at least 1", file=sys.stderr)
         return 2
+    plot = args.plot or str(Path(args.output).with_suffix("")) + "_pi.png"
+    check_output(args.output)   # before the training, which takes the whole run
+    check_output(plot)
     try:
         overrides = dict(pair.split("=", 1) for pair in args.set)
     except ValueError:
@@ -98,7 +101,6 @@ def run(args) -> int:
         print(f"error: {exc}", file=sys.stderr)
         return 2
     write_text(args.output, text)
-    plot = args.plot or str(Path(args.output).with_suffix("")) + "_pi.png"
     plot_pi(result.pi, plot, f"{controller.model.name} on {scenario.name}")
     for i, (pi, cycle) in enumerate(zip(result.pi, result.cycles), 1):
         state = "" if cycle.finished else " (time limit reached)"

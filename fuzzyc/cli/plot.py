@@ -1,7 +1,7 @@
 """`fuzzyc plot FILE -o DIR`: membership functions and control surfaces as PNG."""
 from __future__ import annotations
 
-from .common import RULE_FILE_HELP
+from .common import RULE_FILE_HELP, check_output
 from ..errors import Diagnostic, FuzzycError
 
 
@@ -20,6 +20,7 @@ def add_parser(subparsers) -> None:
 def run(args) -> int:
     from ..formats import load_any
     from ..plotting import plot_model
+    check_output(args.out, folder=True)
     model = load_any(args.file)
     names = [v.name for v in model.rulebase.inputs]
     axes = None

@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 from ..atomic import write_text
-from .common import RULE_FILE_HELP
+from .common import RULE_FILE_HELP, check_output
 from ..errors import Diagnostic, FuzzycError
 
 CSV_LOOPS = 8    # a batch of thousands would make a huge CSV: keep the first loops
@@ -86,6 +86,7 @@ def run(args) -> int:
     from fuzzyc.plants.scenario import load
     from fuzzyc.runtime.plots import plot_trace
     from fuzzyc.runtime.simulate import references, rulebase_ref, simulate, summarize
+    check_output(args.out, folder=True)
     overrides = parse_sets(args.sets)
     if args.file:
         overrides["controller.rulebase"] = absolute_ref(args.file)

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import sys
 
-from .common import RULE_FILE_HELP
+from .common import RULE_FILE_HELP, check_output
 from ..errors import FuzzycError
 
 
@@ -67,6 +67,8 @@ def run(args) -> int:
     from ..formats import load_any
     from ..verify import Options, verify_model
     from ..verify.report import format_text, write_reports
+    if args.report:
+        check_output(args.report, folder=True)
     progress = _Progress()
     options = Options(backend=args.backend, max_examples=args.max_examples, seed=args.seed,
                       report_dir=args.report, only=args.only, progress=progress)
