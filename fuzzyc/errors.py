@@ -86,6 +86,11 @@ class Reporter:
             raise FuzzycError(self.diagnostics)
 
 
+def shown_char(char: str) -> str:
+    """A character for a message: `x`, or U+000B for one that does not print."""
+    return f"`{char}`" if char.isprintable() else f"U+{ord(char):04X}"
+
+
 def suggest(name: str, known: list[str] | tuple[str, ...]) -> str:
     """' — did you mean `X`?' when a close match exists, else the list of known names."""
     close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)

@@ -14,7 +14,7 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from .builder import Builder
-from .errors import Reporter, read_source, source_lines
+from .errors import Reporter, read_source, shown_char, source_lines
 from .model import Model
 from .syntax import ToSyntax
 
@@ -124,8 +124,8 @@ def _report(exc: UnexpectedInput | None, reporter: Reporter) -> None:
     if exc is None:
         return
     if isinstance(exc, UnexpectedCharacters):
-        char = f"`{exc.char}`" if exc.char.isprintable() else f"U+{ord(exc.char):04X}"
-        reporter.error(reporter.loc(exc.line, exc.column), f"unexpected character {char}")
+        reporter.error(reporter.loc(exc.line, exc.column),
+                       f"unexpected character {shown_char(exc.char)}")
         return
     if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken) and exc.token.type == "$END"):
         lines = source_lines(reporter.text)

@@ -193,3 +193,12 @@ def test_a_bug_is_an_internal_error_with_status_70(base, monkeypatch, capsys):
     err = capsys.readouterr().err
     assert err.startswith("fuzzyc: internal error, please report it")
     assert "ZeroDivisionError: a bug" in err       # the traceback, for the report
+
+
+def test_a_closed_pipe_ends_quietly_with_141(base, monkeypatch, capsys):
+    # `fuzzyc eval --csv big.csv | head`: head exits, the next write gets EPIPE
+    def closed(args):
+        raise BrokenPipeError(errno.EPIPE, os.strerror(errno.EPIPE))
+    monkeypatch.setattr("fuzzyc.cli.check.run", closed)
+    assert main(["check", base]) == 141
+    assert capsys.readouterr().err == ""

@@ -2,11 +2,13 @@
 other encodings. Each gives file:line:col with the caret on the right line, never a traceback."""
 
 import json
+from pathlib import Path
 
 import pytest
 
 from fuzzyc.cli import main
 from fuzzyc.errors import FuzzycError
+from fuzzyc.formats import load_any
 from fuzzyc.parser import parse
 
 BASE = """\
@@ -116,3 +118,31 @@ def test_a_byte_order_mark_is_allowed(tmp_path, capsys):
     path = tmp_path / "bom.fz"
     path.write_bytes(b"\xef\xbb\xbf" + BASE.encode())
     assert main(["check", str(path)]) == 0
+
+
+CORPUS = Path(__file__).parent / "format_corpus"
+
+
+def test_an_fll_file_counts_lines_at_newlines_only(tmp_path):
+    # U+2028 before `OutputVariable` (line 21): str.splitlines() made the rules one line later.
+    text = (CORPUS / "tipper.fll").read_text()
+    path = tmp_path / "ls.fll"
+    path.write_text(text.replace("OutputVariable", "\u2028OutputVariable", 1)
+                    .replace("then tip is cheap", "then tip is cheapo", 1))
+    with pytest.raises(FuzzycError) as info:
+        load_any(path)
+    first = info.value.diagnostics[0]
+    assert (first.loc.line, first.loc.col) == (38, 58)
+    assert first.format().split("\n")[1].strip() == \
+        "rule: if service is poor or food is rancid then tip is cheapo"
+
+
+def test_an_fcl_file_locates_a_vertical_tab(tmp_path):
+    text = (CORPUS / "tipper.fcl").read_text()
+    path = tmp_path / "vt.fcl"
+    path.write_text(text.replace("DEFUZZIFY", "\vDEFUZZIFY", 1))
+    with pytest.raises(FuzzycError) as info:
+        load_any(path)
+    head, shown, caret = rendered_lines(info.value.diagnostics[0])
+    assert head.endswith(":28:1: error: unexpected character U+000B")
+    assert (shown, caret) == ("     DEFUZZIFY tip", "    ^")

@@ -16,7 +16,7 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from ..builder import RuleSpec
-from ..errors import Reporter, suggest
+from ..errors import Reporter, shown_char, suggest
 from ..model import Connective, Hedge, SourceLoc
 from .common import Collected
 
@@ -37,7 +37,7 @@ def syntax_error(exc: UnexpectedInput, rep: Reporter, loc: SourceLoc) -> None:
     elif isinstance(exc, UnexpectedToken):
         rep.error(loc, f"unexpected `{exc.token}`: " + _expected(exc.expected))
     elif isinstance(exc, UnexpectedCharacters):
-        rep.error(loc, f"unexpected character `{exc.char}`")
+        rep.error(loc, f"unexpected character {shown_char(exc.char)}")
     else:  # pragma: no cover - lark has no other kinds
         rep.error(loc, str(exc))
 
