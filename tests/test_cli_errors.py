@@ -15,22 +15,10 @@ import fuzzyc
 from fuzzyc import atomic
 from fuzzyc.cli import main
 from fuzzyc.errors import FuzzycError
+from test_hostile_rule_files import BASE
 
 ROOT = Path(__file__).resolve().parents[1]
 RULES = ROOT / "rulebases"
-
-BASE = """\
-controller demo {
-  input e in [-1, 1]
-  input ce in [-1, 1]
-  terms e : uniform N ZO P
-  terms ce : uniform N ZO P
-  var du in [-1, 1] default 0
-  terms du : uniform N ZO P
-  rule if e is P and ce is P then du is P
-  output u in [-1, 1] = du
-}
-"""
 
 
 @pytest.fixture
