@@ -50,6 +50,11 @@ def read_source(path: str | Path) -> str:
         data = Path(path).read_bytes()
     except OSError as exc:
         raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
+    return decode_source(data, path)
+
+
+def decode_source(data: bytes, path: str | Path) -> str:
+    """`data` as UTF-8 (a byte-order mark allowed), or a FuzzycError at the first bad byte."""
     try:
         return data.decode("utf-8-sig")
     except UnicodeDecodeError as exc:

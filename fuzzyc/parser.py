@@ -14,7 +14,8 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from .builder import Builder
-from .errors import Reporter, read_source, shown_char, source_lines
+from .errors import Reporter, shown_char, source_lines
+from .limits import check_model, number_problem, read_rule_file
 from .model import Model
 from .syntax import ToSyntax
 
@@ -48,7 +49,8 @@ def _lark() -> Lark:
 
 def load(path: str | Path) -> Model:
     """Parse and check a .fz file; raises FuzzycError with every diagnostic found."""
-    return parse(read_source(path), str(path))
+    path = Path(path)
+    return parse(read_rule_file(path), str(path))
 
 
 def parse(text: str, path: str = "<string>") -> Model:
@@ -65,8 +67,21 @@ def parse(text: str, path: str = "<string>") -> Model:
                        f"an expression nested more than {MAX_NESTING} operators deep; split it "
                        "with `let` signals")
         reporter.raise_if_any()
+    _check_numbers(tree, reporter)
+    reporter.raise_if_any()
     syntax = ToSyntax(path).transform(tree)
-    return Builder(reporter).build(syntax, text, path)
+    model = Builder(reporter).build(syntax, text, path)
+    check_model(model)
+    return model
+
+
+def _check_numbers(tree, reporter: Reporter) -> None:
+    """Every number literal within the stated limits, reported where it is written."""
+    for tok in tree.scan_values(lambda t: isinstance(t, Token)
+                                and t.type in ("NUMBER", "SIGNED_NUMBER")):
+        problem = number_problem(float(tok))
+        if problem is not None:
+            reporter.error(reporter.loc(tok.line, tok.column), problem)
 
 
 def _first_too_deep(tree: Tree) -> Tree | None:

@@ -13,7 +13,8 @@ import re
 from pathlib import Path
 
 from ..atomic import write_text
-from ..errors import Diagnostic, FuzzycError, read_source
+from ..errors import Diagnostic, FuzzycError
+from ..limits import check_model, read_rule_file
 from ..model import Model
 from .fcl import read_fcl, write_fcl
 from .fis import read_fis, write_fis
@@ -42,10 +43,11 @@ def load_any(path: str | Path) -> Model:
     if suffix not in READERS:
         raise FuzzycError([Diagnostic(None, f"cannot read `{path}`: unknown extension "
                                             f"`{suffix}` (known: .fz .fll .fcl .fis)")])
-    text = read_source(path)
-    if block is not None:
-        return read_fcl(text, str(path), block)
-    return READERS[suffix](text, str(path))
+    text = read_rule_file(path)
+    model = (read_fcl(text, str(path), block) if block is not None
+             else READERS[suffix](text, str(path)))
+    check_model(model)
+    return model
 
 
 def split_block(ref: str | Path) -> tuple[Path, str | None]:
