@@ -30,6 +30,9 @@ MAX_RULEBASE_OUTPUTS = 32        # rule-base output variables
 MAX_MAGNITUDE = 1e12             # |every number| (0 aside)
 MIN_MAGNITUDE = 1e-12            # |every non-zero number|
 MIN_RELATIVE_WIDTH = 1e-5        # hi - lo >= this * max(|lo|, |hi|)
+# Not a limit of the file but of the C headers' cell table (term tuple -> rules, indexed by
+# unsigned short): the float/double header loops over every rule past it, q15/q31 refuse.
+MAX_C_TABLE_CELLS = 1 << 16
 
 
 def read_rule_file(path: str | Path) -> str:

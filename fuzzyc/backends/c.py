@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine import CompiledRuleBase
+from ..limits import MAX_C_TABLE_CELLS
 from ..errors import Diagnostic, FuzzycError
 from ..escape import c_comment, c_identifier, check_c_names
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
@@ -111,7 +112,9 @@ class HeaderWriter:
         self.p = self.name + "_"
         self.P = self.name.upper() + "_"
         compiled = CompiledRuleBase(self.rb)
-        self.sparse = compiled.sparse
+        # The cell table is the fast path where it is small; past that every rule is looped
+        # over (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
+        self.sparse = compiled.sparse and compiled.lookup.shape[0] <= MAX_C_TABLE_CELLS
         self.depth = compiled.lookup.shape[1] if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
         self.items = self.item_writer()
@@ -604,7 +607,12 @@ class HeaderWriter:
         body += [f"const {t} {self.symbol(v.name)} = y[{o}];"
                  for o, v in enumerate(self.rb.outputs)]
         body += self.output_statements(printer)
-        body += [f"(void){self.symbol(o.name)};" for o in m.outputs]
+        # A file may leave signals unused (or have no output at all): no warnings.
+        body += [f"(void){self.symbol(name)};" for name in
+                 [*(g.name for g in m.signals), *(g.name for g in m.steps),
+                  *(v.name for v in self.rb.outputs), *(o.name for o in m.outputs)]]
+        if not m.outputs:
+            body += ["(void)s;", "(void)out;"]
         self.out("/* One sample of the whole chain: raw inputs in[N_SIGNALS] -> out[N_OUTPUTS]. "
                  "*/",
                  f"static inline void {self.p}step({self.p}state *s, "

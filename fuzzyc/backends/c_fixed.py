@@ -28,7 +28,8 @@ import dataclasses
 
 import numpy as np
 
-from ..engine import MAX_LOOKUP_CELLS, MAX_SPARSE_INPUTS
+from ..engine import MAX_SPARSE_INPUTS
+from ..limits import MAX_C_TABLE_CELLS
 from ..membership import LocalPartition, memberships
 from ..errors import Diagnostic, FuzzycError
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, OutputKind, RuleBase,
@@ -133,9 +134,11 @@ class FixedTables:
         self.wild = np.any(rb.antecedents < 0, axis=0)
         self.slots = np.where(self.wild, 3, 2)
         self.radix = np.array([v.n_terms + 1 + int(w) for v, w in zip(rb.inputs, self.wild)])
-        if np.prod(self.radix.astype(float)) > MAX_LOOKUP_CELLS:
-            raise _fail(f"the {numeric} back end's cell table would have more than "
-                        f"{MAX_LOOKUP_CELLS} cells")
+        cells = np.prod(self.radix.astype(float))
+        if cells > MAX_C_TABLE_CELLS:
+            raise _fail(f"the {numeric} back end's cell table would have {cells:.0f} cells (the "
+                        f"product over the inputs of terms + 1, + 1 more where a rule has `*`): "
+                        f"at most {MAX_C_TABLE_CELLS} (fuzzyc.limits.MAX_C_TABLE_CELLS)")
         self.place = np.concatenate([np.cumprod(self.radix[::-1])[::-1][1:], [1]])
         ids = np.where(rb.antecedents >= 0, rb.antecedents, self.radix - 1)
         cells = ids @ self.place
@@ -478,6 +481,12 @@ class FixedPointWriter:
         io_max = self.full
         for k, o in enumerate(m.outputs):
             body += chain.output(k, o, io_frac(o.lo, o.hi, self.numeric), io_max)
+        # A file may leave signals unused (or have no output at all): no warnings.
+        body += [f"(void){chain.symbols[name].code};"
+                 for name in [*(g.name for g in m.signals), *(g.name for g in m.steps),
+                              *(v.name for v in self.rb.outputs)]]
+        if not m.outputs:
+            body += ["(void)s;", "(void)out;"]
         fields = [f"    int32_t memory_{i};\n    unsigned char seen_{i};" for i in chain.memories]
         fields += [f"    {'int32_t' if o.kind == OutputKind.DIRECT else 'int64_t'} "
                    f"out_{c_identifier(o.name)};   /* at 2^-{chain.state_frac(o)} */"

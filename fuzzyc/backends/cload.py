@@ -198,12 +198,13 @@ MEASURE = """\
 
 
 def footprint(header_name: str, header: str, entry_points: list[str],
-              flags: tuple[str, ...] = ("-O2",)) -> tuple[int, int]:
+              flags: tuple[str, ...] = ("-O2",), failure: str = "") -> tuple[int, int]:
     """(code + constant data bytes, worst-case stack bytes) of the header's entry points.
 
     `entry_points` are full C definitions calling the header.  Code and constants are `size`'s
     text (rodata included); stack is the sum over every function gcc reports with
-    -fstack-usage, an upper bound for any call chain among them.
+    -fstack-usage, an upper bound for any call chain among them.  A header gcc rejects is a
+    FuzzycError with gcc's messages and `failure` (what the caller did not do).
     """
     with tempfile.TemporaryDirectory(dir=cache_dir()) as work:
         Path(work, header_name).write_text(header)
@@ -218,7 +219,8 @@ def footprint(header_name: str, header: str, entry_points: list[str],
                str(Path(work, "measure.c"))]
         result = subprocess.run(cmd, capture_output=True, text=True, cwd=work)
         if result.returncode != 0:
-            raise FuzzycError([Diagnostic(None, "the C compiler rejected the generated code:\n"
+            raise FuzzycError([Diagnostic(None, "the C compiler rejected the generated code"
+                                                + (f" ({failure})" if failure else "") + ":\n"
                                                 + result.stderr)])
         size = subprocess.run(["size", str(obj)], capture_output=True, text=True, check=True)
         text_bytes = int(size.stdout.splitlines()[1].split()[0])
