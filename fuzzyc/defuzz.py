@@ -115,7 +115,7 @@ def safe_ratio(num: np.ndarray, den: np.ndarray, default) -> np.ndarray:
 class OutputDefuzzifier:
     """Everything about one output that does not depend on the sample, prepared once."""
 
-    def __init__(self, var: Variable, inference: Inference, n_inputs: int = 0):
+    def __init__(self, var: Variable, inference: Inference, inputs: list[Variable] = ()):
         self.var = var
         self.inference = inference
         self.params_key = np.asarray(var.params, dtype=float).tobytes()
@@ -127,8 +127,11 @@ class OutputDefuzzifier:
             if method not in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM):
                 raise ValueError(f"`{var.name}` has linear terms: they need defuzzify = "
                                  f"weighted_average or weighted_sum, not {method.name.lower()}")
-            self.linear = linear_coefficients(var, n_inputs)
+            self.linear = linear_coefficients(var, len(inputs))
             self.is_linear = kinds == TermKind.LINEAR
+            self.reads = self.linear[:, 1:] != 0          # (T, I): the inputs each term weights
+            self.input_lo = np.array([v.lo for v in inputs], dtype=float)
+            self.input_hi = np.array([v.hi for v in inputs], dtype=float)
         self.use_peaks = method in PEAK_BASED or bool(np.all(kinds == TermKind.SINGLETON))
         self.sampled = not self.use_peaks and bool(
             np.any((kinds != TermKind.TRAPEZOID) & (kinds != TermKind.SINGLETON)))
@@ -213,19 +216,31 @@ class OutputDefuzzifier:
                 else self.inference.aggregation
         return self.inference.aggregation if self._static_items() else None
 
-    def _values(self, x: np.ndarray | None) -> np.ndarray:
-        """The terms' values z: the peaks (T,), or (N, T) with linear terms at the inputs x."""
+    def _values(self, x: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+        """The terms' values z: the peaks (T,), or (N, T) with linear terms at the inputs x,
+        and where a linear term has no value (None when every term has one).
+
+        A linear term reads its inputs clamped to their ranges (a local linear model of the
+        range: past it the nearest edge holds, so z stays finite), and has no value where an
+        input it weights is NaN."""
         if self.linear is None:
-            return self.peaks
-        z = x @ self.linear[:, 1:].T + self.linear[:, 0]
-        return np.where(self.is_linear, z, self.peaks)
+            return self.peaks, None
+        clamped = np.clip(x, self.input_lo, self.input_hi)
+        missing = np.isnan(clamped)
+        z = np.where(missing, 0.0, clamped) @ self.linear[:, 1:].T + self.linear[:, 0]
+        z = np.where(self.is_linear, z, self.peaks)
+        if not missing.any():
+            return z, None
+        return z, (missing.astype(float) @ self.reads.T.astype(float)) > 0
 
     def from_strengths(self, alpha: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
         """The crisp output from the terms' strengths alpha (N, T) (see strength_aggregation);
         x (N, I), the rule base's inputs, is needed only by linear terms."""
         var, method = self.var, self.inference.defuzzifier
         if self.use_peaks:
-            z = self._values(x)
+            z, void = self._values(x)
+            if void is not None:        # a term without a value does not count
+                alpha = np.where(void, 0.0, alpha)
             num = alpha @ z if z.ndim == 1 else (alpha * z).sum(axis=1)
             den = alpha.sum(axis=1)
             if method == Defuzzifier.WEIGHTED_SUM:

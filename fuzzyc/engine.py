@@ -79,7 +79,7 @@ class CompiledRuleBase:
     def __init__(self, rb: RuleBase, allow_sparse: bool = True):
         self.rb = rb
         self.key = _fingerprint(rb)
-        self.defuzzifiers = [OutputDefuzzifier(v, rb.inference, len(rb.inputs))
+        self.defuzzifiers = [OutputDefuzzifier(v, rb.inference, rb.inputs)
                              for v in rb.outputs]
         self.linear_terms = any(d.linear is not None for d in self.defuzzifiers)
         # every output a ratio of its peaks weighted by the strengths (COA, weighted average)

@@ -28,8 +28,13 @@ Membership of a term at x (params padded to 4 with 0):
                      (first-order Takagi-Sugeno): z = c0 + sum_i c_{i+1} x_i over the rule base's
                      inputs in order; with more than 3 inputs the row is in
                      Variable.coefficients[term] (c0, c1, ..., c_I) and params are ignored.
-                     As a membership it is 0 everywhere (it has no shape).
-  NaN input: every term of that variable has mu = 0 (so rules that need it do not fire).
+                     As a membership it is 0 everywhere (it has no shape).  It reads the
+                     inputs clamped to their ranges (a local linear model of the range: past
+                     it the nearest edge holds, so z is finite for every input).
+  NaN input: every term of that variable has mu = 0 (so rules that need it do not fire), and a
+                     LINEAR term with a non-zero coefficient on it has no value: the rules
+                     concluding it count as not fired (so an output whose rules all need it
+                     gives its default, like every rule base kind).
 Hedges on a clause: VERY mu^2, SOMEWHAT sqrt(mu), EXTREMELY mu^3, SELDOM sqrt(mu/2) if
   mu <= 1/2 else 1 - sqrt((1-mu)/2), SHARPLY (contrast intensification, fuzzylite's `extremely`)
   2 mu^2 if mu <= 1/2 else 1 - 2 (1-mu)^2; applied before NOT (1-mu).

@@ -98,7 +98,9 @@ def run(args) -> int:
     outputs = {k: float(v[0]) for k, v in evaluate_batch(model, columns, args.core).items()}
     fired, rb_inputs = _explain(model, columns, args.core)
     if args.json:
-        print(json.dumps({"outputs": outputs, "fired": fired}, indent=2))
+        # Strict JSON: a value that is not finite (the engine gives none) would be null.
+        print(json.dumps(_finite_or_null({"outputs": outputs, "fired": fired}), indent=2,
+                         allow_nan=False))
         return 0
     _print_table(model, rb_inputs, outputs, fired)
     return 0
@@ -184,6 +186,16 @@ def read_csv(path: str) -> list[list[str]]:
         col = sum(len(f) + 1 for f in fields[:longest]) + 1
         raise _fail(f"{path}:{line}:{col}: a field longer than {csv.field_size_limit()} "
                     "characters: not a number") from None
+
+
+def _finite_or_null(value):
+    if isinstance(value, dict):
+        return {k: _finite_or_null(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [_finite_or_null(v) for v in value]
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
+    return value
 
 
 def _fmt(value: float) -> str:
