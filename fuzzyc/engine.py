@@ -25,7 +25,7 @@ from .defuzz import OutputDefuzzifier, safe_ratio
 from .grid import GridStrengths
 from .membership import LocalPartition, apply_hedges, memberships
 from .model import Connective, Defuzzifier, Hedge, RuleBase, TNorm
-from .norms import combine
+from .norms import combine, firing
 
 MAX_LOOKUP_CELLS = 1 << 21
 MAX_SPARSE_INPUTS = 6
@@ -60,7 +60,7 @@ def activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
     act = np.where(conj, combine(clauses, rb.inference.and_, True),
                    combine(clauses, rb.inference.or_, False))
     act = np.where(np.all(rb.antecedents < 0, axis=1), 1.0, act)
-    return act * rb.weights
+    return firing(act * rb.weights)
 
 
 def _fingerprint(rb: RuleBase) -> tuple:
@@ -156,7 +156,7 @@ class CompiledRuleBase:
         rid = self.lookup[cell].reshape(n, -1)
         if self.lookup.shape[1] > 1:
             mu = np.repeat(mu, self.lookup.shape[1], axis=1)
-        return (mu if self.unit_weights else mu * self.weights[rid]), rid
+        return firing(mu if self.unit_weights else mu * self.weights[rid]), rid
 
     def evaluate_chunk(self, x: np.ndarray) -> np.ndarray:
         """x (N, I) -> y (N, O)."""

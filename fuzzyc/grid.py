@@ -20,6 +20,7 @@ from .expr import clip
 from .membership import LocalPartition
 from .defuzz import SCATTERS
 from .model import Aggregation, RuleBase, TNorm
+from .norms import firing
 
 MAX_TABLE_ENTRIES = 1 << 22
 
@@ -149,6 +150,7 @@ class GridStrengths:
             act = np.repeat(act, self.depth, axis=0)
         if not self.unit_weights:
             act = act * self.weights.take(cell, axis=1)
+        act = firing(act)
         index = scaled.take(cell, axis=1)                                   # (O * K, N)
         index += arange
         alpha = np.full(self.width * n, self.accumulate.start)

@@ -40,7 +40,10 @@ Hedges on a clause: VERY mu^2, SOMEWHAT sqrt(mu), EXTREMELY mu^3, SELDOM sqrt(mu
   2 mu^2 if mu <= 1/2 else 1 - 2 (1-mu)^2; applied before NOT (1-mu).
 Rule activation: the clauses that are not wildcards (-1) combined with the rule's connective
   (AND: the t-norm, OR: the s-norm, folded left to right in input order; a rule of wildcards
-  only fires 1), times the rule weight.
+  only fires 1), times the rule weight; an activation below MIN_FIRING (1e-30) is 0: the rule
+  does not fire.  (Far outside an input's range memberships get tiny, e.g. 1e-122; the float
+  C header cannot hold those, and the threshold makes it and the engine say the same thing,
+  usually "no rule fires": the default.)
 T-norms T(a, b): MIN min; PRODUCT ab; BOUNDED_DIFFERENCE max(0, a+b-1); DRASTIC_PRODUCT
   min(a, b) if max(a, b) = 1 else 0; EINSTEIN_PRODUCT ab / (2 - (a+b-ab)); HAMACHER_PRODUCT
   ab / (a+b-ab) (0 at a = b = 0); NILPOTENT_MIN min(a, b) if a+b > 1 else 0.
@@ -148,6 +151,10 @@ class Defuzzifier(IntEnum):
 
 
 PIECEWISE_LINEAR = (TermKind.TRAPEZOID, TermKind.SINGLETON)
+# The smallest rule activation that fires (see the module docstring): far above the smallest
+# normal float (1.2e-38), so a float back end computes every activation at or above it
+# without underflow wherever the numbers are within fuzzyc.limits.
+MIN_FIRING = 1e-30
 
 
 @dataclass(frozen=True)

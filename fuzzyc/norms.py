@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import SNorm, TNorm
+from .model import MIN_FIRING, SNorm, TNorm
 
 
 def _hamacher_product(a, b):
@@ -48,3 +48,8 @@ def combine(values: list[np.ndarray], norm: TNorm | SNorm, conjunction: bool) ->
     for v in values[1:]:
         out = op(out, v)
     return out
+
+
+def firing(act: np.ndarray) -> np.ndarray:
+    """Rule activations with those below MIN_FIRING set to 0 (they do not fire)."""
+    return np.where(act < MIN_FIRING, 0.0, act)

@@ -17,10 +17,10 @@ from __future__ import annotations
 import numpy as np
 
 from ..engine import CompiledRuleBase
-from ..limits import MAX_C_TABLE_CELLS
 from ..errors import Diagnostic, FuzzycError
 from ..escape import c_comment, c_identifier, check_c_names
-from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
+from ..limits import MAX_C_TABLE_CELLS
+from ..model import (MIN_FIRING, Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
                      OutputKind, RuleBase, SNorm, TermKind, TNorm)
 from .c_area import AreaWriter, is_sampled
 from .c_centroid import CentroidEmitter, area_segments, supported
@@ -153,6 +153,8 @@ class HeaderWriter:
             f"static inline {t} {p}greater({t} a, {t} b) {{ return a > b ? a : b; }}",
             f"static inline {t} {p}clamp({t} x, {t} lo, {t} hi) "
             f"{{ return x < lo ? lo : (x > hi ? hi : x); }}",
+            "/* A rule activation below MIN_FIRING does not fire (as in the engine). */",
+            f"static inline {t} {p}fired({t} a) {{ return a < {lit(MIN_FIRING)} ? {lit(0)} : a; }}",
             f"static inline void {p}order({t} *a, {t} *b) "
             f"{{ {t} lo = {p}lesser(*a, *b); *b = {p}greater(*a, *b); *a = lo; }}",
             f"static inline {t} {p}ratio_or({t} num, {t} den, {t} fallback) "
@@ -322,7 +324,7 @@ class HeaderWriter:
             for g in clauses[1:]:
                 a, o = self.combine(a, g, True), self.combine(o, g, False)
             act = f"({P}IS_OR[r] ? {o} : {a})"
-        code.append(f"    {t} act = {self.weighted(act, 'r')};")
+        code.append(f"    {t} act = {self.p}fired({self.weighted(act, 'r')});")
         code += ["    " + s for s in self.accumulate("act", "r", "r")]
         code.append("}")
         return code
@@ -429,7 +431,7 @@ class HeaderWriter:
         code += [f"    int cell = {cell};", f"    {t} act = {act};", "    int d;",
                  f"    for (d = 0; d < {depth}; ++d) {{",
                  f"        int rule = {P}CELLS[cell][d];",
-                 f"        {t} a = {self.weighted('act', 'rule')};"]
+                 f"        {t} a = {self.p}fired({self.weighted('act', 'rule')});"]
         code += ["        " + s for s in self.accumulate("a", "rule", f"r * {depth} + d")]
         code += ["    }", "}"]
         return code
