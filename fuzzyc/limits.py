@@ -77,8 +77,12 @@ def range_problem(lo: float, hi: float) -> str | None:
 def check_model(model: Model) -> None:
     """FuzzycError naming every limit the model passes (counts, numbers, ranges)."""
     reporter = Reporter(model.source_path or "<model>", model.source_text or "")
+    seen = set()
     for loc, message in _problems(model):
-        reporter.error(loc, message)
+        key = (loc, message.split(": ", 1)[-1])    # an input's range is its variable's range
+        if key not in seen:
+            seen.add(key)
+            reporter.error(loc, message)
     reporter.raise_if_any()
 
 

@@ -25,7 +25,7 @@ def trapezoid(x, a, b, c, d) -> np.ndarray:
 
     An infinite a (or d) makes a shoulder: its rise (fall) is 1 everywhere.
     """
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         rise = np.where(x >= b, 1.0, np.where(x > a, (x - a) / (b - a), 0.0))
         fall = np.where(x <= c, 1.0, np.where(x < d, (d - x) / (d - c), 0.0))
     rise = np.where(np.isneginf(a), 1.0, rise)
@@ -59,14 +59,14 @@ def _singleton(x: np.ndarray, p: np.ndarray) -> np.ndarray:
 
 
 def _s_shape(x: np.ndarray, s: np.ndarray, e: np.ndarray) -> np.ndarray:
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         return np.where(x <= s, 0.0, np.where(
             x <= 0.5 * (s + e), 2.0 * ((x - s) / (e - s)) ** 2,
             np.where(x < e, 1.0 - 2.0 * ((x - e) / (e - s)) ** 2, 1.0)))
 
 
 def _z_shape(x: np.ndarray, s: np.ndarray, e: np.ndarray) -> np.ndarray:
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         return np.where(x <= s, 1.0, np.where(
             x < 0.5 * (s + e), 1.0 - 2.0 * ((x - s) / (e - s)) ** 2,
             np.where(x < e, 2.0 * ((x - e) / (e - s)) ** 2, 0.0)))
@@ -100,7 +100,7 @@ def _cosine(x: np.ndarray, p: np.ndarray) -> np.ndarray:
 def _concave(x: np.ndarray, p: np.ndarray) -> np.ndarray:
     i, e = p[:, 0], p[:, 1]
     rising, falling = (i <= e) & (x < e), (i > e) & (x > e)
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         return np.where(rising, (e - i) / (2.0 * e - i - x),
                         np.where(falling, (i - e) / (i - 2.0 * e + x), 1.0))
 

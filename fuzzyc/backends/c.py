@@ -543,8 +543,8 @@ class HeaderWriter:
             if s.op != Op.ASSIGN:
                 ident = c_identifier(s.name)
                 self.out(f"    s->memory_{ident} = {lit(0)};", f"    s->seen_{ident} = 0;")
-        if not self.model.steps and not self.model.outputs:
-            self.out("    s->unused = 0;")
+        if not any(s.op != Op.ASSIGN for s in self.model.steps) and not self.model.outputs:
+            self.out("    s->unused = 0;")      # the struct has only this field
         for o in self.model.outputs:
             init = 1.0 / o.init if o.kind == OutputKind.RECIPROCAL_INCREMENT else o.init
             self.out(f"    s->out_{c_identifier(o.name)} = {lit(init)};")
