@@ -72,6 +72,7 @@ class _LinguisticVar:
     terms: list[tuple[str, TermKind, tuple[float, ...], SourceLoc]] = field(default_factory=list)
     learnable: list[bool] = field(default_factory=list)
     is_input: bool = False
+    term_index: dict[str, int] = field(default_factory=dict)   # name -> place: linear cost
 
     def term_names(self) -> list[str]:
         return [t[0] for t in self.terms]
@@ -359,14 +360,15 @@ class Builder:
 
     def _append_term(self, var: _LinguisticVar, name: Name, kind: TermKind, params,
                      learnable: bool = False) -> int:
-        if name.text in var.term_names():
+        if name.text in var.term_index:
             self.error(name.loc, f"term `{name.text}` is already defined for `{var.name}`")
-            return var.term_names().index(name.text)
+            return var.term_index[name.text]
         core = _core(kind, params)
         if core[1] < var.lo or core[0] > var.hi:
             where = f"{core[0]:g}" if core[0] == core[1] else f"[{core[0]:g}, {core[1]:g}]"
             self.error(name.loc, f"term `{name.text}` of `{var.name}` peaks at {where}, outside "
                                  f"the range [{var.lo:g}, {var.hi:g}]")
+        var.term_index[name.text] = len(var.terms)
         var.terms.append((name.text, kind, tuple(float(p) for p in params), name.loc))
         var.learnable.append(learnable)
         return len(var.terms) - 1

@@ -341,3 +341,22 @@ def test_float_header_is_as_accurate_at_the_magnitude_limits_as_at_scale_one(sca
     error = np.abs(CController(model, numeric="float").evaluate(x)
                    - engine.evaluate(model.rulebase, x)).max()
     assert error <= 1e-6 * scale
+
+
+def test_issue_ten_thousand_terms_are_refused_before_compile(tmp_path, capsys):
+    # was: compile used 3.6 GB and died
+    path = tmp_path / "t.fz"
+    path.write_text(controller(x_terms="uniform " + " ".join(f"T{i}" for i in range(10_000)),
+                               rules=["rule if x is T0 then y is A"]))
+    assert main(["compile", str(path), "-o", str(tmp_path / "out")]) == 2
+    assert "`x` has 10000 terms: at most 253 per variable" in capsys.readouterr().err
+    assert not (tmp_path / "out").exists()
+
+
+def test_issue_half_a_million_params_are_refused_unread(tmp_path, capsys):
+    # was: check took over 2 minutes and 866 MB; now refused after reading MAX_SOURCE_BYTES + 1
+    path = tmp_path / "p.fz"
+    path.write_text(controller(extra="\n".join(f"  param p{i} = {i}" for i in range(500_000))))
+    assert path.stat().st_size > limits.MAX_SOURCE_BYTES
+    assert main(["check", str(path)]) == 2
+    assert f"is larger than {limits.MAX_SOURCE_BYTES} bytes" in capsys.readouterr().err
