@@ -8,7 +8,8 @@ import shutil
 import numpy as np
 import pytest
 
-from fuzzyc import cli_compile, engine, limits
+from fuzzyc import engine, limits
+from fuzzyc.cli import compile as cli_compile
 from fuzzyc.cli import main
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import load_any
