@@ -13,11 +13,12 @@ import numpy as np
 import sympy
 
 from . import units
+from .conditions import Cond, Program, premise, program_array
 from .errors import Reporter, source_lines, suggest
-from .model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
-                    Op, Output, OutputKind, Param, Property, RuleBase, Signal, SNorm, SourceLoc,
-                    Step, TermKind, TNorm, Variable)
-from .syntax import Clause, Expr, Name, Num, Stmt, TermDef
+from .model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Implication, Inference,
+                    Model, Op, Output, OutputKind, Param, Property, RuleBase, Signal, SNorm,
+                    SourceLoc, Step, TermKind, TNorm, Variable)
+from .syntax import Clause, Condition, Expr, Name, Num, Stmt, TermDef
 
 INF = math.inf
 
@@ -87,6 +88,14 @@ class RuleSpec:
     weight: float
     loc: SourceLoc
     origin: str
+    program: Program | None = None                # a nested condition (clauses is then {})
+
+    def connectives(self) -> set[Connective]:
+        """The connectives the rule needs a norm for (those joining two or more parts)."""
+        if self.program is not None:
+            return {Connective.AND if step[0] == CondOp.AND else Connective.OR
+                    for step in self.program if step[0] in (CondOp.AND, CondOp.OR)}
+        return {self.connective} if len(self.clauses) > 1 else set()
 
 
 class Builder:
@@ -422,38 +431,30 @@ class Builder:
             return None
         return names.index(term.text)
 
-    def _clause(self, clause: Clause, rule_clauses: dict, context: str) -> bool:
+    def _leaf(self, clause: Clause, context: str) -> Cond | None:
         var = self._input_var(clause.var)
-        if var is None:
-            return False
-        term = self._term(var, clause.term, context)
+        term = None if var is None else self._term(var, clause.term, context)
         if term is None:
+            return None
+        return Cond("is", leaf=(var.name, (term, clause.negated, HEDGES[clause.hedge])))
+
+    def _clause(self, clause: Clause, rule_clauses: dict, context: str) -> bool:
+        """One clause of a flat conjunction (a table's guard, a `where`)."""
+        leaf = self._leaf(clause, context)
+        if leaf is None:
             return False
-        if var.name in rule_clauses:
-            self.error(clause.var.loc, f"`{var.name}` appears twice in one rule; the rule matrix "
-                                       "holds one term per input: split it into two rules")
+        name, value = leaf.leaf
+        if name in rule_clauses:
+            self.error(clause.var.loc, f"`{name}` appears twice in one guard")
             return False
-        rule_clauses[var.name] = (term, clause.negated, HEDGES[clause.hedge])
+        rule_clauses[name] = value
         return True
 
-    def _flatten(self, cond, loc: SourceLoc) -> tuple[list[Clause], Connective] | None:
+    def _condition(self, cond: Clause | Condition, context: str) -> Cond | None:
         if isinstance(cond, Clause):
-            return [cond], Connective.AND
-        # A condition node with one part is just grouping: only branching nodes connect.
-        clauses, connectives, stack = [], set(), [cond]
-        while stack:
-            part = stack.pop(0)
-            if isinstance(part, Clause):
-                clauses.append(part)
-            else:
-                if len(part.parts) > 1:
-                    connectives.add(part.connective)
-                stack.extend(part.parts)
-        if len(connectives) > 1:
-            self.error(loc, "this rule mixes `and` and `or`; a rule has one connective: split it "
-                            "into rules (for `(A or B) and C` write `A and C` and `B and C`)")
-            return None
-        return clauses, Connective.OR if connectives == {"or"} else Connective.AND
+            return self._leaf(cond, context)
+        parts = [self._condition(p, context) for p in cond.parts]
+        return None if None in parts else Cond(cond.connective, parts)
 
     def _conclusion(self, var: _LinguisticVar, term, context: str,
                     learnable: bool = False, label: str = "") -> int | None:
@@ -468,13 +469,9 @@ class Builder:
         return self._term(var, term, context)
 
     def _stmt_rule(self, s: Stmt) -> None:
-        flat = self._flatten(s.data["condition"], s.loc)
-        if flat is None:
-            return
-        clauses, connective = flat
         label = f"rule {s.data['name'].text}" if s.data["name"] else f"rule at line {s.loc.line}"
-        rule_clauses: dict = {}
-        ok = all([self._clause(c, rule_clauses, label) for c in clauses])
+        condition = self._condition(s.data["condition"], label)
+        ok = condition is not None
         conclusions = {}
         for concl in s.data["conclusions"]:
             var = self._output_var(concl.var)
@@ -491,7 +488,9 @@ class Builder:
                 conclusions[var.name] = term
         weight = self._weight(s.data["weight"])
         if ok and weight is not None:
-            self.rules.append(RuleSpec(rule_clauses, connective, conclusions, weight, s.loc, label))
+            clauses, connective, program = premise(condition)
+            self.rules.append(RuleSpec(clauses, connective, conclusions, weight, s.loc, label,
+                                       program))
 
     def _weight(self, num: Num | None) -> float | None:
         if num is None:
@@ -973,6 +972,8 @@ def assemble_rulebase(inputs: list[Variable], outputs: list[Variable], rules: li
     negated = np.zeros((n, len(inputs)), dtype=bool)
     hedges = np.zeros((n, len(inputs)), dtype=np.int64)
     cons = np.full((n, len(outputs)), -1, dtype=np.int64)
+    conditions = {r: program_array(rule.program, in_index)
+                  for r, rule in enumerate(rules) if rule.program is not None}
     for r, rule in enumerate(rules):
         for name, (term, neg, hedge) in rule.clauses.items():
             ante[r, in_index[name]] = term
@@ -984,7 +985,8 @@ def assemble_rulebase(inputs: list[Variable], outputs: list[Variable], rules: li
         inputs=inputs, outputs=outputs, antecedents=ante, consequents=cons,
         weights=np.array([r.weight for r in rules], dtype=float), negated=negated, hedges=hedges,
         connective=np.array([int(r.connective) for r in rules], dtype=np.int64),
-        inference=inference, rule_locs=[r.loc for r in rules], origins=[r.origin for r in rules])
+        inference=inference, rule_locs=[r.loc for r in rules], origins=[r.origin for r in rules],
+        conditions=conditions)
 
 
 def merge_rules(rules: list[RuleSpec]) -> list[RuleSpec]:
@@ -995,14 +997,14 @@ def merge_rules(rules: list[RuleSpec]) -> list[RuleSpec]:
     merged: list[RuleSpec] = []
     by_premise: dict = {}
     for rule in rules:
-        key = (tuple(sorted(rule.clauses.items())), rule.connective, rule.weight)
+        key = (tuple(sorted(rule.clauses.items())), rule.connective, rule.program, rule.weight)
         target = by_premise.get(key)
         if target is not None and not set(target.conclusions) & set(rule.conclusions):
             target.conclusions.update(rule.conclusions)
             target.origin += "; " + rule.origin
             continue
         copy = RuleSpec(dict(rule.clauses), rule.connective, dict(rule.conclusions), rule.weight,
-                     rule.loc, rule.origin)
+                        rule.loc, rule.origin, rule.program)
         merged.append(copy)
         by_premise.setdefault(key, copy)
     return merged

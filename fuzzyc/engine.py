@@ -24,7 +24,7 @@ import numpy as np
 from .defuzz import OutputDefuzzifier, safe_ratio
 from .grid import GridStrengths
 from .membership import LocalPartition, apply_hedges, memberships
-from .model import Connective, Defuzzifier, Hedge, RuleBase, TNorm
+from .model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
 from .norms import combine, firing
 
 MAX_LOOKUP_CELLS = 1 << 21
@@ -60,11 +60,33 @@ def activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
     act = np.where(conj, combine(clauses, rb.inference.and_, True),
                    combine(clauses, rb.inference.or_, False))
     act = np.where(np.all(rb.antecedents < 0, axis=1), 1.0, act)
+    for r, program in rb.conditions.items():
+        act[:, r] = run_condition(rb, program, x)
     return firing(act * rb.weights)
+
+
+def run_condition(rb: RuleBase, program: np.ndarray, x: np.ndarray) -> np.ndarray:
+    """x (N, I) -> the truth (N,) of one rule's clause program (see `fuzzyc.model`)."""
+    stack: list[np.ndarray] = []
+    for op, i, t, h in program.tolist():
+        if op == CondOp.CLAUSE:
+            if t < 0:
+                stack.append(np.ones(x.shape[0]))
+                continue
+            mu = memberships(rb.inputs[i], x[:, i])[:, t:t + 1]
+            stack.append((apply_hedges(mu, np.array([h])) if h else mu)[:, 0])
+        elif op == CondOp.NOT:
+            stack.append(1.0 - stack.pop())
+        else:
+            b, a = stack.pop(), stack.pop()
+            norm = rb.inference.and_ if op == CondOp.AND else rb.inference.or_
+            stack.append(combine([a, b], norm, op == CondOp.AND))
+    return stack.pop()
 
 
 def _fingerprint(rb: RuleBase) -> tuple:
     arrays = [rb.antecedents, rb.consequents, rb.weights, rb.negated, rb.hedges, rb.connective]
+    arrays += [np.append(r, program.ravel()) for r, program in sorted(rb.conditions.items())]
     for v in rb.inputs + rb.outputs:
         arrays += [v.kinds, np.asarray(v.params, dtype=float),
                    np.array([v.lo, v.hi, v.default], dtype=float)]

@@ -44,6 +44,11 @@ Rule activation: the clauses that are not wildcards (-1) combined with the rule'
   does not fire.  (Far outside an input's range memberships get tiny, e.g. 1e-122; the float
   C header cannot hold those, and the threshold makes it and the engine say the same thing,
   usually "no rule fires": the default.)
+  A rule with a nested condition (RuleBase.conditions[r], a postfix clause program) fires the
+  program's value instead, times the weight (the same MIN_FIRING threshold): CLAUSE pushes the
+  hedged membership of one input's term (term -1: the truth 1 of `is any`); NOT replaces the top
+  v by 1 - v; AND pops b, a and pushes T(a, b); OR pushes S(a, b).  An n-ary and/or folds left
+  to right in written order.
 T-norms T(a, b): MIN min; PRODUCT ab; BOUNDED_DIFFERENCE max(0, a+b-1); DRASTIC_PRODUCT
   min(a, b) if max(a, b) = 1 else 0; EINSTEIN_PRODUCT ab / (2 - (a+b-ab)); HAMACHER_PRODUCT
   ab / (a+b-ab) (0 at a = b = 0); NILPOTENT_MIN min(a, b) if a+b > 1 else 0.
@@ -107,6 +112,14 @@ class Hedge(IntEnum):
 class Connective(IntEnum):
     AND = 0
     OR = 1
+
+
+class CondOp(IntEnum):
+    """The steps of a rule's clause program (see RuleBase.conditions)."""
+    CLAUSE = 0    # push the truth of (input, term, hedge)
+    NOT = 1
+    AND = 2
+    OR = 3
 
 
 class TNorm(IntEnum):
@@ -239,6 +252,11 @@ class RuleBase:
     consequents (R, O) int: term index per output, -1 when the rule says nothing about it.
     weights (R,) float.  origins: a human-readable place per rule ("table du1 when e1 is P,
     row e2=PB, col ce2=PS") so reports can name table cells.
+    conditions: rule r -> its clause program when its condition is not a flat conjunction or
+    disjunction of one clause per input (a (K, 4) int array of postfix steps: CondOp, input,
+    term, hedge; 0 where a column does not apply).  The matrix row of such a rule holds
+    wildcards only; a reader of the matrices that does not know programs must refuse the rule
+    base (`nested_rules` names them).
     """
     inputs: list[Variable]
     outputs: list[Variable]
@@ -251,6 +269,7 @@ class RuleBase:
     inference: Inference = field(default_factory=Inference)
     rule_locs: list[SourceLoc | None] = field(default_factory=list)
     origins: list[str] = field(default_factory=list)
+    conditions: dict[int, np.ndarray] = field(default_factory=dict)
 
     @property
     def n_rules(self) -> int:
@@ -262,20 +281,50 @@ class RuleBase:
     def output_index(self, name: str) -> int:
         return [v.name for v in self.outputs].index(name)
 
+    def nested_rules(self) -> str:
+        """'' when every rule is a flat matrix row, else the first nested one, for a refusal."""
+        if not self.conditions:
+            return ""
+        r = min(self.conditions)
+        more = len(self.conditions) - 1
+        return (f"rule {r + 1} `{self.describe_rule(r)}`"
+                + (f" and {more} more" if more else ""))
+
+    def describe_condition(self, r: int, clause, words=("and", "or", "not")) -> str:
+        """The condition of rule r as text: clause(input, term, negated, hedge) writes one
+        clause (term -1: `any`); `words` are the connectives and the prefix negation of a
+        compound condition in the target syntax."""
+        if r not in self.conditions:
+            conn = f" {words[0]} " if self.connective[r] == Connective.AND else f" {words[1]} "
+            return conn.join(clause(i, int(t), bool(self.negated[r, i]),
+                                    Hedge(int(self.hedges[r, i])))
+                             for i, t in enumerate(self.antecedents[r]) if t >= 0)
+        # (text, the op of its top node, the clause's (input, term, hedge) if it is one)
+        stack: list[tuple[str, int, tuple | None]] = []
+        for op, i, t, h in self.conditions[r].tolist():
+            if op == CondOp.CLAUSE:
+                stack.append((clause(i, t, False, Hedge(h)), op, (i, t, Hedge(h))))
+            elif op == CondOp.NOT:
+                text, top, leaf = stack.pop()
+                text = clause(*leaf[:2], True, leaf[2]) if leaf else f"{words[2]} ({text})"
+                stack.append((text, CondOp.CLAUSE, None))
+            else:
+                (b, top_b, _), (a, top_a, _) = stack.pop(), stack.pop()
+                word = words[0] if op == CondOp.AND else words[1]
+                a = a if top_a in (op, CondOp.CLAUSE) else f"({a})"
+                b = b if top_b == CondOp.CLAUSE else f"({b})"
+                stack.append((f"{a} {word} {b}", op, None))
+        return stack[0][0]
+
     def describe_rule(self, r: int) -> str:
         """The rule as text, in the language's own syntax."""
-        conn = " and " if self.connective[r] == Connective.AND else " or "
-        parts = []
-        for i, v in enumerate(self.inputs):
-            t = int(self.antecedents[r, i])
-            if t < 0:
-                continue
-            hedge = Hedge(int(self.hedges[r, i]))
-            term = (hedge.name.lower() + " " if hedge else "") + v.names[t]
-            parts.append(f"{v.name} is {'not ' if self.negated[r, i] else ''}{term}")
+        def clause(i: int, t: int, negated: bool, hedge: Hedge) -> str:
+            v = self.inputs[i]
+            term = (hedge.name.lower() + " " if hedge else "") + (v.names[t] if t >= 0 else "any")
+            return f"{v.name} is {'not ' if negated else ''}{term}"
         cons = [f"{v.name} is {v.names[int(self.consequents[r, o])]}"
                 for o, v in enumerate(self.outputs) if self.consequents[r, o] >= 0]
-        text = "if " + (conn.join(parts) if parts else "true") + " then " + ", ".join(cons)
+        text = "if " + (self.describe_condition(r, clause) or "true") + " then " + ", ".join(cons)
         if self.weights[r] != 1.0:
             text += f" with {self.weights[r]:g}"
         return text

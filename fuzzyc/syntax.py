@@ -53,7 +53,7 @@ class Clause:
 
 @dataclass
 class Condition:
-    connective: str          # "and" | "or"
+    connective: str          # "and" | "or" | "not" (one part)
     parts: list[Any]         # Clause | Condition
 
 
@@ -186,6 +186,9 @@ class ToSyntax(Transformer):
 
     def or_cond(self, items):
         return Condition("or", list(items))
+
+    def not_cond(self, items):
+        return Condition("not", [items[-1]])
 
     def conclusion(self, items):
         return Conclusion(items[0], items[1])

@@ -24,7 +24,7 @@ EXPECTED = {
     "bad_unsupported.fcl": [("9:15", "not a triangle, trapezoid or shoulder"),
                             ("15:12", "METHOD LM is not supported"),
                             ("19:9", "AND HAMACHER is not supported"),
-                            ("20:8", "mixes `and` and `or`")],
+                            ("20:41", "has no term `low`")],
     "bad_rules.fis": [("10:14", "DefuzzMethod `lom` is not supported"),
                       ("15:5", "membership function `dsigmf` is not supported"),
                       ("24:1", "expected a rule row"),
@@ -65,7 +65,8 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
                "OutputVariable: y\n  range: 0 1\n  aggregation: Maximum\n"
                "  defuzzifier: Centroid\n  term: b Triangle 0 0.5 1\n"
                "RuleBlock:\n  conjunction: none\n  implication: Minimum\n"
-               "  rule: if x is a and x is a then y is b\n", "appears twice"),
+               "  rule: if x is a and (x is a or x is not a) then y is b\n",
+     "needs a conjunction"),   # a nested condition needs its norms as a flat rule does
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "InputVariable: w\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "OutputVariable: y\n  range: 0 1\n  aggregation: Maximum\n"

@@ -79,9 +79,9 @@ CASES = [
      ["unknown defuzzify `centriod`", "did you mean `centroid`"]),
     # 14 empty range
     (replace("input r in [0, 1]", "input r in [1, 0]"), 4, 15, ["range", "empty"]),
-    # 15 a rule mixing and/or
-    (replace("  output u", "  rule if e is P and ce is NB or ce is PB then du is NB\n  output u"),
-     18, 3, ["mixes `and` and `or`", "split it"]),
+    # 15 an unknown term inside a nested condition
+    (replace("  output u", "  rule if (e is P or ce is XX) and not h is L then du is NB\n"
+                           "  output u"), 18, 28, ["unknown term `XX` of `ce`", "PB"]),
     # 16 unknown function
     (replace("clamp((Yr - f)", "clip((Yr - f)"), 5, 22, ["unknown function `clip`", "clamp"]),
     # 17 wrong number of shape arguments
@@ -89,9 +89,8 @@ CASES = [
     # 18 rule weight outside [0, 1]
     (replace("  output u", "  rule if e is P then du is PB with 1.5\n  output u"), 18, 37,
      ["weight", "[0, 1]"]),
-    # 19 the same variable twice in one rule
-    (replace("  output u", "  rule if e is P and e is N then du is PB\n  output u"), 18, 22,
-     ["`e` appears twice", "split it"]),
+    # 19 the same variable twice in a table's guard
+    (replace("when h is H", "when h is H and h is L"), 11, 28, ["`h` appears twice"]),
     # 20 a let without range that gets terms
     (replace("let ce in [-1, 1] =", "let ce ="), 8, 9, ["needs a range", "let ce in [lo, hi]"]),
     # 21 stateful function inside an output expression

@@ -82,6 +82,10 @@ SUMMED_PER_RULE = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)  # no
 def _check_constructs(rb: RuleBase) -> None:
     """The norms, hedges and term shapes the C back end emits (the engine has more)."""
     inf = rb.inference
+    if rb.conditions:
+        raise _fail(f"the C back end emits rules that are one and/or over one clause per input; "
+                    f"{rb.nested_rules()} has a nested condition (use the lookup-table back "
+                    "end, or split the rule)")
     if inf.and_ not in C_TNORMS or inf.or_ not in C_SNORMS:
         raise _fail(f"the C back end emits and = min | product and or = max | probsum; "
                     f"this rule base has and = {inf.and_.name.lower()}, "

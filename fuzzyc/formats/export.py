@@ -15,7 +15,7 @@ import sympy
 
 from ..errors import Diagnostic, FuzzycError
 from ..escape import name_problems
-from ..model import Connective, Hedge, Model, OutputKind, TermKind, Variable
+from ..model import CondOp, Connective, Hedge, Model, OutputKind, TermKind, Variable
 
 
 def num(value: float) -> str:
@@ -106,22 +106,20 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
     share this shape; `also` joins conclusions, `upper` writes FCL's upper-case keywords)."""
     rb = model.rulebase
     kw = str.upper if upper else str
-    clauses = []
-    for i, v in enumerate(rb.inputs):
-        t = int(rb.antecedents[r, i])
-        if t < 0:
-            continue
-        words = [kw("not")] if rb.negated[r, i] else []
-        hedge = Hedge(int(rb.hedges[r, i]))
+
+    def clause(i: int, t: int, negated: bool, hedge: Hedge) -> str:
+        v = rb.inputs[i]
+        words = [kw("not")] if negated else []
         if hedge != Hedge.NONE:
             words.append(hedge_words.get(hedge, hedge.name.lower()))  # else refused already
-        clauses.append(" ".join([v.name, kw("is"), *words, v.names[t]]))
-    if not clauses:
+        return " ".join([v.name, kw("is"), *words, v.names[t] if t >= 0 else "any"])
+
+    condition = rb.describe_condition(r, clause, (kw("and"), kw("or"), kw("not")))
+    if not condition:
         problems.append(f"rule {r + 1} has no clause, which the format cannot say")
     conclusions = [f"{v.name} {kw('is')} {v.names[int(rb.consequents[r, o])]}"
                    for o, v in enumerate(rb.outputs) if rb.consequents[r, o] >= 0]
-    connective = kw(" or " if rb.connective[r] == Connective.OR else " and ")
-    text = f"{kw('if')} {connective.join(clauses)} {kw('then')} {also.join(conclusions)}"
+    text = f"{kw('if')} {condition} {kw('then')} {also.join(conclusions)}"
     if rb.weights[r] != 1.0:
         text += f" {kw('with')} {num(rb.weights[r])}"
     return text
@@ -130,6 +128,7 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
 def unsayable_hedges(model: Model, hedge_words: dict[Hedge, str], fmt: str) -> list[str]:
     rb = model.rulebase
     used = {Hedge(int(h)) for h in np.unique(rb.hedges)} - {Hedge.NONE}
+    used |= {Hedge(int(h)) for p in rb.conditions.values() for h in p[:, 3]} - {Hedge.NONE}
     return [f"hedge `{h.name.lower()}` has no equivalent in {fmt}"
             for h in sorted(used) if h not in hedge_words]
 
@@ -154,3 +153,13 @@ def peaks_instead(model: Model, fmt: str) -> tuple[list[Variable], list[str]]:
                      f"({', '.join(num(p) for p in peaks)}): {fmt}'s peak-based defuzzifier "
                      "needs singletons; the outputs are the same, the term shapes are not kept")
     return changed, notes
+
+
+def compound_negations(model: Model, fmt: str) -> list[str]:
+    """Problems for a format without `not` around a compound condition (fuzzylite's `not` is a
+    hedge on one clause)."""
+    rb = model.rulebase
+    return [f"rule {r + 1} negates a compound condition, which {fmt} cannot say"
+            for r, p in sorted(rb.conditions.items())
+            if any(op == CondOp.NOT and p[k - 1, 0] != CondOp.CLAUSE
+                   for k, op in enumerate(p[:, 0]))]

@@ -234,7 +234,7 @@ class _FclReader:
 
     def _inference(self) -> None:
         inf = Inference()
-        used = {Connective(int(r.connective)) for r in self.got.rules if len(r.clauses) > 1}
+        used = set().union(*(r.connectives() for r in self.got.rules))
         needed = {"AND": Connective.AND in used, "OR": Connective.OR in used, "ACT": True,
                   "ACCU": True, "METHOD": True}
         for key, field, table in (*OPERATORS.values(), ("METHOD", "defuzzifier", METHODS)):

@@ -306,6 +306,9 @@ def write_fis(model: Model, warnings: list[str] | None = None) -> str:
     rb = model.rulebase
     notes = left_out(model)
     problems = unsayable_hedges(model, {}, "FIS")
+    if rb.conditions:
+        problems.append(f"{rb.nested_rules()} has a nested condition; a FIS rule row is one "
+                        "connective over one clause per input")
     kind, outputs, methods = _fis_system(model, problems, notes)
     lines = [f"% {' '.join(text.split())}" for text in (model.title, *model.notes) if text]
     lines += ["[System]", f"Name={_quote(model.name, problems)}", f"Type='{kind}'",

@@ -39,8 +39,8 @@ from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, I
 from ..membership import linear_coefficients
 from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none)
-from .export import (all_singletons, finish, left_out, model_identifier, num, peaks_instead,
-                     rule_sentence, unsayable_hedges, unsayable_names)
+from .export import (all_singletons, compound_negations, finish, left_out, model_identifier, num,
+                     peaks_instead, rule_sentence, unsayable_hedges, unsayable_names)
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
 HEDGES = {"very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT, "seldom": Hedge.SELDOM,
@@ -346,7 +346,7 @@ class _FllReader:
         """fuzzylite fails on a rule that needs an operator given as `none`: so do we."""
         connective = {"conjunction": Connective.AND, "disjunction": Connective.OR}.get(kind)
         for rule in self.got.rules:
-            if connective is not None and rule.connective == connective and len(rule.clauses) > 1:
+            if connective in rule.connectives():
                 self.rep.error(rule.loc, f"this rule needs a {kind}, but its rule block has "
                                          f"`{kind}: none`")
                 return
@@ -436,7 +436,8 @@ def write_fll(model: Model, warnings: list[str] | None = None) -> str:
     rb = model.rulebase
     inf = rb.inference
     notes = left_out(model)
-    problems = unsayable_hedges(model, FLL_HEDGES, "FLL") + unsayable_names(model, "FLL")
+    problems = (unsayable_hedges(model, FLL_HEDGES, "FLL") + unsayable_names(model, "FLL")
+                + compound_negations(model, "FLL"))
     outputs, aggregation, defuzzifier = _fll_defuzzifier(model, problems, notes)
     lines = [f"# {one_line(note)}" for note in model.notes]
     lines.append(f"Engine: {model_identifier(model)}")

@@ -1,7 +1,8 @@
 """Rules of FCL and FLL (the same `if ... then ... with w` shape): lark tree -> builder `RuleSpec`.
 
-The model has one connective per rule, one clause per input, hedges before `not`: anything else
-(mixed and/or, `not` around a compound condition, a hedge the model lacks) is reported.
+A flat conjunction or disjunction stays a matrix row; mixed and/or, `not` around a compound
+condition and an input named twice make a clause program (`fuzzyc.conditions`).  A hedge the
+model lacks is reported.
 fuzzylite's `x is any` (truth 1) is said exactly with wildcards: every norm has 1 as the
 absorbing element of s-norms and the neutral one of t-norms, and 0 the other way round, so
 `any` drops out of an and-rule and makes an or-rule fire 1; `not any` (truth 0) the reverse.
@@ -16,6 +17,7 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from ..builder import RuleSpec
+from ..conditions import Cond, premise
 from ..errors import Reporter, shown_char, suggest
 from ..model import Connective, Hedge, SourceLoc
 from .common import Collected
@@ -58,25 +60,8 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
     rep = got.rep
     condition, *rest = tree.children
     weight_tree = rest.pop() if rest and rest[-1].data == "weight" else None
-    flat = _flatten(condition, rep, loc)
-    if flat is None:
-        return None
-    clauses, connective = flat
-    ok = True
-    rule_clauses: dict = {}
-    for negated, is_clause in clauses:
-        name, *words = [c for c in is_clause.children]
-        if words and words[0].type == "NOT":
-            negated, words = not negated, words[1:]
-        clause = _clause(name, words, negated, got, loc_of, hedges)
-        if clause is None:
-            ok = False
-        elif name.value in rule_clauses:
-            rep.error(loc_of(name), f"`{name}` appears twice in one rule: the model has one "
-                                    "clause per input; split the rule")
-            ok = False
-        else:
-            rule_clauses[name.value] = clause
+    cond = _condition(condition, got, loc_of, hedges)
+    ok = cond is not None
     conclusions: dict[str, int] = {}
     for concl in rest:
         name, *words = concl.children
@@ -95,18 +80,17 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
         if not 0.0 <= weight <= 1.0:
             rep.error(loc_of(token), f"a rule weight lies in [0, 1], got {weight:g}")
             ok = False
-    if not rule_clauses and ok:
-        rep.error(loc, "a rule needs at least one clause")
-        ok = False
     if not ok:
         return None
-    rule_clauses, weight = _resolve_any(rule_clauses, connective, weight)
-    if sum(term != ANY for term, _, _ in rule_clauses.values()) < 2:
-        connective = Connective.AND     # one clause or none: as every front end reads it
-    return RuleSpec(rule_clauses, connective, conclusions, weight, loc, origin)
+    rule_clauses, connective, program = premise(cond)
+    if program is None:
+        rule_clauses, weight = _resolve_any(rule_clauses, connective, weight)
+        if sum(term != ANY for term, _, _ in rule_clauses.values()) < 2:
+            connective = Connective.AND     # one clause or none: as every front end reads it
+    return RuleSpec(rule_clauses, connective, conclusions, weight, loc, origin, program)
 
 
-ANY = -1   # the clause `x is any`, as a wildcard term index until `_resolve_any`
+ANY = -1   # the clause `x is any` (truth 1), a wildcard term index (in a program too)
 
 
 def _resolve_any(clauses: dict, connective: Connective, weight: float) -> tuple[dict, float]:
@@ -120,31 +104,18 @@ def _resolve_any(clauses: dict, connective: Connective, weight: float) -> tuple[
     return {name: wildcard if c[0] == ANY else c for name, c in clauses.items()}, weight
 
 
-def _flatten(cond: Tree, rep: Reporter, loc: SourceLoc):
-    """[(negated, is_clause tree)], connective — or None if the rule mixes and/or."""
-    clauses, connectives, stack = [], set(), [(False, cond)]
-    while stack:
-        negated, node = stack.pop()
-        if node.data == "is_clause":
-            clauses.append((negated, node))
-        elif node.data == "not_cond":
-            inner = node.children[0]
-            while inner.data != "is_clause" and len(inner.children) == 1:
-                inner = inner.children[0]   # and/or wrappers of a single clause
-            if inner.data != "is_clause":
-                rep.error(loc, "`not` applies to one clause here: write `x is not t`, "
-                               "not `not (...)` around a compound condition")
-                return None
-            stack.append((not negated, inner))
-        else:
-            if len(node.children) > 1:
-                connectives.add(node.data)
-            stack.extend((negated, child) for child in reversed(node.children))
-    if len(connectives) > 1:
-        rep.error(loc, "this rule mixes `and` and `or`; the model has one connective per rule: "
-                       "split it into rules")
+def _condition(node: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, Hedge]) -> Cond | None:
+    """The condition tree by names, or None after reporting every clause that cannot be."""
+    if node.data == "is_clause":
+        name, *words = node.children
+        negated = bool(words) and words[0].type == "NOT"
+        clause = _clause(name, words[negated:], negated, got, loc_of, hedges)
+        return None if clause is None else Cond("is", leaf=(name.value, clause))
+    parts = [_condition(child, got, loc_of, hedges) for child in node.children]
+    if None in parts:
         return None
-    return clauses, Connective.OR if connectives == {"or_cond"} else Connective.AND
+    op = {"and_cond": "and", "or_cond": "or", "not_cond": "not"}[node.data]
+    return Cond(op, parts)
 
 
 def _clause(name: Token, words: list[Token], negated: bool, got: Collected, loc_of: LocOf,

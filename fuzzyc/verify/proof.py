@@ -36,6 +36,8 @@ PROVABLE_TERMS = {TermKind.TRAPEZOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind
 def beyond_proofs(rb: RuleBase) -> str | None:
     """Why no proof method applies to this rule base at all, or None when they may."""
     inf = rb.inference
+    if rb.conditions:
+        return f"no proof method for nested conditions ({rb.nested_rules()})"
     if inf.and_ not in (TNorm.MIN, TNorm.PRODUCT) or inf.or_ not in (SNorm.MAX, SNorm.PROBSUM):
         return f"no proof method for and={inf.and_.name.lower()} or={inf.or_.name.lower()}"
     if rb.hedges.size and int(rb.hedges.max()) > Hedge.EXTREMELY:

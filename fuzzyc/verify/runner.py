@@ -132,6 +132,9 @@ def _selected(options: Options, prop: Property, parent: Property | None = None) 
 def check_property(model: Model, prop: Property, options: Options) -> list[Evidence]:
     rb, a = model.rulebase, prop.args
     n, s, budget = options.max_examples, options.seed, options.grid_budget
+    flat_only = _unless_flat(rb)
+    if flat_only and prop.kind in ("consistent", "complete", "continuous"):
+        return [flat_only]
     if prop.kind == "consistent":
         return [tables.consistent(rb)]
     if prop.kind == "complete":
@@ -145,7 +148,7 @@ def check_property(model: Model, prop: Property, options: Options) -> list[Evide
         return [proved, search.covers(rb, a["inputs"], a["level"], budget)]
     if prop.kind == "monotone":
         args = (a["output"], a["input"], a["direction"], a["where"])
-        evidence = [tables.monotone(rb, *args),
+        evidence = [flat_only or tables.monotone(rb, *args),
                     _unless_beyond(rb) or proof.prove_monotone(rb, *args)]
         if evidence[-1].status == Status.UNDECIDED:
             evidence += search.monotone(rb, *args, budget, n, s)
@@ -153,6 +156,15 @@ def check_property(model: Model, prop: Property, options: Options) -> list[Evide
     if prop.kind == "bounded":
         return _bounded(model, a["signal"], a["lo"], a["hi"], options)
     return [Evidence("none", Status.UNDECIDED, f"unknown property kind `{prop.kind}`")]
+
+
+def _unless_flat(rb) -> Evidence | None:
+    """UNDECIDED evidence when a rule has a nested condition: the rule-table analyses read
+    one term per input and rule."""
+    if not rb.conditions:
+        return None
+    return Evidence("table", Status.UNDECIDED, f"{rb.nested_rules()} has a nested condition, "
+                                               "which the rule-table analysis does not read")
 
 
 def _unless_beyond(rb) -> Evidence | None:

@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import HealthCheck, given, seed as hseed, settings, strategies as st
 
 from .. import engine
-from ..model import RuleBase
+from ..model import CondOp, RuleBase
 from .draws import without_local_constants
 from .result import Evidence, Status
 from .space import dense_grid, tensor_points
@@ -136,6 +136,9 @@ def covers(rb: RuleBase, inputs: list[str], level: float, budget: int) -> Eviden
     outside the list ignored (a wildcard there)."""
     keep = [rb.input_index(n) for n in inputs]
     projected = _projected(rb, keep)
+    if projected is None:
+        return Evidence("grid", Status.UNDECIDED, f"{rb.nested_rules()} has a nested condition "
+                        "on an input outside the list, which has no wildcard to stand in for it")
     points = tensor_points(dense_grid(projected, [], budget))
     best = engine.activations(projected, points).max(axis=1)
     worst = int(np.argmin(best))
@@ -146,8 +149,18 @@ def covers(rb: RuleBase, inputs: list[str], level: float, budget: int) -> Eviden
     return Evidence("grid", Status.HELD, f"{len(points)} grid points", cases=len(points))
 
 
-def _projected(rb: RuleBase, keep: list[int]) -> RuleBase:
+def _projected(rb: RuleBase, keep: list[int]) -> RuleBase | None:
+    """rb over the inputs `keep` only; None when a clause program reads another input."""
+    new_index = np.full(len(rb.inputs), -1)
+    new_index[keep] = np.arange(len(keep))
+    conditions = {}
+    for r, program in rb.conditions.items():
+        clause = program[:, 0] == CondOp.CLAUSE
+        if np.any(new_index[program[clause, 1]] < 0):
+            return None
+        conditions[r] = program.copy()
+        conditions[r][clause, 1] = new_index[program[clause, 1]]
     return replace(rb, inputs=[rb.inputs[i] for i in keep],
                    antecedents=rb.antecedents[:, keep], negated=rb.negated[:, keep],
-                   hedges=rb.hedges[:, keep])
+                   hedges=rb.hedges[:, keep], conditions=conditions)
 
