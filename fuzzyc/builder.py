@@ -7,7 +7,8 @@ expression in the Model is a pure function of the current sample.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from typing import Any
 
 import numpy as np
 import sympy
@@ -98,6 +99,28 @@ class RuleSpec:
         return {self.connective} if len(self.clauses) > 1 else set()
 
 
+@dataclass
+class _Block:
+    """A rule block being assembled: the file's top level, or a `block NAME { ... }`."""
+    name: str
+    loc: SourceLoc | None
+    inference: Inference = field(default_factory=Inference)
+    rules: list[RuleSpec] = field(default_factory=list)
+    # output name -> its own aggregation and/or defuzzifier, by Inference field
+    choices: dict[str, dict[str, Any]] = field(default_factory=dict)
+
+    def reads(self) -> set[str]:
+        return {name for r in self.rules
+                for name in (r.clauses if r.program is None else [p[1] for p in r.program])
+                if name}
+
+    def writes(self) -> set[str]:
+        return {name for r in self.rules for name in r.conclusions}
+
+    def inference_of(self, output: str) -> Inference:
+        return replace(self.inference, **self.choices.get(output, {}))
+
+
 class Builder:
     def __init__(self, reporter: Reporter):
         self.rep = reporter
@@ -108,11 +131,12 @@ class Builder:
         self.step_by_name: dict[str, Step] = {}
         self.units: dict[str, units.Unit | None] = {}
         self.vars: dict[str, _LinguisticVar] = {}
-        self.rules: list[RuleSpec] = []
+        self.top = _Block("", None)      # the rules and inference outside any `block`
+        self.block = self.top            # where rules and `inference` go now
+        self.blocks: list[_Block] = []   # the named blocks, in order
         self.outputs: list[Output] = []
         self.properties: list[Property] = []
         self.notes: list[str] = []
-        self.inference = Inference()
         self.period: float | None = None
         self.declared: dict[str, SourceLoc] = {}
         self.broken: set[str] = set()    # names whose declaration failed: no follow-on errors
@@ -123,9 +147,9 @@ class Builder:
         for stmt in tree["statements"]:
             handler = getattr(self, f"_stmt_{stmt.kind}")
             handler(stmt)
-        rulebase = self._rulebase()
+        blocks = self._rulebases()
         self.rep.raise_if_any()
-        return Model(name=tree["name"].text, title=tree["title"], rulebase=rulebase,
+        return Model(name=tree["name"].text, title=tree["title"], blocks=blocks,
                      period=self.period, params=self.params, signals=list(self.signals.values()),
                      steps=self.steps, outputs=self.outputs, properties=self.properties,
                      source_path=path, source_text=text, notes=self.notes)
@@ -384,13 +408,33 @@ class Builder:
 
     # ------------------------------------------------------------------ inference
     def _stmt_inference(self, s: Stmt) -> None:
+        output = s.data["output"]
+        var = output and self._output_var(output)
         for key, value in s.data["settings"]:
             options = INFERENCE_VALUES[key]
             if value.text not in options:
                 self.error(value.loc, f"unknown {key} `{value.text}`: "
                                       f"{suggest(value.text, list(options))}")
-                continue
-            setattr(self.inference, INFERENCE_FIELD[key], options[value.text])
+            elif output is None:
+                setattr(self.block.inference, INFERENCE_FIELD[key], options[value.text])
+            elif key not in ("aggregation", "defuzzify"):
+                self.error(value.loc, f"`{key}` belongs to the whole rule base (or block); an "
+                                      f"output has its own aggregation and defuzzify only")
+            elif var is not None:
+                self.block.choices.setdefault(var.name, {})[INFERENCE_FIELD[key]] = \
+                    options[value.text]
+
+    def _stmt_block(self, s: Stmt) -> None:
+        name = s.data["name"]
+        if any(b.name == name.text for b in self.blocks):
+            self.error(name.loc, f"there is already a block `{name.text}`")
+        # a block starts from the inference given outside blocks (its defaults)
+        self.block = _Block(name.text, name.loc, replace(self.top.inference),
+                            choices={k: dict(v) for k, v in self.top.choices.items()})
+        for stmt in s.data["statements"]:
+            getattr(self, f"_stmt_{stmt.kind}")(stmt)
+        self.blocks.append(self.block)
+        self.block = self.top
 
     # ------------------------------------------------------------------ rules
     def _input_var(self, name: Name) -> _LinguisticVar | None:
@@ -402,8 +446,9 @@ class Builder:
             self.error(name.loc, f"unknown input `{name.text}` in a condition: "
                                  f"{suggest(name.text, known)}")
             return None
-        if not var.is_input:
+        if not var.is_input and self.block is self.top:
             self.error(name.loc, f"`{name.text}` is a rule-base output; conditions name inputs "
+                                 "(or, inside a `block`, outputs of earlier blocks) "
                                  f"({', '.join(v for v, lv in self.vars.items() if lv.is_input)})")
             return None
         return var
@@ -489,7 +534,7 @@ class Builder:
         weight = self._weight(s.data["weight"])
         if ok and weight is not None:
             clauses, connective, program = premise(condition)
-            self.rules.append(RuleSpec(clauses, connective, conclusions, weight, s.loc, label,
+            self.block.rules.append(RuleSpec(clauses, connective, conclusions, weight, s.loc, label,
                                        program))
 
     def _weight(self, num: Num | None) -> float | None:
@@ -545,7 +590,7 @@ class Builder:
                 clauses = dict(guard)
                 clauses[row_var.name] = (ri, False, Hedge.NONE)
                 clauses[col_var.name] = (ci, False, Hedge.NONE)
-                self.rules.append(RuleSpec(clauses, Connective.AND, {out.name: term}, 1.0,
+                self.block.rules.append(RuleSpec(clauses, Connective.AND, {out.name: term}, 1.0,
                                         cell.loc, origin))
 
     def _table_shape(self, s: Stmt, cells, n_rows: int, n_cols: int) -> bool:
@@ -599,7 +644,7 @@ class Builder:
                 conclusions[var.name] = term
             weight = self._weight(row["weight"])
             if ok and weight is not None:
-                self.rules.append(RuleSpec(clauses, Connective.AND, conclusions, weight,
+                self.block.rules.append(RuleSpec(clauses, Connective.AND, conclusions, weight,
                                         row["label"].loc, context))
 
     # ------------------------------------------------------------------ outputs
@@ -919,25 +964,62 @@ class Builder:
         return {"signal": d["signal"].text, "limit": d["limit"].value}
 
     # ------------------------------------------------------------------ the rule base
-    def _rulebase(self) -> RuleBase:
-        inputs = [v for v in self.vars.values() if v.is_input]
-        outputs = [v for v in self.vars.values() if not v.is_input]
+    def _rulebases(self) -> list[RuleBase]:
+        blocks = self.blocks or [self.top]
+        if self.blocks and self.top.rules:
+            self.error(self.top.rules[0].loc, "a rule outside the blocks: when a file has "
+                                              "`block`s, every rule belongs to one")
+        written = {name for b in blocks for name in b.writes()}
         for v in self.vars.values():
-            if not v.terms and not (not v.is_input and any(v.name in r.conclusions for r in self.rules)):
+            if not v.terms and not (not v.is_input and v.name in written):
                 self.error(v.loc, f"`{v.name}` has no terms: add `terms {v.name} : ...`")
             if not v.is_input and v.lo is not None and not v.lo <= v.default <= v.hi:
                 self.error(v.loc, f"the default {v.default:g} of `{v.name}` is outside its range "
                                   f"[{v.lo:g}, {v.hi:g}]")
-            self._check_linear_terms(v, len(inputs))
-        return assemble_rulebase([_variable(v) for v in inputs], [_variable(v) for v in outputs],
-                                 merge_rules(self.rules), self.inference)
+        if not self.blocks:     # one rule base: every input and every output variable
+            inputs = [v for v in self.vars.values() if v.is_input]
+            outputs = [v for v in self.vars.values() if not v.is_input]
+        made = {name: _variable(v) for name, v in self.vars.items() if v.lo is not None}
+        rulebases, done = [], set()
+        for b in blocks:
+            if self.blocks:     # a block: the variables its rules read and write
+                inputs = [v for n, v in self.vars.items() if n in b.reads()]
+                outputs = [v for n, v in self.vars.items() if n in b.writes()]
+                self._check_chain(b, inputs, outputs, done)
+            for v in outputs:
+                self._check_linear_terms(v, len(inputs), b.inference_of(v.name))
+            if any(v.name not in made for v in inputs + outputs):
+                continue        # reported where the variable was declared
+            rb = assemble_rulebase([made[v.name] for v in inputs],
+                                   [made[v.name] for v in outputs], merge_rules(b.rules),
+                                   b.inference)
+            rb.name = b.name
+            rb.output_choices = {v.name: (b.inference_of(v.name).aggregation,
+                                          b.inference_of(v.name).defuzzifier)
+                                 for v in outputs if v.name in b.choices}
+            rulebases.append(rb)
+        return rulebases
 
+    def _check_chain(self, b: _Block, inputs, outputs, done: set[str]) -> None:
+        """A block reads signals and outputs of earlier blocks; it writes outputs no other
+        block writes."""
+        for v in inputs:
+            if not v.is_input and v.name not in done:
+                later = " (a later block computes it: order the blocks)" \
+                    if any(v.name in o.writes() for o in self.blocks) else ""
+                self.error(b.loc, f"block `{b.name}` reads `{v.name}` before any block "
+                                  f"computes it{later}")
+        for v in outputs:
+            if v.name in done:
+                self.error(b.loc, f"block `{b.name}` concludes on `{v.name}`, which an earlier "
+                                  "block computes: an output belongs to one block")
+            done.add(v.name)
 
-    def _check_linear_terms(self, v: _LinguisticVar, n_inputs: int) -> None:
+    def _check_linear_terms(self, v: _LinguisticVar, n_inputs: int, inference: Inference) -> None:
         for name, kind, params, loc in v.terms:
             if kind != TermKind.LINEAR:
                 continue
-            if self.inference.defuzzifier not in LINEAR_DEFUZZIFIERS:
+            if inference.defuzzifier not in LINEAR_DEFUZZIFIERS:
                 self.error(loc, f"linear term `{name}` needs defuzzify = weighted_average or "
                                 "weighted_sum")
             if any(params[n_inputs + 1:]):     # zeros are the (T, 4) padding

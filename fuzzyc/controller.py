@@ -1,4 +1,4 @@
-"""A Model's whole signal chain (steps, rule base, outputs) for a batch of independent loops.
+"""A Model's whole signal chain (steps, rule blocks, outputs) for a batch of independent loops.
 
 Robustness to bad samples (a NaN or infinite raw input):
 - stateful steps (delta, prev, lowpass) keep their last finite memory; their output for that
@@ -32,7 +32,6 @@ from .model import Model, Op, OutputKind, TermKind
 class Controller:
     def __init__(self, model: Model, batch: int = 1):
         self.model = model
-        self.rulebase = model.rulebase
         self.input_names = [s.name for s in model.signals]
         self.output_names = [o.name for o in model.outputs]
         self.params = model.symbol_values()
@@ -55,9 +54,9 @@ class Controller:
                        for s in self.model.steps]
         self._outputs = [(o, compile_value(o.expr), self._state_limits(o))
                          for o in self.model.outputs]
-        self._rb_inputs = [v.name for v in self.rulebase.inputs]
-        self._rb_outputs = list(enumerate(v.name for v in self.rulebase.outputs))
-        self._engine = compiled(self.rulebase)
+        # per rule block in order: its input names, its (index, output name)s, its engine
+        self._blocks = [([v.name for v in rb.inputs], list(enumerate(v.name for v in rb.outputs)),
+                         compiled(rb)) for rb in self.model.blocks]
 
     @staticmethod
     def _initial_state(out) -> float:
@@ -93,12 +92,11 @@ class Controller:
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             for s, value, alias in self._steps:
                 env[s.name] = self._run_step(s, self._column(value(env), n), alias)
-            if self._engine is None:        # the consequents were set since the last step
-                self._engine = compiled(self.rulebase)
-            # the rule base's inputs as rows (I, N), its outputs as rows (O, N)
-            x = np.array([env[name] for name in self._rb_inputs])     # each one (N,) float
-            y = self._engine.evaluate_rows(x) if n else np.empty((len(self._rb_outputs), 0))
-            env.update({name: y[o] for o, name in self._rb_outputs})
+            for inputs, outputs, engine in self._blocks:
+                # the block's inputs as rows (I, N), its outputs as rows (O, N)
+                x = np.array([env[name] for name in inputs])     # each one (N,) float
+                y = engine.evaluate_rows(x) if n else np.empty((len(outputs), 0))
+                env.update({name: y[o] for o, name in outputs})
             outputs = {o.name: self._run_output(o, self._column(value(env), n), limits)
                        for o, value, limits in self._outputs}
         env.update(outputs)
@@ -162,7 +160,9 @@ class Controller:
 
     def set_consequent_values(self, output: str, values: np.ndarray) -> None:
         """Set the singleton values of a rule-base output's terms (the learned parameters)."""
-        var = self.rulebase.outputs[self.rulebase.output_index(output)]
+        k, rb = next((k, rb) for k, rb in enumerate(self.model.blocks)
+                     if output in [v.name for v in rb.outputs])
+        var = rb.outputs[rb.output_index(output)]
         values = np.asarray(values, dtype=float)
         if values.shape != (var.n_terms,):
             raise ValueError(f"{output} has {var.n_terms} terms, got {values.shape} values")
@@ -171,4 +171,5 @@ class Controller:
         if not np.all(np.isfinite(values)):
             raise ValueError(f"{output}: values must be finite")
         var.params[:, 0] = values
-        self._engine = None     # fetched again (rebuilt for the new values) at the next step
+        inputs, outputs, _ = self._blocks[k]
+        self._blocks[k] = (inputs, outputs, compiled(rb))    # rebuilt for the new values

@@ -92,7 +92,7 @@ def _fingerprint(rb: RuleBase) -> tuple:
                    np.array([v.lo, v.hi, v.default], dtype=float)]
         arrays += [np.append(float(t), row)
                    for t, row in sorted((v.coefficients or {}).items())]
-    return (rb.inference.describe(),) + tuple(np.ascontiguousarray(a).tobytes() for a in arrays)
+    return (rb.inference.describe(), tuple(sorted(rb.output_choices.items()))) + tuple(np.ascontiguousarray(a).tobytes() for a in arrays)
 
 
 class CompiledRuleBase:
@@ -101,12 +101,12 @@ class CompiledRuleBase:
     def __init__(self, rb: RuleBase, allow_sparse: bool = True):
         self.rb = rb
         self.key = _fingerprint(rb)
-        self.defuzzifiers = [OutputDefuzzifier(v, rb.inference, rb.inputs)
-                             for v in rb.outputs]
+        self.defuzzifiers = [OutputDefuzzifier(v, rb.inference_of(o), rb.inputs)
+                             for o, v in enumerate(rb.outputs)]
         self.linear_terms = any(d.linear is not None for d in self.defuzzifiers)
         # every output a ratio of its peaks weighted by the strengths (COA, weighted average)
         self.peak_ratio = not self.linear_terms and all(
-            d.use_peaks and rb.inference.defuzzifier != Defuzzifier.WEIGHTED_SUM
+            d.use_peaks and d.inference.defuzzifier != Defuzzifier.WEIGHTED_SUM
             for d in self.defuzzifiers)
         self.defaults = np.array([[float(v.default)] for v in rb.outputs])
         self.partitions = self._sparse_partitions(rb) if allow_sparse else None

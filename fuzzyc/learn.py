@@ -52,7 +52,7 @@ class Learner:
 
     def __post_init__(self) -> None:
         rb = self.model.rulebase
-        inference = rb.inference
+        inference = rb.inference_of(rb.output_index(self.output))
         if inference.defuzzifier != Defuzzifier.WEIGHTED_SUM or inference.and_ != TNorm.PRODUCT:
             raise ValueError(f"{self.model.name}: neuro-fuzzy learning needs "
                              "`inference and = product, defuzzify = weighted_sum`")

@@ -72,12 +72,18 @@ Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives 
   WEIGHTED_AVERAGE  sum_r act_r z_r / sum_r act_r  (Takagi-Sugeno; z_r = peak of the consequent,
              or the LINEAR term's value at the rule base's inputs)
   WEIGHTED_SUM      sum_r act_r z_r  (the neuro-fuzzy controller's output; may leave [lo, hi]).
+Per output o the aggregation and defuzzifier are RuleBase.inference_of(o): the rule base's, or
+  the output's own (RuleBase.output_choices).
+Rule blocks: a Model holds rule blocks (RuleBase) in evaluation order.  Each sample, after the
+  steps of the signal chain, block k evaluates its rules on the current values of its inputs
+  (signals, steps, or outputs of blocks before k: a chain) and writes its outputs, which later
+  blocks and the controller outputs read.  An output is written by one block only.
 Rule-base outputs are not clamped; the signal chain's outputs saturate (see Output).
 """
 from __future__ import annotations
 
 import hashlib
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from enum import IntEnum
 from typing import Any
 
@@ -270,6 +276,8 @@ class RuleBase:
     rule_locs: list[SourceLoc | None] = field(default_factory=list)
     origins: list[str] = field(default_factory=list)
     conditions: dict[int, np.ndarray] = field(default_factory=dict)
+    name: str = ""                    # the block's name when a Model has several
+    output_choices: dict[str, tuple[Aggregation, Defuzzifier]] = field(default_factory=dict)
 
     @property
     def n_rules(self) -> int:
@@ -277,6 +285,14 @@ class RuleBase:
 
     def input_index(self, name: str) -> int:
         return [v.name for v in self.inputs].index(name)
+
+    def inference_of(self, o: int) -> Inference:
+        """Output o's inference: the block's, with the output's own aggregation and
+        defuzzifier where it has them."""
+        choice = self.output_choices.get(self.outputs[o].name)
+        if choice is None:
+            return self.inference
+        return replace(self.inference, aggregation=choice[0], defuzzifier=choice[1])
 
     def output_index(self, name: str) -> int:
         return [v.name for v in self.outputs].index(name)
@@ -411,9 +427,9 @@ class Property:
 
 @dataclass
 class Model:
-    """A whole controller: signal chain in, rule base, signal chain out, properties."""
+    """A whole controller: signal chain in, rule blocks, signal chain out, properties."""
     name: str
-    rulebase: RuleBase
+    blocks: list[RuleBase]
     title: str = ""
     period: float | None = None          # seconds
     params: dict[str, Param] = field(default_factory=dict)
@@ -432,6 +448,18 @@ class Model:
 
     def symbol_values(self) -> dict[str, float]:
         return {p.name: p.value for p in self.params.values()}
+
+    @property
+    def rulebase(self) -> RuleBase:
+        """The rule base of a one-block model.  A reader that handles one rule block asks for
+        this, so a model with several is refused by name (FuzzycError)."""
+        if len(self.blocks) == 1:
+            return self.blocks[0]
+        from .errors import Diagnostic, FuzzycError    # errors imports this module
+        names = ", ".join(f"`{b.name}`" for b in self.blocks)
+        raise FuzzycError([Diagnostic(None, f"`{self.name}` has {len(self.blocks)} rule blocks "
+                                            f"({names}); this step reads one rule block (the "
+                                            "controller and `simulate` run chained blocks)")])
 
     def rulebase_input_sources(self) -> list[str]:
         """Names of the signals/steps that feed the rule base's inputs, in input order."""

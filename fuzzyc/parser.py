@@ -20,7 +20,7 @@ from .model import Model
 from .syntax import ToSyntax
 
 STATEMENT_KEYWORDS = ("period", "param", "input", "let", "var", "terms", "inference", "rule",
-                      "table", "output", "note", "verify")
+                      "table", "output", "note", "verify", "block")
 
 # Tree depth the transformer and the builder recurse through (Python's stack stops near 1000
 # frames; a statement and its expression's operators each take a level).

@@ -290,7 +290,13 @@ class ToSyntax(Transformer):
 
     @v_args(meta=True)
     def inference(self, meta, items):
-        return self._stmt("inference", meta, {"settings": list(items)})
+        items = list(items)
+        output = items.pop(0) if isinstance(items[0], Name) else None
+        return self._stmt("inference", meta, {"output": output, "settings": items})
+
+    @v_args(meta=True)
+    def block(self, meta, items):
+        return self._stmt("block", meta, {"name": items[0], "statements": list(items[1:])})
 
     @v_args(meta=True)
     def rule(self, meta, items):

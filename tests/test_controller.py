@@ -26,7 +26,7 @@ def model(direct=False):
                Output("t", OutputKind.RECIPROCAL_INCREMENT, 0.01 * du, 2.0, 10.0, init=4.0)]
     if direct:
         outputs.append(Output("v", OutputKind.DIRECT, 3 * du, -2.0, 2.0, init=0.0))
-    return Model("m", rb, params={"G": Param("G", 0.5)}, signals=[Signal("x", -1, 1)],
+    return Model("m", [rb], params={"G": Param("G", 0.5)}, signals=[Signal("x", -1, 1)],
                  steps=steps, outputs=outputs)
 
 

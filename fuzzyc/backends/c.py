@@ -82,6 +82,13 @@ SUMMED_PER_RULE = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)  # no
 def _check_constructs(rb: RuleBase) -> None:
     """The norms, hedges and term shapes the C back end emits (the engine has more)."""
     inf = rb.inference
+    own = [(name, choice) for name, choice in rb.output_choices.items()
+           if choice != (inf.aggregation, inf.defuzzifier)]
+    if own:
+        name, (agg, defuzz) = own[0]
+        raise _fail(f"the C back end emits one aggregation and defuzzifier per rule base; "
+                    f"output `{name}` has its own ({agg.name.lower()}, "
+                    f"{defuzz.name.lower()})")
     if rb.conditions:
         raise _fail(f"the C back end emits rules that are one and/or over one clause per input; "
                     f"{rb.nested_rules()} has a nested condition (use the lookup-table back "

@@ -150,7 +150,7 @@ class Collected:
         outputs = [_variable(v, False, n_inputs) for v in self.outputs.values()]
         rb = assemble_rulebase(inputs, outputs, merge_rules(self.rules), self.inference)
         return Model(
-            name=self.name, rulebase=rb, title=self.title or f"imported from {path}",
+            name=self.name, blocks=[rb], title=self.title or f"imported from {path}",
             signals=[Signal(v.name, v.lo, v.hi, loc=v.loc) for v in inputs],
             outputs=[Output(v.name + OUTPUT_SUFFIX, OutputKind.DIRECT, sympy.Symbol(v.name),
                             v.lo, v.hi, init=v.lo, loc=v.loc)

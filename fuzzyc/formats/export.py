@@ -163,3 +163,13 @@ def compound_negations(model: Model, fmt: str) -> list[str]:
             for r, p in sorted(rb.conditions.items())
             if any(op == CondOp.NOT and p[k - 1, 0] != CondOp.CLAUSE
                    for k, op in enumerate(p[:, 0]))]
+
+
+def own_output_choices(model: Model, fmt: str) -> list[str]:
+    """Problems for a format writer that says one aggregation and defuzzifier for the rule
+    base: the outputs that have their own."""
+    rb = model.rulebase
+    return [f"output `{name}` has its own {agg.name.lower()} aggregation and "
+            f"{defuzz.name.lower()} defuzzifier; the {fmt} writer says one for the rule base"
+            for name, (agg, defuzz) in rb.output_choices.items()
+            if (agg, defuzz) != (rb.inference.aggregation, rb.inference.defuzzifier)]

@@ -26,8 +26,8 @@ from ..errors import Reporter
 from ..model import (Aggregation, Connective, Defuzzifier, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
 from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
-from .export import (all_singletons, finish, left_out, model_identifier, num, peaks_instead,
-                     rule_sentence, unsayable_hedges, unsayable_names)
+from .export import (all_singletons, finish, left_out, model_identifier, num, own_output_choices,
+                     peaks_instead, rule_sentence, unsayable_hedges, unsayable_names)
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
 OPERATORS = {
@@ -324,7 +324,8 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     rb = model.rulebase
     inf = rb.inference
     notes = left_out(model)
-    problems = unsayable_hedges(model, {}, "FCL") + unsayable_names(model, "FCL")
+    problems = (unsayable_hedges(model, {}, "FCL") + unsayable_names(model, "FCL")
+                + own_output_choices(model, "FCL"))
     outputs, method = _fcl_method(model, problems, notes)
     # A weighted average is COGS over the per-rule activations summed per term.
     accu = Aggregation.SUM if inf.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE else inf.aggregation

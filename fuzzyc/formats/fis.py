@@ -49,7 +49,8 @@ from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, M
                      SourceLoc, TermKind, TNorm, Variable)
 from ..membership import linear_coefficients
 from .common import Collected, TermSpec, VarSpec, plain_shape_or_none, shape, trapezoid_or_none
-from .export import finish, left_out, num, peaks_instead, unsayable_hedges
+from .export import (finish, left_out, num, own_output_choices, peaks_instead,
+                     unsayable_hedges)
 
 SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")
 KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$")
@@ -305,7 +306,7 @@ def write_fis(model: Model, warnings: list[str] | None = None) -> str:
     cannot be said in FIS (see the module docstring for the mapping)."""
     rb = model.rulebase
     notes = left_out(model)
-    problems = unsayable_hedges(model, {}, "FIS")
+    problems = unsayable_hedges(model, {}, "FIS") + own_output_choices(model, "FIS")
     if rb.conditions:
         problems.append(f"{rb.nested_rules()} has a nested condition; a FIS rule row is one "
                         "connective over one clause per input")

@@ -40,7 +40,8 @@ from ..membership import linear_coefficients
 from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none)
 from .export import (all_singletons, compound_negations, finish, left_out, model_identifier, num,
-                     peaks_instead, rule_sentence, unsayable_hedges, unsayable_names)
+                     own_output_choices, peaks_instead, rule_sentence, unsayable_hedges,
+                     unsayable_names)
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
 HEDGES = {"very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT, "seldom": Hedge.SELDOM,
@@ -437,7 +438,7 @@ def write_fll(model: Model, warnings: list[str] | None = None) -> str:
     inf = rb.inference
     notes = left_out(model)
     problems = (unsayable_hedges(model, FLL_HEDGES, "FLL") + unsayable_names(model, "FLL")
-                + compound_negations(model, "FLL"))
+                + compound_negations(model, "FLL") + own_output_choices(model, "FLL"))
     outputs, aggregation, defuzzifier = _fll_defuzzifier(model, problems, notes)
     lines = [f"# {one_line(note)}" for note in model.notes]
     lines.append(f"Engine: {model_identifier(model)}")

@@ -55,7 +55,7 @@ def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int = 100) -> np.n
     `resolution` midpoints; other defuzzifiers as the engine (both tools are exact there)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     y = evaluate(rb, x)
-    sampled = [o for o, v in enumerate(rb.outputs) if _is_sampled(rb, v)]
+    sampled = [o for o in range(len(rb.outputs)) if _is_sampled(rb, o)]
     if not sampled:
         return y
     rows = max(1, CHUNK_FLOATS // max(1, rb.n_rules * resolution))
@@ -66,13 +66,13 @@ def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int = 100) -> np.n
     return y
 
 
-def _is_sampled(rb: RuleBase, var) -> bool:
-    singletons = bool(np.all(var.kinds == TermKind.SINGLETON))
-    return rb.inference.defuzzifier in SAMPLED and not singletons
+def _is_sampled(rb: RuleBase, o: int) -> bool:
+    singletons = bool(np.all(rb.outputs[o].kinds == TermKind.SINGLETON))
+    return rb.inference_of(o).defuzzifier in SAMPLED and not singletons
 
 
 def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int) -> np.ndarray:
-    var, inf = rb.outputs[o], rb.inference
+    var, inf = rb.outputs[o], rb.inference_of(o)
     rules = np.flatnonzero(rb.consequents[:, o] >= 0)
     # The midpoints computed with fuzzylite's own operation order, so that ties match bit for bit.
     u = var.lo + (np.arange(resolution) + 0.5) * ((var.hi - var.lo) / resolution)  # (K,)

@@ -46,6 +46,12 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     inf = rb.inference
     lines.append("  inference " + ", ".join(f"{key} = {words[getattr(inf, field)]}"
                                             for key, field, words in FZ_INFERENCE))
+    for o, var in enumerate(rb.outputs):
+        if var.name in rb.output_choices:
+            own = rb.inference_of(o)
+            lines.append(f"  inference {var.name}: " + ", ".join(
+                f"{key} = {words[getattr(own, field)]}"
+                for key, field, words in FZ_INFERENCE[3:]))    # aggregation, defuzzify
     for r in range(rb.n_rules):
         lines.append("  rule " + rule_sentence(model, r, FZ_HEDGES, ", ", problems))
     for var in rb.outputs:

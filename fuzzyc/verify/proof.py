@@ -55,11 +55,11 @@ def multilinear(rb: RuleBase, o: int) -> str | None:
     if not (rb.inference.and_ == TNorm.PRODUCT and bool(single_or_and.all()) and hedge_free(rb)
             and all((v.kinds == TermKind.TRAPEZOID).all() for v in rb.inputs)):
         return None
-    d = rb.inference.defuzzifier
+    d = rb.inference_of(o).defuzzifier
     if d == Defuzzifier.WEIGHTED_SUM:
         return "product t-norm, weighted sum: multilinear per cell"
     if d == Defuzzifier.WEIGHTED_AVERAGE or (d == Defuzzifier.CENTER_OF_AREA and
-                                              rb.inference.aggregation == Aggregation.SUM):
+                                              rb.inference_of(o).aggregation == Aggregation.SUM):
         axes = [break_points(v) for v in rb.inputs]
         act = engine.activations(rb, tensor_points(axes))[:, rb.consequents[:, o] >= 0]
         total = act.sum(axis=1)
@@ -78,7 +78,7 @@ def _vertex_values(rb: RuleBase, where) -> tuple[list[np.ndarray], np.ndarray]:
 def prove_bounded(rb: RuleBase, output: str, lo: float, hi: float) -> Evidence:
     o = rb.output_index(output)
     var = rb.outputs[o]
-    d = rb.inference.defuzzifier
+    d = rb.inference_of(o).defuzzifier
     linear = multilinear(rb, o)
     if linear:
         _, values = _vertex_values(rb, [])
