@@ -3,6 +3,10 @@ per-output aggregation/defuzzifier: hand-computed values, the .fz language's che
 back ends that refuse by name what they do not carry."""
 from __future__ import annotations
 
+import shutil
+import subprocess
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -10,9 +14,11 @@ from fuzzyc.backends.c import generate_header
 from fuzzyc.controller import Controller
 from fuzzyc.engine import evaluate
 from fuzzyc.errors import FuzzycError
+from fuzzyc.formats import read_fll
 from fuzzyc.formats.fcl import write_fcl
+from fuzzyc.formats.fuzzylite_compat import evaluate_sampled
 from fuzzyc.formats.fz import write_fz
-from fuzzyc.model import Aggregation, Defuzzifier
+from fuzzyc.model import Aggregation, Defuzzifier, TNorm
 from fuzzyc.parser import parse
 from fuzzyc.verify.runner import verify_model
 
@@ -152,3 +158,56 @@ def test_per_output_choices_fz_follows_c_and_fcl_refuse():
         generate_header(model)
     with pytest.raises(FuzzycError, match="output `z` has its own sum aggregation"):
         write_fcl(model)
+
+
+CORPUS = Path(__file__).parent / "format_corpus"
+TWO_BLOCKS = (CORPUS / "blocks_mamdani_sugeno.fll").read_text()
+POINTS = np.array([[0.6, 0.5], [0.9, 0.8], [0.2, 0.7], [0.0, 1.0]])
+
+
+def test_fll_rule_blocks_with_their_own_operators():
+    model = read_fll(TWO_BLOCKS, "two.fll")
+    mamdani, sugeno = model.blocks
+    assert (mamdani.name, [v.name for v in mamdani.outputs]) == ("mamdani", ["y"])
+    assert (sugeno.name, [v.name for v in sugeno.outputs]) == ("sugeno", ["z"])
+    assert sugeno.inference.and_ == TNorm.PRODUCT and mamdani.inference.and_ == TNorm.MIN
+    assert sugeno.inference_of(0).defuzzifier == Defuzzifier.WEIGHTED_AVERAGE
+    # z at (.6, .5): hi .6 * .5 = .3, lo .4 + .5 - .2 = .7 (probsum); (.3*10 + .7*0) / 1 = 3
+    # y at (.6, .5): hi min(.6, .5) = .5, lo max(.4, .5) = .5: symmetric about 5, centroid 5
+    out = Controller(model, batch=1).step({"a": np.array([0.6]), "b": np.array([0.5])})
+    assert out["z_out"][0] == pytest.approx(3.0, abs=1e-12)
+    assert out["y_out"][0] == pytest.approx(5.0, abs=1e-12)
+
+
+def test_fll_rule_blocks_agree_with_the_fuzzylite_cli(tmp_path):
+    if shutil.which("fuzzylite") is None:
+        pytest.skip("the fuzzylite CLI is not installed (Debian package fuzzylite)")
+    (tmp_path / "two.fll").write_text(TWO_BLOCKS)
+    (tmp_path / "in.fld").write_text("\n".join(" ".join(map(str, p)) for p in POINTS) + "\n")
+    subprocess.run(["fuzzylite", "-i", str(tmp_path / "two.fll"), "-of", "fld", "-d",
+                    str(tmp_path / "in.fld"), "-o", str(tmp_path / "out.fld"),
+                    "-decimals", "9"], check=True, capture_output=True)
+    rows = [r.split() for r in (tmp_path / "out.fld").read_text().split("\n")[1:] if r.strip()]
+    theirs = np.array([[float(r[2]), float(r[3])] for r in rows])
+    mamdani, sugeno = read_fll(TWO_BLOCKS, "two.fll").blocks
+    # fuzzylite samples the centroid at 1000 midpoints: the compat path does the same
+    np.testing.assert_allclose(evaluate_sampled(mamdani, POINTS, 1000)[:, 0], theirs[:, 0],
+                               atol=1e-6)
+    np.testing.assert_allclose(evaluate(sugeno, POINTS)[:, 0], theirs[:, 1], atol=1e-8)
+
+
+def test_fll_one_block_per_output_defuzzifiers():
+    one = TWO_BLOCKS.replace("RuleBlock: sugeno\n  enabled: true\n  conjunction: AlgebraicProduct\n"
+                             "  disjunction: AlgebraicSum\n  implication: none\n"
+                             "  activation: General\n", "")
+    rb = read_fll(one, "one.fll").rulebase
+    assert rb.output_choices == {"z": (Aggregation.MAX, Defuzzifier.WEIGHTED_AVERAGE)}
+    # min/max now: z at (.6, .5): hi min(.6, .5) = .5, lo max(.4, .5) = .5 -> 5
+    np.testing.assert_allclose(evaluate(rb, [[0.6, 0.5]]), [[5.0, 5.0]], atol=1e-12)
+
+
+def test_fll_blocks_with_different_operators_on_one_output_are_refused():
+    text = TWO_BLOCKS.replace("then z is hi", "then y is hi")
+    with pytest.raises(FuzzycError, match="`y` is concluded in rule blocks `mamdani` and "
+                                          "`sugeno`, whose operators differ"):
+        read_fll(text, "bad.fll")

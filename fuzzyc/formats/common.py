@@ -12,8 +12,8 @@ import sympy
 
 from ..builder import RuleSpec, assemble_rulebase, merge_rules
 from ..errors import Reporter, suggest
-from ..model import (Inference, Model, Output, OutputKind, Signal, SourceLoc, TermKind,
-                     Variable)
+from ..model import (Aggregation, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
+                     SourceLoc, TermKind, Variable)
 
 INF = math.inf
 OUTPUT_SUFFIX = "_out"   # .fz needs the signal-chain output named apart from the rule-base output
@@ -116,6 +116,10 @@ class Collected:
     rules: list[RuleSpec] = field(default_factory=list)
     inference: Inference = field(default_factory=Inference)
     notes: list[str] = field(default_factory=list)
+    output_choices: dict[str, tuple[Aggregation, Defuzzifier]] = field(default_factory=dict)
+    # several rule blocks (name, inference, rules), each concluding on its own outputs; None:
+    # one rule base of `rules` with `inference`
+    blocks: list[tuple[str, Inference, list[RuleSpec]]] | None = None
 
     def declare(self, var: VarSpec, is_input: bool) -> VarSpec:
         if var.name in self.inputs or var.name in self.outputs:
@@ -148,9 +152,20 @@ class Collected:
         n_inputs = len(self.inputs)
         inputs = [_variable(v, True, n_inputs) for v in self.inputs.values()]
         outputs = [_variable(v, False, n_inputs) for v in self.outputs.values()]
-        rb = assemble_rulebase(inputs, outputs, merge_rules(self.rules), self.inference)
+        blocks, parts = [], self.blocks or [("", self.inference, self.rules)]
+        owner = {}      # an output no rule concludes stays with the first block (its default)
+        for k, (_, _, rules) in enumerate(parts):
+            owner.update({out: k for r in rules for out in r.conclusions if out not in owner})
+        for k, (name, inference, rules) in enumerate(parts):
+            mine = [v for v in outputs if owner.get(v.name, 0) == k]
+            # every block reads every input (a linear term's coefficients run over them all)
+            rb = assemble_rulebase(inputs, mine, merge_rules(rules), inference)
+            rb.name = name
+            rb.output_choices = {v.name: self.output_choices[v.name] for v in mine
+                                 if v.name in self.output_choices}
+            blocks.append(rb)
         return Model(
-            name=self.name, blocks=[rb], title=self.title or f"imported from {path}",
+            name=self.name, blocks=blocks, title=self.title or f"imported from {path}",
             signals=[Signal(v.name, v.lo, v.hi, loc=v.loc) for v in inputs],
             outputs=[Output(v.name + OUTPUT_SUFFIX, OutputKind.DIRECT, sympy.Symbol(v.name),
                             v.lo, v.hi, init=v.lo, loc=v.loc)

@@ -20,6 +20,10 @@ Mapping (exact unless said):
   Maximum/AlgebraicSum/BoundedSum -> CENTER_OF_AREA with that aggregation (fuzzylite's
   grouped_terms fold each term's degrees with the aggregation's s-norm).  WeightedSum with
   `none` -> WEIGHTED_SUM.
+Each output keeps its own aggregation and defuzzifier (RuleBase.output_choices where it differs
+from the first output's).  Rule blocks whose operators agree make one rule base; blocks with
+their own operators become rule blocks of the model, each concluding its own outputs (an output
+concluded in two blocks whose operators differ is reported).
 Anything else (Function, Discrete, Binary, the products/differences of sigmoids, term heights,
 implications and aggregations other than the above, activation methods other than General,
 lock-previous) is reported with its place.
@@ -28,6 +32,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 
 import numpy as np
 from lark.exceptions import UnexpectedInput
@@ -98,8 +103,12 @@ class _FllReader:
         self.path = path
         self.section: str | None = None
         self.var: VarSpec | None = None
-        self.settings: dict[str, dict] = {}   # kind -> {value: first line} for agreement checks
-        self.rule_lines: list[_Line] = []
+        # per RuleBlock its name and operators, per output its aggregation and defuzzifier:
+        # kind -> (value, first line)
+        self.blocks: list[tuple[str, dict[str, tuple[str, SourceLoc]]]] = []
+        self.output_settings: dict[str, dict[str, tuple[str, SourceLoc]]] = {}
+        self.rule_lines: list[tuple[int, _Line]] = []   # (block, line)
+        self.rule_block: list[int] = []                 # the block of each rule read
 
     def loc(self, line: _Line, col: int) -> SourceLoc:
         return self.rep.loc(line.number, col)
@@ -108,8 +117,8 @@ class _FllReader:
         for number, raw in enumerate(source_lines(text), start=1):
             if raw.split("#", 1)[0].strip():
                 self._line(_Line(number, raw))
-        for line in self.rule_lines:   # after every variable, wherever the rule blocks stand
-            self._parse_rule(line)
+        for block, line in self.rule_lines:   # after every variable, wherever the blocks stand
+            self._parse_rule(block, line)
         self._inference()
         return self.got.model(self.path, text)
 
@@ -120,6 +129,8 @@ class _FllReader:
             self.var = None
             if line.key == "Engine" and first_value:
                 self.got.name = re.sub(r"\W", "_", line.value.strip())
+            elif line.key == "RuleBlock":
+                self.blocks.append((first_value or f"block{len(self.blocks) + 1}", {}))
             elif line.key in ("InputVariable", "OutputVariable"):
                 if not first_value:
                     self.rep.error(self.loc(line, line.value_col), "a variable needs a name")
@@ -280,24 +291,45 @@ class _FllReader:
                                               "supported: every rule is evaluated (General)")
 
     def _setting(self, kind: str, line: _Line, value: str | None = None) -> None:
-        """Remember a per-block/per-output operator; they must agree across blocks/outputs."""
+        """Remember an operator of the current rule block or output (the first one given)."""
         value = value if value is not None else (self._word(line) or "none")
-        seen = self.settings.setdefault(kind, {})
-        if seen and value not in seen:
-            other_value, other = next(iter(seen.items()))
-            self.rep.error(self._first(line), f"{kind} `{value}` differs from `{other_value}` "
-                                              f"at line {other.line}: the model has one "
-                                              f"{kind} for the whole rule base")
-        seen.setdefault(value, self._first(line))
+        seen = self.blocks[-1][1] if self.section == "RuleBlock" else \
+            self.output_settings.setdefault(self.var.name, {})
+        seen.setdefault(kind, (value, self._first(line)))
 
     def _inference(self) -> None:
-        """Turn the operators seen into the model's Inference, reporting what it lacks."""
+        """The rule blocks' operators and the outputs' defuzzifiers as the model's inference:
+        one rule base when the blocks agree, else one per block (each concluding on its own
+        outputs); an output whose choices differ from the first output's gets its own."""
+        blocks = self.blocks or [("rules", {})]
+        operators = [self._operators(settings, [r for r, b in zip(self.got.rules,
+                                                                      self.rule_block) if b == k])
+                     for k, (_, settings) in enumerate(blocks)]
+        choices = {name: self._output_choice(var) for name, var in self.got.outputs.items()}
+        first = next(iter(choices.values()), (Inference().aggregation, Inference().defuzzifier))
+        self.got.output_choices = {name: c for name, c in choices.items() if c != first}
+        self.got.inference = replace(operators[0], aggregation=first[0], defuzzifier=first[1])
+        if all(op == operators[0] for op in operators):
+            return
+        owner: dict[str, int] = {}
+        for rule, k in zip(self.got.rules, self.rule_block):
+            for name in rule.conclusions:
+                if owner.setdefault(name, k) != k:
+                    self.rep.error(rule.loc, f"`{name}` is concluded in rule blocks "
+                                             f"`{blocks[owner[name]][0]}` and `{blocks[k][0]}`, "
+                                             "whose operators differ: the model aggregates an "
+                                             "output within one block")
+        self.got.blocks = [(name, replace(op, aggregation=first[0], defuzzifier=first[1]),
+                            [r for r, b in zip(self.got.rules, self.rule_block) if b == k])
+                           for k, ((name, _), op) in enumerate(zip(blocks, operators))]
+
+    def _operators(self, settings: dict, rules: list) -> Inference:
+        """A rule block's conjunction, disjunction and implication."""
         inf = Inference()
-        choice = {kind: next(iter(seen.items())) for kind, seen in self.settings.items()}
         for kind, table, field in (("conjunction", TNORMS, "and_"), ("disjunction", SNORMS, "or_"),
                                    ("implication", IMPLICATIONS, "implication")):
-            if kind in choice and choice[kind][0] != "none":
-                value, loc = choice[kind]
+            if kind in settings and settings[kind][0] != "none":
+                value, loc = settings[kind]
                 if value not in table:
                     self.rep.error(loc, f"{kind} `{value}` is not supported: the model has "
                                         + " and ".join(table))
@@ -308,17 +340,19 @@ class _FllReader:
                                               "min(1, a+b), as pyfuzzylite 8 computes it; "
                                               "fuzzylite 6 (C++) computes a+b")
             else:
-                self._unset_operator_used(kind)
-        if not self.got.outputs:
-            self.got.inference = inf
-            return
-        # An output without these lines is reported at its header.
-        fallback = next(iter(self.got.outputs.values())).loc
-        aggregation, agg_loc = choice.get("aggregation", ("none", fallback))
-        defuzz, loc = choice.get("defuzzifier", ("Centroid", fallback))
+                self._unset_operator_used(kind, rules)
+        return inf
+
+    def _output_choice(self, var) -> tuple[Aggregation, Defuzzifier]:
+        """An output's aggregation and defuzzifier, reporting what the model lacks.  An output
+        without these lines is reported at its header."""
+        settings = self.output_settings.get(var.name, {})
+        aggregation, agg_loc = settings.get("aggregation", ("none", var.loc))
+        defuzz, loc = settings.get("defuzzifier", ("Centroid", var.loc))
+        inf = Inference()
         if defuzz in INTEGRAL:
             inf.defuzzifier = INTEGRAL[defuzz]
-            self._forbid_constants(defuzz)
+            self._forbid_constants(var, defuzz)
             if aggregation not in AGGREGATIONS:
                 self.rep.error(agg_loc, f"aggregation `{aggregation}` with {defuzz} is "
                                         "not supported: use " + ", ".join(AGGREGATIONS))
@@ -331,55 +365,59 @@ class _FllReader:
             inf.defuzzifier = (Defuzzifier.CENTER_OF_AREA if aggregation in GROUPING
                                else Defuzzifier.WEIGHTED_AVERAGE)
             inf.aggregation = GROUPING.get(aggregation, inf.aggregation)
-            self._require_constants(defuzz)
+            self._require_constants(var, defuzz)
         elif defuzz == "WeightedSum" and aggregation in ("none", "UnboundedSum"):
             inf.defuzzifier = Defuzzifier.WEIGHTED_SUM
-            self._require_constants(defuzz)
+            self._require_constants(var, defuzz)
         elif defuzz in ("WeightedAverage", "WeightedSum"):
             self.rep.error(agg_loc, f"{defuzz} with aggregation `{aggregation}` is not "
-                                           "supported")
+                                    "supported")
         else:
             self.rep.error(loc, f"defuzzifier `{defuzz}` is not supported: the model has "
                                 "Centroid, Bisector, MeanOfMaximum, WeightedAverage, WeightedSum")
-        self.got.inference = inf
+        return inf.aggregation, inf.defuzzifier
 
-    def _unset_operator_used(self, kind: str) -> None:
+    def _unset_operator_used(self, kind: str, rules: list) -> None:
         """fuzzylite fails on a rule that needs an operator given as `none`: so do we."""
         connective = {"conjunction": Connective.AND, "disjunction": Connective.OR}.get(kind)
-        for rule in self.got.rules:
+        for rule in rules:
             if connective in rule.connectives():
                 self.rep.error(rule.loc, f"this rule needs a {kind}, but its rule block has "
                                          f"`{kind}: none`")
                 return
-        if kind == "implication" and self.settings.get("defuzzifier", {}).keys() & INTEGRAL.keys():
-            self.rep.error(next(iter(self.settings["defuzzifier"].values())),
-                           f"{next(iter(self.settings['defuzzifier']))} needs an implication, "
-                           "but the rule block has `implication: none`")
+        if kind != "implication":
+            return
+        # the outputs this block concludes (with one block: all of them)
+        concluded = {name for rule in rules for name in rule.conclusions}
+        for name, settings in self.output_settings.items():
+            defuzz, loc = settings.get("defuzzifier", ("", None))
+            if defuzz in INTEGRAL and (name in concluded or len(self.blocks) <= 1):
+                self.rep.error(loc, f"{defuzz} needs an implication, but the rule block has "
+                                    "`implication: none`")
+                return
 
-    def _forbid_constants(self, defuzz: str) -> None:
-        for var in self.got.outputs.values():
-            for term in var.terms:
-                if term.kind == TermKind.LINEAR:
-                    self.rep.error(term.loc, f"a Linear term needs WeightedAverage or "
-                                             f"WeightedSum, not {defuzz}")
-                elif term.kind == TermKind.SINGLETON:
-                    self.rep.error(term.loc, f"a Constant term under {defuzz} is a membership "
-                                             "constant over the whole range in fuzzylite, a "
-                                             "singleton in the model: use WeightedAverage")
+    def _forbid_constants(self, var, defuzz: str) -> None:
+        for term in var.terms:
+            if term.kind == TermKind.LINEAR:
+                self.rep.error(term.loc, f"a Linear term needs WeightedAverage or "
+                                         f"WeightedSum, not {defuzz}")
+            elif term.kind == TermKind.SINGLETON:
+                self.rep.error(term.loc, f"a Constant term under {defuzz} is a membership "
+                                         "constant over the whole range in fuzzylite, a "
+                                         "singleton in the model: use WeightedAverage")
 
-    def _require_constants(self, defuzz: str) -> None:
-        for var in self.got.outputs.values():
-            for term in var.terms:
-                if term.kind not in (TermKind.SINGLETON, TermKind.LINEAR):
-                    self.rep.error(term.loc, f"{defuzz} needs Constant or Linear terms "
-                                             "(Takagi-Sugeno); "
-                                             f"`{term.name}` is not one")
+    def _require_constants(self, var, defuzz: str) -> None:
+        for term in var.terms:
+            if term.kind not in (TermKind.SINGLETON, TermKind.LINEAR):
+                self.rep.error(term.loc, f"{defuzz} needs Constant or Linear terms "
+                                         "(Takagi-Sugeno); "
+                                         f"`{term.name}` is not one")
 
     # ------------------------------------------------------------------ rules
     def _rule(self, line: _Line) -> None:
-        self.rule_lines.append(line)
+        self.rule_lines.append((len(self.blocks) - 1, line))
 
-    def _parse_rule(self, line: _Line) -> None:
+    def _parse_rule(self, block: int, line: _Line) -> None:
         text = line.value
         start = len(text) - len(text.lstrip())
         offset = line.value_col + start
@@ -396,6 +434,7 @@ class _FllReader:
         rule = rule_from_tree(tree, self.got, loc_of, HEDGES, f"{self.path}:{line.number}", loc)
         if rule is not None:
             self.got.rules.append(rule)
+            self.rule_block.append(block)
 
     # ------------------------------------------------------------------ helpers
     def _first(self, line: _Line) -> SourceLoc:
