@@ -5,7 +5,10 @@ Two ways to find the rule activations, with identical results:
 - sparse: when every input is a partition where at most two terms are positive at a time (see
   `LocalPartition`) and the rules are plain AND conjunctions of one term per input, a sample can
   fire at most 2**I rules.  Per sample the engine takes the two active terms of each input, forms
-  the 2**I term-index tuples, and looks their rules up in a table built once from the rules.
+  the 2**I term-index tuples, and looks their rules up in a table built once from the rules (a
+  direct table of every term tuple, or the rules' sorted tuple codes where that table would be
+  too big).  Wide rule bases stay on this path while 2**I is at most the number of rules, so
+  the cost grows with 2**I, not with the rules (3**I in a full grid of three terms).
 Defuzzification (`fuzzyc.defuzz`) takes either form.  Where every output can be defuzzified
 from its terms' strengths alpha_j (peak-based methods; area-based ones with MAX aggregation, or
 SUM with PRODUCT implication; not PROBSUM or BOUNDED_SUM, whose area methods need every rule's
@@ -27,8 +30,10 @@ from .membership import LocalPartition, apply_hedges, memberships
 from .model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
 from .norms import combine, firing
 
-MAX_LOOKUP_CELLS = 1 << 21
-MAX_SPARSE_INPUTS = 6
+MAX_LOOKUP_CELLS = 1 << 21     # a direct cell table up to here, sorted cell codes beyond
+MAX_SPARSE_INPUTS = 6          # the C back ends' cell tables stop here; the engine goes on
+                               # while a sample's 2**I candidates are fewer than the rules
+MAX_CELL_CODE = float(1 << 62)  # cell codes are int64
 # assumption: the working set one chunk may use, in float64 values (16 MB).  Measured on a 2-core
 # EPYC (2 MB L2), 100,000-200,000 samples, the paper rule bases: in a fresh process 1 << 22
 # (32 MB) chunks get their temporaries as fresh pages every chunk (page faults dominate), and
@@ -92,7 +97,8 @@ def _fingerprint(rb: RuleBase) -> tuple:
                    np.array([v.lo, v.hi, v.default], dtype=float)]
         arrays += [np.append(float(t), row)
                    for t, row in sorted((v.coefficients or {}).items())]
-    return (rb.inference.describe(), tuple(sorted(rb.output_choices.items()))) + tuple(np.ascontiguousarray(a).tobytes() for a in arrays)
+    return (rb.inference.describe(), tuple(sorted(rb.output_choices.items()))) + \
+        tuple(np.ascontiguousarray(a).tobytes() for a in arrays)
 
 
 class CompiledRuleBase:
@@ -127,11 +133,13 @@ class CompiledRuleBase:
 
     @staticmethod
     def _sparse_partitions(rb: RuleBase) -> list[LocalPartition] | None:
-        plain = (rb.n_rules > 0 and 0 < len(rb.inputs) <= MAX_SPARSE_INPUTS
+        n_in = len(rb.inputs)
+        plain = (rb.n_rules > 0 and 0 < n_in
+                 and (n_in <= MAX_SPARSE_INPUTS or 2 ** n_in <= rb.n_rules)
                  and rb.inference.and_ in FAST_TNORMS
                  and np.all(rb.connective == Connective.AND) and not np.any(rb.negated)
                  and np.all(rb.hedges == Hedge.NONE) and np.all(rb.antecedents >= 0)
-                 and np.prod([v.n_terms + 1 for v in rb.inputs]) <= MAX_LOOKUP_CELLS)
+                 and np.prod([v.n_terms + 1.0 for v in rb.inputs]) <= MAX_CELL_CODE)
         if not plain:
             return None
         parts = [LocalPartition.build(v) for v in rb.inputs]
@@ -141,20 +149,30 @@ class CompiledRuleBase:
         """The grid fast path, when every output can be defuzzified from term strengths
         aggregated the same way."""
         aggregations = {d.strength_aggregation() for d in self.defuzzifiers}
-        if len(aggregations) != 1 or None in aggregations or \
+        if len(aggregations) != 1 or None in aggregations or self.codes is not None or \
                 not GridStrengths.fits(rb, self.partitions, self.lookup.shape[1]):
             return None
         return GridStrengths(rb, self.partitions, self.lookup, self.radix, aggregations.pop())
 
     def _build_lookup(self, rb: RuleBase) -> None:
-        """lookup[cell] = the rules whose antecedent is that term tuple, padded with rule R."""
-        radix = np.array([v.n_terms + 1 for v in rb.inputs])
+        """lookup[row] = the rules whose antecedent is the term tuple of that row, padded with
+        rule R.  The row of a cell code is the code itself (a direct table) while there are at
+        most MAX_LOOKUP_CELLS cells; beyond, `codes` holds the rules' codes sorted, the row is
+        a code's rank there, and the extra last row (no rule) answers the other codes."""
+        radix = np.array([v.n_terms + 1 for v in rb.inputs], dtype=np.int64)
         place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
         cells = rb.antecedents @ place
+        self.codes = None
+        if np.prod(radix.astype(float)) > MAX_LOOKUP_CELLS:
+            self.codes, cells = np.unique(cells, return_inverse=True)
+            cells = cells.ravel()
+            n_rows = len(self.codes) + 1
+        else:
+            n_rows = int(np.prod(radix))
         order = np.argsort(cells, kind="stable")
-        counts = np.bincount(cells, minlength=int(np.prod(radix)))
+        counts = np.bincount(cells, minlength=n_rows)
         depth = max(1, int(counts.max()))
-        lookup = np.full((len(counts), depth), rb.n_rules)
+        lookup = np.full((n_rows, depth), rb.n_rules)
         rank = np.arange(rb.n_rules) - np.searchsorted(cells[order], cells[order])
         lookup[cells[order], rank] = order
         self.radix, self.lookup = radix, lookup
@@ -175,6 +193,9 @@ class CompiledRuleBase:
             cell = (cell[:, :, None] * self.radix[i] + terms[:, None, :]).reshape(n, -1)
             mu = m if mu is None else \
                 combine([mu[:, :, None], m[:, None, :]], tnorm, True).reshape(n, -1)
+        if self.codes is not None:
+            row = np.minimum(np.searchsorted(self.codes, cell), len(self.codes) - 1)
+            cell = np.where(self.codes[row] == cell, row, len(self.codes))
         rid = self.lookup[cell].reshape(n, -1)
         if self.lookup.shape[1] > 1:
             mu = np.repeat(mu, self.lookup.shape[1], axis=1)

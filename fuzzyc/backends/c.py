@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine import CompiledRuleBase
+from ..engine import MAX_SPARSE_INPUTS, CompiledRuleBase
 from ..errors import Diagnostic, FuzzycError
 from ..escape import c_comment, c_identifier, check_c_names
 from ..limits import MAX_C_TABLE_CELLS
@@ -122,9 +122,10 @@ class HeaderWriter:
         self.name = c_identifier(model.name)
         self.p = self.name + "_"
         self.P = self.name.upper() + "_"
-        compiled = CompiledRuleBase(self.rb)
-        # The cell table is the fast path where it is small; past that every rule is looped
-        # over (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
+        # The cell table is the fast path where it is small (up to MAX_SPARSE_INPUTS inputs and
+        # MAX_C_TABLE_CELLS cells); past that every rule is looped over (a 1.8M-cell table took
+        # 19 s, 1.9 GB and gcc rejected it).
+        compiled = CompiledRuleBase(self.rb, len(self.rb.inputs) <= MAX_SPARSE_INPUTS)
         self.sparse = compiled.sparse and compiled.lookup.shape[0] <= MAX_C_TABLE_CELLS
         self.depth = compiled.lookup.shape[1] if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)

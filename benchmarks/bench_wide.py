@@ -1,0 +1,91 @@
+"""Engine cost against the number of inputs: full-grid rule bases with 2 to 10 inputs.
+
+Each input has three uniform triangle terms on [-1, 1] (a partition), every combination of
+terms is one AND rule (3**I rules), the consequent is the singleton term nearest the mean of
+the premise's term indices, and the output is the center of area (eq. 2).  Microseconds per
+evaluation at batch 1 and batch 1,000, median of repeats; the engine path that ran (grid,
+sparse or dense); and the dense reference `activations` on the same batch for comparison
+(only where it stays under a few seconds).  Writes benchmarks/results/wide.md.
+
+    python3 benchmarks/bench_wide.py [--quick]
+"""
+from __future__ import annotations
+
+import itertools
+import os
+import pathlib
+import platform
+import sys
+
+import numpy as np
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
+
+from common import markdown_table, median_seconds, write_result  # noqa: E402
+from fuzzyc.builder import RuleSpec, assemble_rulebase  # noqa: E402
+from fuzzyc.engine import activations, compiled, evaluate  # noqa: E402
+from fuzzyc.model import Connective, Defuzzifier, Inference, SourceLoc, TermKind, Variable  # noqa: E402
+
+TERMS = ["N", "Z", "P"]
+OUT = ["NB", "NS", "ZO", "PS", "PB"]
+
+
+def uniform(name: str, names: list[str]) -> Variable:
+    peaks = np.linspace(-1, 1, len(names))
+    h = peaks[1] - peaks[0]
+    params = np.stack([peaks - h, peaks, peaks, peaks + h], axis=1)
+    return Variable(name, -1.0, 1.0, list(names), np.full(len(names), int(TermKind.TRAPEZOID)),
+                    params)
+
+
+def full_grid(n_inputs: int):
+    inputs = [uniform(f"x{i}", TERMS) for i in range(n_inputs)]
+    out = Variable("y", -1.0, 1.0, OUT, np.full(5, int(TermKind.SINGLETON)),
+                   np.array([[p, 0, 0, 0] for p in np.linspace(-1, 1, 5)]))
+    loc = SourceLoc("bench", 0, 0)
+    rules = [RuleSpec({f"x{i}": (t, False, 0) for i, t in enumerate(combo)}, Connective.AND,
+                      {"y": int(round(np.mean(combo) * 2))}, 1.0, loc, "")
+             for combo in itertools.product(range(3), repeat=n_inputs)]
+    return assemble_rulebase(inputs, [out], rules,
+                             Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
+
+
+def path_of(rb) -> str:
+    engine = compiled(rb)
+    return "grid" if engine.grid is not None else "sparse" if engine.sparse else "dense"
+
+
+def main(quick: bool = False) -> str:
+    rng = np.random.default_rng(0)
+    rows = []
+    load_before = os.getloadavg()[0]
+    for n_in in range(2, 9 if quick else 11):
+        rb = full_grid(n_in)
+        x1 = rng.uniform(-1, 1, (1, n_in))
+        xk = rng.uniform(-1, 1, (1000, n_in))
+        one = median_seconds(lambda: evaluate(rb, x1), 30) * 1e6
+        batch = median_seconds(lambda: evaluate(rb, xk), 5) * 1e6 / len(xk)
+        dense = ""
+        if rb.n_rules <= 3 ** 8:
+            dense = f"{median_seconds(lambda: activations(rb, xk), 3) * 1e6 / len(xk):.2f}"
+        row = [n_in, f"{rb.n_rules:,}", path_of(rb), f"{one:.1f}", f"{batch:.2f}", dense]
+        rows.append(row)
+        print(" | ".join(map(str, row)), flush=True)
+    load_after = os.getloadavg()[0]
+    header = ["inputs", "rules", "engine path", "batch 1: us/eval", "batch 1000: us/eval",
+              "dense activations only, batch 1000: us/eval"]
+    text = ("# Engine cost against the number of inputs\n\n"
+            "Full-grid rule bases: three uniform triangles per input, one AND rule per term "
+            "combination (3^I rules), center of area over five singletons. Median of repeats; "
+            "the last column is the dense reference computing every rule's activation (no "
+            "defuzzification), for scale. "
+            f"numpy {np.__version__}, CPython {platform.python_version()}; load average (1 min) "
+            f"{load_before:.1f} at the start, {load_after:.1f} at the end "
+            f"({os.cpu_count()} CPUs).\n\n" + markdown_table(header, rows))
+    write_result(ROOT / "benchmarks" / "results" / "wide.md", text)
+    return text
+
+
+if __name__ == "__main__":
+    print(main(quick="--quick" in sys.argv))

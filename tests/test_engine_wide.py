@@ -1,0 +1,96 @@
+"""Wide rule bases (more than 6 inputs) stay on the sparse path: a sample fires at most 2**I
+term tuples, looked up in a direct cell table or, where that table would be too big, among the
+rules' sorted cell codes.  Both agree with the dense reference; a hand-computed 7-input value;
+the C back end keeps every rule beyond 6 inputs, as before."""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import pytest
+
+from fuzzyc.backends.c import HeaderWriter
+from fuzzyc.backends.c_expr import REAL_TYPES
+from fuzzyc.builder import RuleSpec, assemble_rulebase
+from fuzzyc.engine import MAX_LOOKUP_CELLS, CompiledRuleBase, evaluate
+from fuzzyc.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
+                          Model, SourceLoc, TermKind, TNorm, Variable)
+
+LOC = SourceLoc("wide", 0, 0)
+
+
+def partition(name: str, n_terms: int) -> Variable:
+    """n_terms uniform triangles on [0, 1] (shoulders cut by the range)."""
+    peaks = np.linspace(0, 1, n_terms)
+    h = peaks[1] - peaks[0]
+    return Variable(name, 0.0, 1.0, [f"t{k}" for k in range(n_terms)],
+                    np.full(n_terms, int(TermKind.TRAPEZOID)),
+                    np.stack([peaks - h, peaks, peaks, peaks + h], axis=1))
+
+
+def rulebase(n_in: int, n_terms: int, combos, inference: Inference):
+    inputs = [partition(f"x{i}", n_terms) for i in range(n_in)]
+    out = Variable("y", 0.0, 10.0, ["lo", "mid", "hi"], np.full(3, int(TermKind.SINGLETON)),
+                   np.array([[0.0, 0, 0, 0], [5.0, 0, 0, 0], [10.0, 0, 0, 0]]))
+    rules = [RuleSpec({f"x{i}": (int(t), False, Hedge.NONE) for i, t in enumerate(combo)},
+                      Connective.AND, {"y": int(sum(combo)) % 3}, 1.0, LOC, "")
+             for combo in combos]
+    return assemble_rulebase(inputs, [out], rules, inference)
+
+
+def points(n_in: int, n: int = 400) -> np.ndarray:
+    rng = np.random.default_rng(n_in)
+    x = rng.uniform(0, 1, (n, n_in))
+    x[:20] = rng.choice([0.0, 0.5, 1.0], (20, n_in))     # exact break points
+    x[20, 3] = np.nan
+    return x
+
+
+@pytest.mark.parametrize("inference", [
+    Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA),
+    Inference(and_=TNorm.PRODUCT, implication=Implication.PRODUCT, aggregation=Aggregation.SUM,
+              defuzzifier=Defuzzifier.WEIGHTED_AVERAGE),
+])
+def test_seven_input_full_grid_is_sparse_and_equals_dense(inference):
+    rb = rulebase(7, 3, itertools.product(range(3), repeat=7), inference)
+    fast = CompiledRuleBase(rb)
+    assert fast.sparse and fast.codes is None               # 4**7 cells: a direct table
+    x = points(7)
+    np.testing.assert_allclose(fast.evaluate_chunk(x),
+                               CompiledRuleBase(rb, allow_sparse=False).evaluate_chunk(x),
+                               rtol=0, atol=1e-12)
+
+
+def test_sorted_codes_beyond_the_direct_table_equal_dense():
+    rng = np.random.default_rng(1)
+    combos = {tuple(c) for c in rng.integers(0, 7, (600, 8))}   # 8**8 cells > MAX_LOOKUP_CELLS
+    rb = rulebase(8, 7, sorted(combos), Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
+    assert 8 ** 8 > MAX_LOOKUP_CELLS
+    fast = CompiledRuleBase(rb)
+    assert fast.sparse and fast.codes is not None and fast.grid is None
+    x = points(8, 2000)
+    np.testing.assert_allclose(fast.evaluate_chunk(x),
+                               CompiledRuleBase(rb, allow_sparse=False).evaluate_chunk(x),
+                               rtol=0, atol=1e-12)
+
+
+def test_seven_inputs_by_hand():
+    rb = rulebase(7, 3, itertools.product(range(3), repeat=7),
+                  Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
+    # x0 = .25: t0 .5, t1 .5; the other six at 0: t0 1.  Two rules fire at min .5:
+    # (0,0,...) sum 0 -> lo, (1,0,...) sum 1 -> mid; (.5*0 + .5*5) / (.5 + .5) = 2.5
+    assert evaluate(rb, [[0.25] + [0.0] * 6])[0, 0] == pytest.approx(2.5, abs=1e-12)
+
+
+def test_few_rules_over_many_inputs_stay_dense():
+    # 2**9 = 512 candidates per sample would exceed the 20 rules: every rule is cheaper
+    rb = rulebase(9, 3, [tuple([k % 3] * 9) for k in range(20)],
+                  Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
+    assert not CompiledRuleBase(rb).sparse
+
+
+def test_c_header_keeps_every_rule_beyond_six_inputs():
+    rb = rulebase(7, 3, itertools.product(range(3), repeat=7),
+                  Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
+    writer = HeaderWriter(Model("wide", [rb]), REAL_TYPES["float"])
+    assert not writer.sparse
