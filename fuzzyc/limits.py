@@ -87,29 +87,29 @@ def check_model(model: Model) -> None:
 
 
 def _problems(model: Model) -> Iterable[tuple[SourceLoc | None, str]]:
-    rb = model.rulebase
-    for what, count, limit, name, locs in (
-            ("rules", rb.n_rules, MAX_RULES, "MAX_RULES", rb.rule_locs),
-            ("rule-base inputs", len(rb.inputs), MAX_RULEBASE_INPUTS, "MAX_RULEBASE_INPUTS",
-             [v.loc for v in rb.inputs]),
-            ("rule-base outputs", len(rb.outputs), MAX_RULEBASE_OUTPUTS,
-             "MAX_RULEBASE_OUTPUTS", [v.loc for v in rb.outputs])):
-        if count > limit:
-            yield (_at(locs, limit), f"{count} {what}: at most {limit} (fuzzyc.limits.{name})")
-    for var in rb.inputs + rb.outputs:
-        if var.n_terms > MAX_TERMS:
-            yield (_at(var.term_locs, MAX_TERMS) or var.loc,
-                   f"`{var.name}` has {var.n_terms} terms: at most {MAX_TERMS} per variable "
-                   f"(fuzzyc.limits.MAX_TERMS)")
-        yield from _number_problems(var.loc, f"`{var.name}`", [var.lo, var.hi, var.default])
-        yield from _range_problems(var.loc, f"`{var.name}`", var.lo, var.hi)
-        params = np.asarray(var.params, dtype=float)
-        for t, row in enumerate(params):
-            extra = (var.coefficients or {}).get(t, ())
-            where = _at(var.term_locs, t) or var.loc
-            # +-inf are a shoulder's open ends, not numbers the file wrote
-            yield from _number_problems(where, f"term `{var.names[t]}`",
-                                        [v for v in (*row, *extra) if not math.isinf(v)])
+    for rb in model.blocks:
+        for what, count, limit, name, locs in (
+                ("rules", rb.n_rules, MAX_RULES, "MAX_RULES", rb.rule_locs),
+                ("rule-base inputs", len(rb.inputs), MAX_RULEBASE_INPUTS, "MAX_RULEBASE_INPUTS",
+                 [v.loc for v in rb.inputs]),
+                ("rule-base outputs", len(rb.outputs), MAX_RULEBASE_OUTPUTS,
+                 "MAX_RULEBASE_OUTPUTS", [v.loc for v in rb.outputs])):
+            if count > limit:
+                yield (_at(locs, limit), f"{count} {what}: at most {limit} (fuzzyc.limits.{name})")
+        for var in rb.inputs + rb.outputs:
+            if var.n_terms > MAX_TERMS:
+                yield (_at(var.term_locs, MAX_TERMS) or var.loc,
+                       f"`{var.name}` has {var.n_terms} terms: at most {MAX_TERMS} per variable "
+                       f"(fuzzyc.limits.MAX_TERMS)")
+            yield from _number_problems(var.loc, f"`{var.name}`", [var.lo, var.hi, var.default])
+            yield from _range_problems(var.loc, f"`{var.name}`", var.lo, var.hi)
+            params = np.asarray(var.params, dtype=float)
+            for t, row in enumerate(params):
+                extra = (var.coefficients or {}).get(t, ())
+                where = _at(var.term_locs, t) or var.loc
+                # +-inf are a shoulder's open ends, not numbers the file wrote
+                yield from _number_problems(where, f"term `{var.names[t]}`",
+                                            [v for v in (*row, *extra) if not math.isinf(v)])
     for signal in model.signals:
         yield from _number_problems(signal.loc, f"input `{signal.name}`", [signal.lo, signal.hi])
         yield from _range_problems(signal.loc, f"input `{signal.name}`", signal.lo, signal.hi)

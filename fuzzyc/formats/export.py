@@ -15,7 +15,7 @@ import sympy
 
 from ..errors import Diagnostic, FuzzycError
 from ..escape import name_problems
-from ..model import CondOp, Connective, Hedge, Model, OutputKind, TermKind, Variable
+from ..model import CondOp, Hedge, Model, OutputKind, TermKind, Variable
 
 
 def num(value: float) -> str:
