@@ -1,0 +1,55 @@
+"""The corner plant's predictions for the rows of the paper's Table 4, as a Markdown table.
+
+`python -m fuzzyc.plants.corner_table` runs the `corner_path` scenario (27-rule controller,
+plants/wedm_corner.py) once, as one batch of the eight rows of Table 4 (50 mm at 160, 120, 80,
+40 mm^2/min; 21 mm at 175, 125, 75, 40 mm^2/min), and prints per angle the corner error of
+normal machining and of the controlled cut (um, the mean of the path's corners at that angle)
+and the machining time of both. Table 4's own numbers are held out of the project: hold these
+against them.
+"""
+from __future__ import annotations
+
+import sys
+
+import numpy as np
+
+from . import scenario as scenarios
+from .wedm_corner import ANGLE_OUTPUTS, NORMAL_OUTPUTS, TABLE2_ANGLES, TABLE4_CONDITIONS
+
+
+def predict(conditions: np.ndarray = TABLE4_CONDITIONS, like: float = 1.0
+            ) -> dict[str, np.ndarray]:
+    """Run the closed loop for rows (thickness mm, feed mm^2/min): normal and controlled error
+    per Table 2 angle, (N, 5) um, and machining times, (N,) s."""
+    from fuzzyc.runtime.simulate import simulate
+    corner = scenarios.load("corner_path")
+    corner.data["plant"]["params"].update(thickness=conditions[:, 0], feed=conditions[:, 1])
+    corner.data["controller"]["params"]["like"] = like
+    trace = simulate(corner, batch=len(conditions))
+    done = trace["done"] > 0.5
+    if not done[-1].all():
+        raise RuntimeError("a row did not finish the path within the scenario's duration")
+    return {"normal": np.stack([trace[n][-1] for n in NORMAL_OUTPUTS], axis=1),
+            "controlled": np.stack([trace[n][-1] for n in ANGLE_OUTPUTS], axis=1),
+            "normal_time": trace["normal_time"][-1],
+            "time": trace.time[np.argmax(done, axis=0)]}
+
+
+def markdown(conditions: np.ndarray, result: dict[str, np.ndarray]) -> str:
+    head = " | ".join(f"{int(a)}° normal / controlled" for a in TABLE2_ANGLES)
+    lines = [f"| h mm | feed mm²/min | {head} | time normal / controlled s |",
+             "|---" * (3 + len(TABLE2_ANGLES)) + "|"]
+    for (h, f), normal, ctl, t0, t in zip(conditions, result["normal"], result["controlled"],
+                                          result["normal_time"], result["time"]):
+        cells = " | ".join(f"{n:.1f} / {c:.1f} ({c / n:.2f})" for n, c in zip(normal, ctl))
+        lines.append(f"| {h:g} | {f:g} | {cells} | {t0:.0f} / {t:.0f} ({t / t0 - 1:+.1%}) |")
+    return "\n".join(lines) + "\n"
+
+
+def main() -> int:
+    sys.stdout.write(markdown(TABLE4_CONDITIONS, predict()))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
