@@ -361,39 +361,6 @@ def evaluate_path(params: CornerParams, reduction: np.ndarray) -> dict[str, np.n
     return {"errors": corner_errors(params, keep), "time": machining_time(params, keep)}
 
 
-def best_reductions(params: CornerParams, time_ratio: float = 1.10, keep_min: float = 0.1,
-                    grid: int = 361, error_model=None) -> np.ndarray:
-    """The per-corner reductions (N, C) in % that give the least summed corner error of the
-    path within `time_ratio` times normal machining, with keep >= keep_min everywhere.
-    `error_model(keep)` maps keeps (G, N, C) to errors; the default is `corner_errors` (so
-    another reading of Table 2 can be asked the same question).
-
-    Lagrangian: at a price mu (um per mm of extra path-equivalent travel) every corner takes the
-    keep on a grid that minimises error + mu * extra travel; mu is bisected (in log, per cut) to
-    the cheapest price whose plan fits the budget. The extra travel of a corner is
-    (zone + catch-up) (1/keep - 1), the budget (time_ratio - 1) * path length: time is travel /
-    speed.
-    """
-    n = np.broadcast(np.asarray(params.feed), np.asarray(params.thickness)).size
-    corners = len(params.path.corner_angle)
-    keeps = np.linspace(keep_min, 1.0, grid)
-    errors = (error_model or (lambda k: corner_errors(params, k)))(
-        keeps[:, None, None] * np.ones((1, n, corners)))
-    grid_keep = keeps[:, None, None] * np.ones((1, n, 1))
-    strip = params.zone_before + params.zone_after + catch_up(params, grid_keep)
-    extra = np.broadcast_to(strip * (1.0 / grid_keep - 1.0), (grid, n, 1))   # mm per corner
-    budget = (time_ratio - 1.0) * params.path.length
-    lo, hi = np.full(n, -6.0), np.full(n, 6.0)                           # log10 mu
-    cuts = np.arange(n)[:, None]
-    for _ in range(60):                      # bisection steps, each over all cuts at once
-        mid = 0.5 * (lo + hi)
-        pick = np.argmin(errors + 10.0 ** mid[None, :, None] * extra, axis=0)      # (N, C)
-        over = extra[pick, cuts, 0].sum(axis=1) > budget
-        lo, hi = np.where(over, mid, lo), np.where(over, hi, mid)
-    pick = np.argmin(errors + 10.0 ** hi[None, :, None] * extra, axis=0)
-    return 100.0 * (1.0 - keeps[pick])
-
-
 def initial_state(params: CornerParams, batch: int, rng: np.random.Generator | None = None
                   ) -> dict[str, np.ndarray]:
     zeros = np.zeros(batch)

@@ -20,20 +20,18 @@ def test_shipped_file_holds_with_findings_as_expected_failures(capsys, tmp_path)
     assert "FINDING  wedm_corner.fz::monotone y increasing in feedrate" in out
     # y in [5, 60] is not in the hull of the peaks with the default 0: the search decides
     assert "HELD     wedm_corner.fz::bounded y in [5, 60]" in out
-    # the closed loop against normal machining: our 85 % and the time limit held on the drawn
-    # cuts; the paper's 50 % is the recorded finding (every rough cut stays above it)
+    # the closed loop against normal machining: the paper's 50 % and the time limit held on
+    # the drawn cuts (the corner plant: the summed error keeps 42-50 %, at most +7 % time)
     assert ("HELD     wedm_corner.fz::closed_loop corner_path for 3400 s :: eventually within "
-            "3400 s: done > 0.5 and error_sum < 0.85") in out
-    assert ("FINDING  wedm_corner.fz::closed_loop corner_path for 3400 s :: eventually within "
             "3400 s: done > 0.5 and error_sum < 0.5") in out
-    assert "11 properties: 4 proved, 3 held, 0 violated, 4 known findings, 0 undecided" in out
+    assert "10 properties: 4 proved, 3 held, 0 violated, 3 known findings, 0 undecided" in out
     report = json.loads((tmp_path / "verify.json").read_text())
     by_text = {p["text"]: p for p in report["properties"]}
     assert by_text["complete y"]["status"] == "proved"
     assert by_text["monotone y decreasing in angle"]["finding"].startswith("finding:")
     suite = ET.parse(tmp_path / "verify.junit.xml").getroot().find("testsuite")
-    assert suite.get("tests") == "11" and suite.get("failures") == "0"
-    assert suite.get("skipped") == "4"     # the known findings
+    assert suite.get("tests") == "10" and suite.get("failures") == "0"
+    assert suite.get("skipped") == "3"     # the known findings
 
 
 def test_a_flipped_cell_exits_1_and_names_the_cell_and_the_command(capsys, tmp_path):
