@@ -39,17 +39,21 @@ What a lower sparking force does to each part, at the corner (keep as above):
   keep times smaller (eq. 1, linear), taken through the same lag history as the lag part.
 - edge over-cut: keep * E0, the force at the vertex relative to the cut's own. This is the one
   assumption Table 2 cannot test: in every row of it nothing changes at the corner (keep = 1),
-  so E0 is the over-cut of a corner whose force is steady. It is the premise of the paper's
-  rule design (4.2.2: "to compensate the corner errors caused by these factors" -- wire
-  deflection, loss of discharge equilibrium and enhanced discharge probability at sharp edges
-  -- "we try to reduce the sparking force"; the small-angle rules, edge erosion's class, take
-  the biggest reductions), and the asymmetric load of 2.2 is what pushes the wire "in the
-  direction of the top of the cut edge". Section 2 does not say why a steady slow cut (Table
-  2's slow rows) keeps E0 while a corner cut at a reduced force would lose it, and this model
-  does not explain it either. The previous model took the opposite reading (iso-energy pulses:
-  the discharges per mm of path, and with them the edge's share, do not change with the
-  off-time, so E0 stays); the held-out Table 4 refuted it (issue 15: 1 of 40 controlled cells
-  within +-25 %, 30 deg corners held near E0 where the measurements fall like the others).
+  so E0 is the over-cut of a corner whose force is steady. Its grounds: (1) it is the premise
+  of the paper's rule design (4.2.2: "to compensate the corner errors caused by these factors"
+  -- wire deflection, loss of discharge equilibrium and enhanced discharge probability at
+  sharp edges -- "we try to reduce the sparking force"; the small-angle rules, edge erosion's
+  class, take the biggest reductions); (2) the second cause of 2.3 is the hot edge ionizing
+  the dielectric, "this, in turn, creates by preference the occurrence of discharges at the
+  corner": what clears the ionized dielectric between pulses is the off-time, the very knob
+  the controller turns, while section 4.1 sets the off-time apart from the "feedrate control
+  logic" that normal machining changes its speed with -- our reading of why Table 2's slower
+  rows, cut at the same off-time, keep E0. The law (proportional to keep, like the other two
+  parts) is the first-order one; the paper gives nothing finer. The previous model took the
+  opposite reading (iso-energy pulses: the discharges per mm of path, and with them the
+  edge's share, do not change with the off-time, so E0 stays); the held-out Table 4 refuted
+  it (issue 15: 1 of 40 controlled cells within +-25 %, 30 deg corners held near E0 where the
+  measurements fall like the other angles).
 With the default blocks (one kerf width each side, far longer than RELAX and the ~2 lag
 lengths the pursuit needs after the vertex) the whole error of a corner becomes keep times its
 normal value; shorter blocks lose part of the gain in the lag and vibration parts. The error of
@@ -60,9 +64,10 @@ Machining time follows the material: inside a block the removal rate is keep tim
 the blocks plus the (1 - keep) * lag the wire has to catch up (`catch_up`).
 
 Predictions (`python -m fuzzyc.plants.corner_table`, docs/plants.md): the 27 rules as shipped
-bring the summed corner error of the rough cuts of Table 2 to 42-48 % of normal machining at
-+6-9 % time; at low feed they command 5-15 % (singletons VS 5 ... VB 60 %, ours: Fig. 12 is
-lost), so there the model keeps 85-95 % of the error.
+bring the summed corner error of the rough cuts of Table 2 (top feed per thickness) to 42-49 %
+of normal machining at +4.8-7.0 % time (tests/test_corner.py); at 40 mm^2/min they command
+5-15 % (feed VS; singletons VS 5 ... VB 60 % are ours, Fig. 12 is lost), so there the model
+keeps 85-95 % of the error.
 
 Test path: the ISO program of section 3.2 (incremental G01 moves, F in mm/min), which cuts the
 five angles 150, 120, 90, 60, 30 deg on each side of a symmetric part.
