@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 import os
 import xml.etree.ElementTree as ET
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
@@ -118,6 +119,36 @@ def write_reports(results: list[Result], folder: str | os.PathLike) -> list[Path
     write_text(json_path, json.dumps(to_json(results), indent=1))
     write_text(junit_path, to_junit(results))
     return [json_path, junit_path]
+
+
+@dataclass
+class VerifyReport:
+    """The results of `fuzzyc.verify`, one per property, in the file's order."""
+    results: list[Result]
+
+    @property
+    def passed(self) -> bool:
+        """No property violated except the findings the file records."""
+        return not self.failures
+
+    @property
+    def failures(self) -> list[Result]:
+        """The violations nobody recorded (what fails CI)."""
+        return [r for r in self.results if r.is_failure]
+
+    def text(self) -> str:
+        """What `fuzzyc verify` prints."""
+        return format_text(self.results)
+
+    def to_json(self) -> dict:
+        return to_json(self.results)
+
+    def to_junit(self) -> str:
+        return to_junit(self.results)
+
+    def write(self, folder: str | os.PathLike) -> list[Path]:
+        """verify.json and verify.junit.xml in folder (atomically); returns their paths."""
+        return write_reports(self.results, folder)
 
 
 def plot_trace(trace: dict, signals: list[str], title: str, path: str | os.PathLike) -> Path:

@@ -1,0 +1,234 @@
+"""The public Python API (re-exported by `fuzzyc`; documented in docs/api.md).
+
+Every function here is what a `fuzzyc` command does, without the printing: the command
+modules in `fuzzyc.cli` call these. Bad input raises `FuzzycError` (its diagnostics carry
+file:line:col); a misnamed or missing input raises `KeyError`, a bad argument `ValueError`.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+from collections.abc import Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from .atomic import write_text
+from .controller import Controller
+from .engine import Explanation
+from .errors import FuzzycError
+from .model import Model
+
+if TYPE_CHECKING:
+    from fuzzyc.runtime.trace import Trace
+    from .verify.report import VerifyReport
+
+__all__ = ["Controller", "Explanation", "FuzzycError", "Header", "Model", "Simulation",
+           "compile_c", "compile_lut", "copy_examples", "evaluate", "example", "examples",
+           "explain", "load", "parse", "save", "simulate", "verify"]
+
+PathLike = str | os.PathLike
+
+
+# -- reading and writing rule bases ---------------------------------------------------------
+
+def load(path: PathLike) -> Model:
+    """The model in a .fz, .fll, .fcl or .fis file (by extension); `FILE.fcl::NAME` reads the
+    FUNCTION_BLOCK NAME of an FCL file that has several."""
+    from .formats import load_any
+    return load_any(path)
+
+
+def parse(text: str, format: str = "fz", name: str = "<string>") -> Model:
+    """The model in `text`, written in `format` (fz, fll, fcl or fis); `name` is the file name
+    diagnostics show."""
+    from .formats import READERS
+    suffix = "." + format.lower().lstrip(".")
+    if suffix == ".fz":
+        from .parser import parse as parse_fz
+        return parse_fz(text, name)
+    if suffix not in READERS:
+        raise ValueError(f"unknown format `{format}` (known: fz fll fcl fis)")
+    return READERS[suffix](text, name)
+
+
+def save(model: Model, path: PathLike) -> list[str]:
+    """Write the model as .fz, .fll, .fcl or .fis (by extension), atomically. Returns warnings
+    naming what the format cannot carry (the bare rule base is still written)."""
+    from .formats import save as save_any
+    return save_any(model, path)
+
+
+# -- evaluation -------------------------------------------------------------------------------
+
+def evaluate(model: Model, inputs: Mapping[str, Any]) -> dict[str, np.ndarray]:
+    """The rule base alone (no signal chain, no state) on a batch: one array (or number) per
+    rule-base input, broadcast together; one float array of that shape per rule-base output."""
+    from .engine import evaluate as engine_evaluate
+    rb = model.rulebase
+    names = [v.name for v in rb.inputs]
+    _check_names(model, inputs, names)
+    columns = np.broadcast_arrays(*(np.asarray(inputs[n], dtype=float) for n in names))
+    shape = columns[0].shape if columns else ()
+    x = np.column_stack([c.ravel() for c in columns]) if columns else np.empty((1, 0))
+    y = engine_evaluate(rb, x)
+    return {v.name: y[:, o].reshape(shape) for o, v in enumerate(rb.outputs)}
+
+
+def explain(model: Model, point: Mapping[str, float]) -> Explanation:
+    """Why the rule base gives its outputs at one point of its inputs: the memberships, the
+    rules that fired (strongest first) and the outputs. `str()` of it is a readable table."""
+    from .engine import explain as engine_explain
+    names = [v.name for v in model.rulebase.inputs]
+    _check_names(model, point, names)
+    return engine_explain(model.rulebase, np.array([float(point[n]) for n in names]))
+
+
+def _check_names(model: Model, given: Mapping[str, Any], names: list[str]) -> None:
+    unknown = [n for n in given if n not in names]
+    missing = [n for n in names if n not in given]
+    if unknown or missing:
+        raise KeyError(f"{model.name}: the rule base's inputs are {', '.join(names)}"
+                       + (f"; unknown: {', '.join(unknown)}" if unknown else "")
+                       + (f"; missing: {', '.join(missing)}" if missing else ""))
+
+
+# -- code generation --------------------------------------------------------------------------
+
+@dataclass
+class Header:
+    """A generated C header: its file name, its text and, for a lookup table, the largest
+    difference from the engine found per rule-base output."""
+    filename: str
+    text: str
+    max_error: dict[str, float] | None = None
+
+    def write(self, folder: PathLike = ".") -> Path:
+        """Write it into folder (atomically); returns its path."""
+        path = Path(folder) / self.filename
+        write_text(path, self.text)
+        return path
+
+
+def compile_c(model: Model, numeric: str = "float") -> Header:
+    """The whole controller (signal chain, rule base, outputs) as a self-contained C99 header:
+    NAME.h for numeric float or double, NAME_q15.h / NAME_q31.h for fixed point."""
+    from .backends.c import c_identifier, generate_header
+    name = c_identifier(model.name)
+    if numeric in ("q15", "q31"):
+        from .backends.c_fixed import generate_fixed_header
+        return Header(f"{name}_{numeric}.h", generate_fixed_header(model, numeric))
+    if numeric not in ("float", "double"):
+        raise ValueError(f"numeric is one of float, double, q15, q31, not `{numeric}`")
+    return Header(f"{name}.h", generate_header(model, numeric))
+
+
+def compile_lut(model: Model, resolution: int = 33) -> Header:
+    """The rule base sampled on `resolution` points per input, read by multilinear
+    interpolation: NAME_lut.h, with the measured interpolation error."""
+    from .backends.c import c_identifier
+    from .backends.lut import LookupTable, generate_lut_header
+    table = LookupTable(model.rulebase, resolution)
+    error = table.measure_error()
+    return Header(f"{c_identifier(model.name)}_lut.h", generate_lut_header(model, table, error),
+                  {v.name: float(e) for v, e in zip(model.rulebase.outputs, error)})
+
+
+# -- verification and simulation -------------------------------------------------------------
+
+def verify(model: Model | PathLike, *, max_examples: int = 100, seed: int = 0,
+           backend: str = "numpy", only: str | None = None,
+           report_dir: PathLike | None = None) -> VerifyReport:
+    """Check every property of a model (or of the file at that path); a model that declares
+    none gets the structural defaults. `only` keeps the properties whose text contains it;
+    `report_dir` receives the plots of closed-loop counterexamples."""
+    from .verify import Options, verify_model
+    from .verify.report import VerifyReport
+    if not isinstance(model, Model):
+        model = load(model)
+    options = Options(backend=backend, max_examples=max_examples, seed=seed,
+                      report_dir=None if report_dir is None else str(report_dir), only=only)
+    return VerifyReport(verify_model(model, options))
+
+
+@dataclass
+class Simulation:
+    """A closed-loop run: the trace (`trace.time` (T,), `trace[signal]` (T, batch)) and the
+    scenario's metrics, label -> {mean, min, max, unit} over the batch."""
+    scenario: Any
+    trace: Trace
+    metrics: dict[str, dict[str, Any]]
+
+
+def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int = 1,
+             settings: Mapping[str, Any] | None = None, baseline: bool = False,
+             randomize: bool = False, backend: str = "numpy", seed: int = 0) -> Simulation:
+    """Run a scenario (a shipped name such as "wedm_rough" or a YAML path) with its own rule
+    base or the rule file `rulebase` (any format `load` reads); `settings` overrides scenario keys, dotted as in
+    `fuzzyc simulate --set` ({"duration": 2, "plant.tension": 800}); `baseline` runs the
+    scenario's baseline controller instead; `randomize` draws each loop's plant params."""
+    from fuzzyc.plants.scenario import load as load_scenario
+    from fuzzyc.runtime.simulate import simulate as run_scenario, summarize
+    overrides = dict(settings or {})
+    if rulebase is not None:
+        overrides["controller.rulebase"] = _absolute_ref(rulebase)
+    loaded = load_scenario(scenario, overrides)
+    trace = run_scenario(loaded, batch=batch, baseline=baseline, backend=backend, seed=seed,
+                         randomize=randomize)
+    return Simulation(loaded, trace, summarize(loaded, trace))
+
+
+def _absolute_ref(ref: PathLike) -> str:
+    """FILE made absolute (a scenario resolves a relative one in its rulebases folder), keeping
+    a `::NAME` block choice."""
+    from .formats import split_block
+    path, block = split_block(ref)
+    return str(path.resolve()) + ("" if block is None else f"::{block}")
+
+
+# -- the shipped examples ---------------------------------------------------------------------
+
+def _shipped() -> dict[str, list[Path]]:
+    """The shipped files by the folder `copy_examples` puts them in."""
+    import fuzzyc.rulebases
+    from fuzzyc.plants.scenario import SCENARIO_DIR
+    rulebases = Path(fuzzyc.rulebases.__file__).resolve().parent
+    # examples/ sits beside rulebases/, in the source tree and (as fuzzyc/examples) installed
+    c_example = rulebases.parent / "examples" / "c"
+    return {"rulebases": sorted(rulebases.glob("*.fz")),
+            "scenarios": sorted(SCENARIO_DIR.glob("*.yaml")),
+            "c": [c_example / "Makefile", c_example / "main.c"]}
+
+
+def examples() -> list[Path]:
+    """Every shipped example file: rule bases, scenarios, the C example."""
+    return [path for paths in _shipped().values() for path in paths]
+
+
+def example(name: str) -> Path:
+    """The path of one shipped example file by its name, e.g. "wedm_three_region.fz"."""
+    found = [path for path in examples() if path.name == name]
+    if not found:
+        from .errors import suggest
+        raise KeyError(f"no shipped example `{name}` — "
+                       f"{suggest(name, [p.name for p in examples()])}")
+    return found[0]
+
+
+def copy_examples(destination: PathLike) -> list[Path]:
+    """Copy the shipped examples into destination/rulebases, /scenarios and /c (made when
+    missing); refuses (FuzzycError) to overwrite a file. Returns the written paths."""
+    from .errors import Diagnostic
+    destination = Path(destination)
+    plan = [(source, destination / folder / source.name)
+            for folder, sources in _shipped().items() for source in sources]
+    existing = [str(target) for _, target in plan if target.exists()]
+    if existing:
+        raise FuzzycError([Diagnostic(None, f"not overwriting {', '.join(existing)}: choose an "
+                                            "empty folder")])
+    for source, target in plan:
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(source, target)
+    return [target for _, target in plan]
