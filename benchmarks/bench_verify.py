@@ -36,7 +36,7 @@ def _aliases() -> None:
 
 
 def exact_checks(rb, inputs) -> None:
-    from fuzzyc.verify import coverage, tables
+    from fuzzyc.verifier import coverage, tables
     level = 0.25 if len(inputs) == 2 else 0.5
     coverage.prove_covers(rb, list(inputs), level)
     tables.consistent(rb)
@@ -48,7 +48,7 @@ def exact_checks(rb, inputs) -> None:
 
 def bench_exact(repeats: int) -> str:
     from fuzzyc.parser import load
-    from fuzzyc.verify import search
+    from fuzzyc.verifier import search
     rows = []
     for name, inputs in PAPERS.items():
         rb = load(ROOT / "rulebases" / f"{name}.fz").rulebase
@@ -77,7 +77,7 @@ LOOP_TEXT = """
 
 def bench_closed_loop(examples: int, duration: float) -> str:
     from fuzzyc.parser import parse
-    from fuzzyc.verify import Options, verify_model
+    from fuzzyc.verifier import Options, verify_model
     path = ROOT / "rulebases" / "wedm_three_region.fz"
     text = path.read_text().rstrip()[:-1] + LOOP_TEXT.replace("DURATION", f"{duration:g}")
     model = parse(text, str(path))

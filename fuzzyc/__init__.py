@@ -13,8 +13,8 @@ if TYPE_CHECKING:
     from .api import (Controller, Explanation, FuzzycError, Header, Model, Simulation, compile_c,
                       compile_lut, copy_examples, evaluate, example, examples, explain, load,
                       parse, save, simulate, verify)
-    from .verify.report import VerifyReport
-    from .verify.result import Evidence, Result, Status
+    from .verifier.report import VerifyReport
+    from .verifier.result import Evidence, Result, Status
 
 __version__ = "0.1.0"
 
@@ -22,8 +22,8 @@ _HOME = {**dict.fromkeys(["Controller", "Explanation", "FuzzycError", "Header", 
                           "Simulation", "compile_c", "compile_lut", "copy_examples", "evaluate",
                           "example", "examples", "explain", "load", "parse", "save", "simulate",
                           "verify"], "fuzzyc.api"),
-         "VerifyReport": "fuzzyc.verify.report",
-         **dict.fromkeys(["Evidence", "Result", "Status"], "fuzzyc.verify.result")}
+         "VerifyReport": "fuzzyc.verifier.report",
+         **dict.fromkeys(["Evidence", "Result", "Status"], "fuzzyc.verifier.result")}
 
 __all__ = sorted(_HOME) + ["__version__"]
 

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import os
 import shutil
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -23,7 +23,7 @@ from .model import Model
 
 if TYPE_CHECKING:
     from fuzzyc.runtime.trace import Trace
-    from .verify.report import VerifyReport
+    from .verifier.report import VerifyReport
 
 __all__ = ["Controller", "Explanation", "FuzzycError", "Header", "Model", "Simulation",
            "compile_c", "compile_lut", "copy_examples", "evaluate", "example", "examples",
@@ -115,7 +115,8 @@ class Header:
 def compile_c(model: Model, numeric: str = "float") -> Header:
     """The whole controller (signal chain, rule base, outputs) as a self-contained C99 header:
     NAME.h for numeric float or double, NAME_q15.h / NAME_q31.h for fixed point."""
-    from .backends.c import c_identifier, generate_header
+    from .backends.c import generate_header
+    from .escape import c_identifier
     name = c_identifier(model.name)
     if numeric in ("q15", "q31"):
         from .backends.c_fixed import generate_fixed_header
@@ -128,7 +129,7 @@ def compile_c(model: Model, numeric: str = "float") -> Header:
 def compile_lut(model: Model, resolution: int = 33) -> Header:
     """The rule base sampled on `resolution` points per input, read by multilinear
     interpolation: NAME_lut.h, with the measured interpolation error."""
-    from .backends.c import c_identifier
+    from .escape import c_identifier
     from .backends.lut import LookupTable, generate_lut_header
     table = LookupTable(model.rulebase, resolution)
     error = table.measure_error()
@@ -140,16 +141,19 @@ def compile_lut(model: Model, resolution: int = 33) -> Header:
 
 def verify(model: Model | PathLike, *, max_examples: int = 100, seed: int = 0,
            backend: str = "numpy", only: str | None = None,
-           report_dir: PathLike | None = None) -> VerifyReport:
+           report_dir: PathLike | None = None,
+           progress: Callable[[str], None] | None = None) -> VerifyReport:
     """Check every property of a model (or of the file at that path); a model that declares
     none gets the structural defaults. `only` keeps the properties whose text contains it;
-    `report_dir` receives the plots of closed-loop counterexamples."""
-    from .verify import Options, verify_model
-    from .verify.report import VerifyReport
+    `report_dir` receives the plots of closed-loop counterexamples; `progress` is called with
+    each property's text before it is checked."""
+    from .verifier import Options, verify_model
+    from .verifier.report import VerifyReport
     if not isinstance(model, Model):
         model = load(model)
     options = Options(backend=backend, max_examples=max_examples, seed=seed,
-                      report_dir=None if report_dir is None else str(report_dir), only=only)
+                      report_dir=None if report_dir is None else str(report_dir), only=only,
+                      progress=progress)
     return VerifyReport(verify_model(model, options))
 
 
@@ -164,28 +168,24 @@ class Simulation:
 
 def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int = 1,
              settings: Mapping[str, Any] | None = None, baseline: bool = False,
-             randomize: bool = False, backend: str = "numpy", seed: int = 0) -> Simulation:
+             randomize: bool = False, backend: str = "numpy", seed: int = 0,
+             pace: str = "sim", progress: bool | None = False) -> Simulation:
     """Run a scenario (a shipped name such as "wedm_rough" or a YAML path) with its own rule
     base or the rule file `rulebase` (any format `load` reads); `settings` overrides scenario keys, dotted as in
     `fuzzyc simulate --set` ({"duration": 2, "plant.tension": 800}); `baseline` runs the
-    scenario's baseline controller instead; `randomize` draws each loop's plant params."""
+    scenario's baseline controller instead; `randomize` draws each loop's plant params;
+    `pace="wall"` runs in real time (one period per period); `progress` shows a progress line
+    on stderr (None: when it is a terminal)."""
     from fuzzyc.plants.scenario import load as load_scenario
     from fuzzyc.runtime.simulate import simulate as run_scenario, summarize
     overrides = dict(settings or {})
     if rulebase is not None:
-        overrides["controller.rulebase"] = _absolute_ref(rulebase)
+        from .formats import absolute_ref
+        overrides["controller.rulebase"] = absolute_ref(rulebase)
     loaded = load_scenario(scenario, overrides)
     trace = run_scenario(loaded, batch=batch, baseline=baseline, backend=backend, seed=seed,
-                         randomize=randomize)
+                         randomize=randomize, progress=progress, pace=pace)
     return Simulation(loaded, trace, summarize(loaded, trace))
-
-
-def _absolute_ref(ref: PathLike) -> str:
-    """FILE made absolute (a scenario resolves a relative one in its rulebases folder), keeping
-    a `::NAME` block choice."""
-    from .formats import split_block
-    path, block = split_block(ref)
-    return str(path.resolve()) + ("" if block is None else f"::{block}")
 
 
 # -- the shipped examples ---------------------------------------------------------------------
@@ -224,10 +224,11 @@ def copy_examples(destination: PathLike) -> list[Path]:
     destination = Path(destination)
     plan = [(source, destination / folder / source.name)
             for folder, sources in _shipped().items() for source in sources]
-    existing = [str(target) for _, target in plan if target.exists()]
+    existing = [target for _, target in plan if target.exists()]
     if existing:
-        raise FuzzycError([Diagnostic(None, f"not overwriting {', '.join(existing)}: choose an "
-                                            "empty folder")])
+        raise FuzzycError([Diagnostic(None, f"not overwriting the {len(existing)} example files "
+                                            f"already in {destination} (e.g. {existing[0]}): "
+                                            "choose another folder")])
     for source, target in plan:
         target.parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(source, target)

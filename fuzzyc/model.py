@@ -412,7 +412,7 @@ class Signal:
 
 @dataclass
 class Property:
-    """A verification property as written; `fuzzyc.verify` gives it meaning.
+    """A verification property as written; `fuzzyc.verifier` gives it meaning.
 
     kind: covers | consistent | complete | continuous | monotone | bounded | closed_loop
     args: kind-specific, plain values (names, numbers, directions, guard clauses) and, for

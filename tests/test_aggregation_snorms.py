@@ -39,7 +39,7 @@ from fuzzyc.formats import read_fcl, read_fis, read_fll, write_fcl, write_fis, w
 from fuzzyc.formats.fz import write_fz
 from fuzzyc.model import Aggregation, Defuzzifier, Implication, Inference, TNorm
 from fuzzyc.parser import parse
-from fuzzyc.verify import Status, proof
+from fuzzyc.verifier import Status, proof
 from test_engine_core import SINGLE_OUT, TRI_OUT, driven, random_inputs, var, wedm_like
 
 INF = math.inf

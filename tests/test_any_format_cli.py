@@ -1,5 +1,5 @@
 """`fuzzyc verify`, `simulate` and `learn` read every rule-file format (fuzzyc.formats.load_any);
-a file without properties is verified on the structural defaults (fuzzyc.verify docstring)."""
+a file without properties is verified on the structural defaults (fuzzyc.verifier docstring)."""
 import math
 from pathlib import Path
 
@@ -12,8 +12,8 @@ from fuzzyc.formats import load_any
 from fuzzyc.parser import load
 from fuzzyc.plants import scenario as scenarios
 from fuzzyc.runtime.simulate import simulate
-from fuzzyc.verify import Options, verify_file, verify_model
-from fuzzyc.verify.runner import default_properties
+from fuzzyc.verifier import Options, verify_file, verify_model
+from fuzzyc.verifier.runner import default_properties
 
 CORPUS = Path("tests/format_corpus")
 FAST = Options(max_examples=5, grid_budget=2000)

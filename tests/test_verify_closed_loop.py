@@ -5,7 +5,7 @@ import dataclasses
 import pytest
 
 from fuzzyc.parser import parse
-from fuzzyc.verify import Options, Status, verify_model
+from fuzzyc.verifier import Options, Status, verify_model
 from toy_gap import scenario, toy_plant, toy_servo  # noqa: F401  (fixtures)
 
 

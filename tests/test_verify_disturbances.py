@@ -10,8 +10,8 @@ import pytest
 
 from fuzzyc.errors import FuzzycError
 from fuzzyc.parser import parse
-from fuzzyc.verify import Options, Status, verify_model
-from fuzzyc.verify import closed_loop
+from fuzzyc.verifier import Options, Status, verify_model
+from fuzzyc.verifier import closed_loop
 from toy_gap import SERVO, scenario, toy_plant, toy_servo  # noqa: F401  (fixtures)
 
 FAST = dict(max_examples=20, seed=1)
@@ -183,7 +183,7 @@ def test_a_shrunk_case_fails_alone_with_its_own_noise():
     # one, sees the noise of the loop it came from and fails at the same moment
     from fuzzyc.parser import load
     from fuzzyc.plants import scenario as scenarios
-    from fuzzyc.verify import temporal
+    from fuzzyc.verifier import temporal
     model = load("rulebases/edm_sink_gap.fz")
     model.properties = [p for p in model.properties
                         if p.kind == "closed_loop" and p.args["faults"]]

@@ -6,7 +6,7 @@ inside the drawn ranges, imported between two draws, changed the cases drawn for
 import importlib
 import sys
 
-from fuzzyc.verify import closed_loop
+from fuzzyc.verifier import closed_loop
 
 
 class _Loop:

@@ -5,8 +5,8 @@ import pytest
 
 from fuzzyc.engine import evaluate
 from fuzzyc.parser import load
-from fuzzyc.verify import Options, Status, verify_model
-from fuzzyc.verify.report import format_result
+from fuzzyc.verifier import Options, Status, verify_model
+from fuzzyc.verifier.report import format_result
 
 FAST = dict(max_examples=10, grid_budget=4000)
 

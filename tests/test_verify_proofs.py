@@ -2,7 +2,7 @@
 import pytest
 
 from fuzzyc.parser import parse
-from fuzzyc.verify import Options, Status, verify_model
+from fuzzyc.verifier import Options, Status, verify_model
 
 ONE_INPUT = """controller t {
   input x in [0, 10]
@@ -75,7 +75,7 @@ def test_sum_product_corner_table_is_proved_monotone_and_max_min_is_not():
     # every cell has one rule, so y is multilinear per cell and the vertex check is a proof.
     from fuzzyc.model import Aggregation, TNorm
     from fuzzyc.parser import load
-    from fuzzyc.verify import proof
+    from fuzzyc.verifier import proof
     rb = load("rulebases/wedm_corner.fz").rulebase
     published = proof.prove_monotone(rb, "y", "feedrate", "increasing", [])
     assert published.status == Status.UNDECIDED
@@ -91,7 +91,7 @@ def test_sum_product_proof_names_the_wedm_critical_region_reversal():
     # e2 = 0.5 to e2 = 1.
     from fuzzyc.model import Aggregation, TNorm
     from fuzzyc.parser import load
-    from fuzzyc.verify import proof
+    from fuzzyc.verifier import proof
     rb = load("rulebases/wedm_three_region.fz").rulebase
     rb.inference.and_, rb.inference.aggregation = TNorm.PRODUCT, Aggregation.SUM
     evidence = proof.prove_monotone(rb, "du1", "e2", "increasing", [("e1", 1, False)])

@@ -1,5 +1,5 @@
 from fuzzyc.parser import parse
-from fuzzyc.verify import verify_model, Options
+from fuzzyc.verifier import verify_model, Options
 TEXT = """controller t {
   input a in [0, 1]  input b in [0, 1]
   let x in [0, 1] = a  let y in [0, 1] = b

@@ -25,11 +25,11 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..formats import load_any
+    from ..api import load
     status = 0
     for path in args.files:
         try:
-            print(summary(load_any(path)))
+            print(summary(load(path)))
         except FuzzycError as exc:
             for diagnostic in exc.diagnostics:
                 print(diagnostic.format(), file=sys.stderr)

@@ -4,7 +4,6 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from ..atomic import write_text
 from .common import RULE_FILE_HELP, check_output
 
 NUMERIC = ("float", "double", "q15", "q31")
@@ -42,38 +41,31 @@ def _entry_points(name: str, target: str) -> list[str]:
 
 
 def run(args) -> int:
-    from ..backends.c import generate_header
-    from ..escape import c_identifier
+    from ..api import compile_c, compile_lut, load
     from ..backends.cload import STRICT_FLAGS, footprint
-    from ..formats import load_any
+    from ..escape import c_identifier
     check_output(args.output, folder=True)
-    model = load_any(args.file)
+    model = load(args.file)
     name = c_identifier(model.name)
     if args.target == "lut":
-        from ..backends.lut import LookupTable, generate_lut_header
-        table = LookupTable(model.rulebase, args.resolution)
-        error = table.measure_error()
-        for var, e in zip(model.rulebase.outputs, error):
+        header = compile_lut(model, args.resolution)
+        for var in model.rulebase.outputs:
+            e = header.max_error[var.name]
             print(f"lookup table max error {var.name}: {e:.4g} "
                   f"({e / (var.hi - var.lo):.3e} of its range)")
-        header_name, text = f"{name}_lut.h", generate_lut_header(model, table, error)
-    elif args.numeric in ("q15", "q31"):
-        from ..backends.c_fixed import generate_fixed_header
-        header_name = f"{name}_{args.numeric}.h"
-        text = generate_fixed_header(model, args.numeric)
     else:
-        header_name, text = f"{name}.h", generate_header(model, args.numeric)
-    path = Path(args.output) / header_name
+        header = compile_c(model, args.numeric)
+    path = Path(args.output) / header.filename
     # Built before it is published: a header gcc rejects is an error and never lands in DIR.
     kind = args.numeric if args.target == "c" and args.numeric.startswith("q") else args.target
     if shutil.which("gcc") is None:
-        write_text(path, text)
+        header.write(args.output)
         print(f"wrote {path} (not test-built: no C compiler `gcc` on PATH)")
         return 0
-    sizes = {level: footprint(header_name, text, _entry_points(name, kind), (level,),
+    sizes = {level: footprint(header.filename, header.text, _entry_points(name, kind), (level,),
                               failure=f"nothing was written to {path}")
              for level in ("-O2", "-Os")}
-    write_text(path, text)
+    header.write(args.output)
     print(f"wrote {path} (test-built with gcc {' '.join(STRICT_FLAGS)})")
     for level, (code, stack) in sizes.items():
         print(f"  gcc {level}: {code} bytes code + constant data, {stack} bytes stack")

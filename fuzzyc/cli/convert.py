@@ -23,11 +23,12 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
+    from ..api import load, save
     from ..errors import Diagnostic, FuzzycError
-    from ..formats import WRITERS, load_any, save
+    from ..formats import WRITERS
 
     check_output(args.output)
-    model = load_any(args.input)
+    model = load(args.input)
     imported = _suffix(args.input) != ".fz"   # a .fz file's notes are its own findings
     for note in model.notes if imported else []:
         print(f"{args.input}: note: {note}", file=sys.stderr)

@@ -72,24 +72,17 @@ def warn_out_of_range(model: Model, values: dict[str, np.ndarray], core: bool) -
 
 def evaluate_batch(model: Model, columns: dict[str, np.ndarray], core: bool) -> dict[str, np.ndarray]:
     """Every output for a batch of independent points (rule-base outputs, then the chain's)."""
-    from ..controller import Controller
-    from ..engine import evaluate
-    rb = model.rulebase
+    from ..api import Controller, evaluate
     if core:
-        x = np.column_stack([columns[v.name] for v in rb.inputs])
-        y = evaluate(rb, x)
-        return {v.name: y[:, o] for o, v in enumerate(rb.outputs)}
-    n = len(next(iter(columns.values())))
-    controller = Controller(model, batch=n)
+        return evaluate(model, columns)
+    controller = Controller(model, batch=len(next(iter(columns.values()))))
     outputs = controller.step(columns)
-    result = {v.name: controller.signals[v.name] for v in rb.outputs}
-    result.update(outputs)
-    return result
+    return {**{v.name: controller.signals[v.name] for v in model.rulebase.outputs}, **outputs}
 
 
 def run(args) -> int:
-    from ..formats import load_any
-    model = load_any(args.file)
+    from ..api import load
+    model = load(args.file)
     if args.csv:
         return _run_csv(model, args)
     values = parse_assignments(model, args.values, args.core)
@@ -108,20 +101,18 @@ def run(args) -> int:
 
 def _explain(model: Model, columns, core: bool):
     """The rules that fired at the rule base's inputs, strongest first."""
-    from ..controller import Controller
-    from ..engine import explain
-    rb = model.rulebase
+    from ..api import Controller, explain
     if core:
-        x = np.array([columns[v.name][0] for v in rb.inputs])
+        point = {name: float(column[0]) for name, column in columns.items()}
     else:
         controller = Controller(model, batch=1)
         controller.step(columns)
-        x = np.array([controller.signals[v.name][0] for v in rb.inputs])
-    explanation = explain(rb, x)
+        point = {v.name: float(controller.signals[v.name][0]) for v in model.rulebase.inputs}
+    explanation = explain(model, point)
     fired = [{"rule": int(r) + 1, "activation": float(a), "text": text, "origin": origin}
              for r, a, text, origin in explanation.fired]
     fired.sort(key=lambda f: -f["activation"])
-    return fired, {v.name: float(x[i]) for i, v in enumerate(rb.inputs)}
+    return fired, explanation.inputs
 
 
 def _print_table(model: Model, rb_inputs, outputs, fired) -> None:

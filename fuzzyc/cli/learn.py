@@ -72,7 +72,7 @@ def check_learnable(path: str, table: str) -> None:
 def run(args) -> int:
     from fuzzyc.plants import scenario as scenarios
 
-    from .simulate import absolute_ref
+    from ..formats import absolute_ref
     from ..learn import learn_scenario, provenance, trained_text
 
     if args.cycles < 1:

@@ -18,10 +18,10 @@ def add_parser(subparsers) -> None:
 
 
 def run(args) -> int:
-    from ..formats import load_any
+    from ..api import load
     from ..plotting import plot_model
     check_output(args.out, folder=True)
-    model = load_any(args.file)
+    model = load(args.file)
     names = [v.name for v in model.rulebase.inputs]
     axes = None
     if args.inputs:

@@ -46,14 +46,6 @@ def parse_sets(items: list[str]) -> dict[str, str]:
     return out
 
 
-def absolute_ref(ref: str) -> str:
-    """FILE made absolute (a scenario takes a relative one from its rulebases folder), keeping a
-    `::NAME` block choice."""
-    from ..formats import split_block
-    path, block = split_block(ref)
-    return str(path.resolve()) + ("" if block is None else f"::{block}")
-
-
 def format_summary(title: str, controller: str, summary: dict, trace,
                    notes: list[str] = ()) -> str:
     lines = [f"{title}", f"controller: {controller}; batch {trace.batch}; "
@@ -83,18 +75,14 @@ def controller_notes(scenario, baseline: bool) -> list[str]:
 
 
 def run(args) -> int:
-    from fuzzyc.plants.scenario import load
     from fuzzyc.runtime.plots import plot_trace
-    from fuzzyc.runtime.simulate import references, rulebase_ref, simulate, summarize
+    from fuzzyc.runtime.simulate import references, rulebase_ref
+    from ..api import simulate
     check_output(args.out, folder=True)
-    overrides = parse_sets(args.sets)
-    if args.file:
-        overrides["controller.rulebase"] = absolute_ref(args.file)
-    scenario = load(args.scenario, overrides)
-    trace = simulate(scenario, batch=args.batch, baseline=args.baseline, backend=args.backend,
-                     seed=args.seed, randomize=args.randomize,
-                     progress=True if args.progress else None, pace=args.pace)
-    summary = summarize(scenario, trace)
+    run = simulate(args.scenario, args.file, batch=args.batch, settings=parse_sets(args.sets),
+                   baseline=args.baseline, randomize=args.randomize, backend=args.backend,
+                   seed=args.seed, pace=args.pace, progress=True if args.progress else None)
+    scenario, trace, summary = run.scenario, run.trace, run.metrics
     out = Path(args.out)
     trace.to_csv(out / "trace.csv", loops=CSV_LOOPS)
     panels = [name for name in scenario.plots if name in trace] or None

@@ -3,7 +3,7 @@ violated (not a recorded finding), 2 bad input.
 
 FILE is any format `fuzzyc.formats.load_any` reads (.fz, .fll, .fcl, .fis, FILE.fcl::NAME).
 A file that declares no properties (every imported one, a .fz without `verify`) gets the
-default structural ones (`fuzzyc.verify.runner.default_properties`): consistent; complete;
+default structural ones (`fuzzyc.verifier.runner.default_properties`): consistent; complete;
 covers every input at least the level a complete table over terms crossing at 0.5 reaches
 (0.5 under min, 0.5^n under product of n inputs); bounded every rule-base output in its range.
 They are said to be defaults, before the results and in each result's name (`default: `).
@@ -51,7 +51,7 @@ class _Progress:
 
 def defaults_note(path: str, model) -> str | None:
     """What verify checks in a file without properties, and why those; None when it has some."""
-    from ..verify.runner import default_properties, default_level
+    from ..verifier.runner import default_properties, default_level
     if model.properties:
         return None
     texts = "; ".join(p.text for p in default_properties(model))
@@ -64,20 +64,19 @@ def defaults_note(path: str, model) -> str | None:
 
 
 def run(args) -> int:
-    from ..formats import load_any
-    from ..verify import Options, verify_model
-    from ..verify.report import format_text, write_reports
+    from ..api import load, verify
+    from ..verifier.report import VerifyReport
     if args.report:
         check_output(args.report, folder=True)
     progress = _Progress()
-    options = Options(backend=args.backend, max_examples=args.max_examples, seed=args.seed,
-                      report_dir=args.report, only=args.only, progress=progress)
-    results, notes, bad_input = [], [], False
+    report, notes, bad_input = VerifyReport([]), [], False
     for path in args.files:
         try:
-            model = load_any(path)
+            model = load(path)
             notes.append(defaults_note(path, model))
-            results += verify_model(model, options)
+            report.results += verify(model, max_examples=args.max_examples, seed=args.seed,
+                                     backend=args.backend, only=args.only,
+                                     report_dir=args.report, progress=progress).results
         except FuzzycError as exc:
             progress.done()
             for diagnostic in exc.diagnostics:
@@ -86,10 +85,10 @@ def run(args) -> int:
     progress.done()
     for note in filter(None, notes):
         print(note)
-    print(format_text(results))
+    print(report.text())
     if args.report:
-        for written in write_reports(results, args.report):
+        for written in report.write(args.report):
             print(f"wrote {written}")
     if bad_input:
         return 2
-    return 1 if any(r.is_failure for r in results) else 0
+    return 0 if report.passed else 1

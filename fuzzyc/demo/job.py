@@ -16,8 +16,8 @@ from ..cli.check import summary
 from ..cli.eval import evaluate_batch
 from ..parser import load
 from ..plotting import plot_model
-from ..verify import Options, verify_model
-from ..verify.report import format_result
+from ..verifier import Options, verify_model
+from ..verifier.report import format_result
 from . import simulate as demo_simulate
 
 OUT = Path("out")

@@ -25,8 +25,8 @@ READERS = {".fll": read_fll, ".fcl": read_fcl, ".fis": read_fis}
 BLOCK_SEPARATOR = "::"   # FILE.fcl::NAME chooses one FUNCTION_BLOCK
 WRITERS = {".fz": write_fz, ".fll": write_fll, ".fcl": write_fcl, ".fis": write_fis}
 
-__all__ = ["load_any", "split_block", "save", "read_fll", "write_fll", "read_fcl", "write_fcl",
-           "read_fis", "write_fis", "write_fz", "READERS", "WRITERS"]
+__all__ = ["load_any", "split_block", "absolute_ref", "save", "read_fll", "write_fll",
+           "read_fcl", "write_fcl", "read_fis", "write_fis", "write_fz", "READERS", "WRITERS"]
 
 
 def load_any(path: str | Path) -> Model:
@@ -66,6 +66,13 @@ def split_block(ref: str | Path) -> tuple[Path, str | None]:
         raise FuzzycError([Diagnostic(None, f"`{text}`: after `::` comes a FUNCTION_BLOCK "
                                             f"name (letters, digits, _), not `{name}`")])
     return Path(text), None   # `::` inside a folder name: a plain (missing) path
+
+
+def absolute_ref(ref: str | Path) -> str:
+    """FILE made absolute (a scenario resolves a relative one in its rulebases folder), keeping
+    a `::NAME` block choice."""
+    path, block = split_block(ref)
+    return str(path.resolve()) + ("" if block is None else f"::{block}")
 
 
 def save(model: Model, path: str | Path) -> list[str]:

@@ -1,7 +1,7 @@
 """The verifier: properties of rule bases and closed loops, each answered as proved (exact, on
 the tables or in closed form), held on N searched cases, or violated with a counterexample.
 
-    from fuzzyc.verify import verify_model, verify_file, Options
+    from fuzzyc.verifier import verify_model, verify_file, Options
     results = verify_file("rulebases/wedm_three_region.fz", Options(max_examples=50))
 
 verify_file reads every format fuzzyc.formats.load_any reads (.fz .fll .fcl .fis,
