@@ -38,7 +38,7 @@ def load(path: PathLike) -> Model:
     """The model in a .fz, .fll, .fcl or .fis file (by extension); `FILE.fcl::NAME` reads the
     FUNCTION_BLOCK NAME of an FCL file that has several."""
     from .formats import load_any
-    return load_any(path)
+    return load_any(os.fspath(path))
 
 
 def parse(text: str, format: str = "fz", name: str = "<string>") -> Model:
@@ -58,7 +58,7 @@ def save(model: Model, path: PathLike) -> list[str]:
     """Write the model as .fz, .fll, .fcl or .fis (by extension), atomically. Returns warnings
     naming what the format cannot carry (the bare rule base is still written)."""
     from .formats import save as save_any
-    return save_any(model, path)
+    return save_any(model, os.fspath(path))
 
 
 # -- evaluation -------------------------------------------------------------------------------
@@ -181,7 +181,7 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
     overrides = dict(settings or {})
     if rulebase is not None:
         from .formats import absolute_ref
-        overrides["controller.rulebase"] = absolute_ref(rulebase)
+        overrides["controller.rulebase"] = absolute_ref(os.fspath(rulebase))
     loaded = load_scenario(scenario, overrides)
     trace = run_scenario(loaded, batch=batch, baseline=baseline, backend=backend, seed=seed,
                          randomize=randomize, progress=progress, pace=pace)

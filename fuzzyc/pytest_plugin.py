@@ -11,7 +11,7 @@ modules load only when a .fz file is collected: the plugin costs nothing to othe
 from __future__ import annotations
 
 from dataclasses import replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import pytest
 
@@ -19,7 +19,7 @@ if TYPE_CHECKING:
     from .model import Property
 
 # Fast settings for the test suite; `fuzzyc verify` runs the full search.
-SUITE_OPTIONS = dict(max_examples=25, grid_budget=8000, seed=0, shrink_rounds=1)
+SUITE_OPTIONS: dict[str, Any] = dict(max_examples=25, grid_budget=8000, seed=0, shrink_rounds=1)
 OPTION, INI = "--fuzzyc-verify", "fuzzyc_verify"
 
 
