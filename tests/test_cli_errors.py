@@ -94,7 +94,7 @@ WRITERS = [
     (["compile", "{base}", "-o", "OUT"], "fuzzyc.backends.c.generate_header"),
     (["plot", "{base}", "-o", "OUT"], "fuzzyc.plotting.plot_model"),
     (["simulate", "--scenario", "wedm_finish", "-o", "OUT"], "fuzzyc.runtime.simulate.simulate"),
-    (["verify", "{base}", "--report", "OUT"], "fuzzyc.verify.verify_model"),
+    (["verify", "{base}", "--report", "OUT"], "fuzzyc.verifier.verify_model"),
     (["convert", "{base}", "OUT/x.fll"], "fuzzyc.formats.save"),
     (["learn", str(RULES / "milling_neurofuzzy.fz"), "--scenario", "milling_step", "-o",
       "OUT/trained.fz"], "fuzzyc.learn.learn_scenario"),

@@ -23,8 +23,8 @@ from fuzzyc.formats.fll import write_fll
 from fuzzyc.formats.fz import write_fz
 from fuzzyc.model import CondOp, Connective, Hedge
 from fuzzyc.parser import parse
-from fuzzyc.verify.result import Status
-from fuzzyc.verify.runner import Options, check_property
+from fuzzyc.verifier.result import Status
+from fuzzyc.verifier.runner import Options, check_property
 from fuzzyc.model import Property
 
 # Three inputs on [0, 1], L = tri(-1, 0, 1) = 1 - x and H = tri(0, 1, 2) = x there.

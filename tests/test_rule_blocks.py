@@ -20,7 +20,7 @@ from fuzzyc.formats.fuzzylite_compat import evaluate_sampled
 from fuzzyc.formats.fz import write_fz
 from fuzzyc.model import Aggregation, Defuzzifier, TNorm
 from fuzzyc.parser import parse
-from fuzzyc.verify.runner import verify_model
+from fuzzyc.verifier.runner import verify_model
 
 # L = tri(-1, 0, 1) = 1 - x and H = tri(0, 1, 2) = x on [0, 1].
 CHAIN = """controller chain {
