@@ -38,8 +38,9 @@ class PlantBlock:
     on the bus is not passed, so the plant uses its params, e.g. a fixed workpiece height);
     None passes every array signal on the bus.
     outputs: the output names the plant returns. `seed` makes the plant's noise reproducible.
-    noise_keys, noise_width: loop i draws the noise of loop noise_keys[i] of a batch of
-    noise_width loops (runtime.noise.KeyedNoise; the verifier's shrinking keeps a loop's noise).
+    noise_keys: loop i draws the noise stream of key noise_keys[i] (runtime.noise.KeyedNoise:
+    its place in a campaign, whatever the chunk; the verifier's shrinking keeps a loop's
+    noise); None: one generator for the batch.
     """
     plant: ModuleType
     params: Any
@@ -48,7 +49,6 @@ class PlantBlock:
     seed: int | None = 0
     name: str = "plant"
     noise_keys: np.ndarray | None = None
-    noise_width: int = 0
 
     def __post_init__(self) -> None:
         self.input_names = list(self.inputs or [])
@@ -57,7 +57,7 @@ class PlantBlock:
 
     def reset(self, batch: int) -> None:
         self.rng = (np.random.default_rng(self.seed) if self.noise_keys is None
-                     else KeyedNoise(self.seed, self.noise_keys, self.noise_width))
+                    else KeyedNoise(self.seed, self.noise_keys))
         self.state = self.plant.initial_state(self.params, batch, self.rng)
 
     def step(self, signals: dict) -> dict[str, np.ndarray]:

@@ -13,6 +13,7 @@ import numpy as np
 from . import metrics as M
 from .blocks import ControllerBlock, PlantBlock, ScheduleBlock
 from .loop import run
+from .noise import KeyedNoise
 from .trace import Trace
 
 METRICS = {
@@ -154,18 +155,20 @@ def make_observers(scenario) -> list:
 
 
 def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
-          randomize: bool = False, expose: list[str] | tuple = ()) -> list:
+          randomize: bool = False, expose: list[str] | tuple = (), first: int = 0) -> list:
     """The blocks of one scenario around `controller` (a rule-base controller or a baseline).
 
     expose: internal controller signals to put on the bus (the numpy engine has them all;
-    the C back end only its inputs and outputs)."""
-    rng = np.random.default_rng(seed)
+    the C back end only its inputs and outputs). first: the campaign's number of the batch's
+    first loop: loop k draws its plant params and noise from stream first + k
+    (runtime.noise.KeyedNoise), so a campaign split into batches runs the same loops."""
+    loops = np.arange(first, first + batch)
     module = scenario.plant_module()
-    params = scenario.plant_params(batch, rng, randomize)
+    params = scenario.plant_params(batch, KeyedNoise(seed, loops, stream=1), randomize)
     schedules = [ScheduleBlock(name, points) for name, points in scenario.schedules.items()]
     inputs = getattr(module, "INPUTS", None)
     plant = PlantBlock(module, params, None if inputs is None else list(inputs),
-                       list(getattr(module, "OUTPUTS", ())), seed=seed)
+                       list(getattr(module, "OUTPUTS", ())), seed=seed, noise_keys=loops)
     observers = make_observers(scenario)
     followed = _followed_params(scenario, controller)
     return [*schedules, plant, *observers,

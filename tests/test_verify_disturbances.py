@@ -191,7 +191,6 @@ def test_a_shrunk_case_fails_alone_with_its_own_noise():
     assert result.status == Status.VIOLATED
     trace = result.violation.trace
     loop = closed_loop._Loop(model, scenarios.load("edm_sink"), 3.0, "numpy", 0)
-    loop.noise_width = 20
     case = {**trace["case"], "step": trace["step"], "fault": trace["fault"],
             "noise": trace["noise"]}
     time, signals = loop.run([case])

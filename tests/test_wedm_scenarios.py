@@ -50,9 +50,11 @@ def ratio_view(trace):
     return t, smooth(trace["abnormal_ratio"])[:, 0], smooth(trace["Yr2"])[:, 0]
 
 
-def test_finish_starts_near_25_percent(finish):
-    _, trace = finish
-    assert trace["abnormal_ratio"][0, 0] == pytest.approx(0.25, abs=0.04)
+def test_finish_starts_near_25_percent():
+    # the plant's own start (0.2524), without the 40-ms counting noise: one noisy sample has
+    # a std of ~0.013 (2,000 loops) and the first one of seed 0 lies 3.4 sigma off
+    quiet = load("wedm_finish", {"duration": "0.04", "plant.params.noise": "0"})
+    assert simulate(quiet)["abnormal_ratio"][0, 0] == pytest.approx(0.25, abs=0.04)
 
 
 def finish_settling_time(finish) -> float:

@@ -48,7 +48,6 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     loop.progress = None if options.progress else False   # the runtime's bar, on a terminal
     learned = loop.learn(**learning) if learning else ""
     cases = _draw_cases(loop, a, options.max_examples, options.seed)
-    loop.noise_width = len(cases)
     try:
         time, signals = loop.run(cases)
     except (ValueError, TypeError) as exc:   # e.g. a plant that cannot take a param per loop
@@ -154,7 +153,6 @@ class _Loop:
         self.nominal = scen.plant_params(1)
         self.plant_inputs = set(getattr(self.module, "INPUTS", ()))
         self.params = self._controller_model().symbol_values()
-        self.noise_width = 0
 
     def _controller_model(self) -> Model:
         model = copy.deepcopy(self.model)
@@ -224,9 +222,7 @@ class _Loop:
         blocks[k].params = dataclasses.replace(blocks[k].params, **{
             key.split(".", 1)[1]: np.array([c[key] for c in cases], dtype=float)
             for key in keys if key.startswith("plant.")})
-        if self.noise_width:
-            blocks[k].noise_keys = np.array([c["noise"] for c in cases])
-            blocks[k].noise_width = self.noise_width
+        blocks[k].noise_keys = np.array([c.get("noise", i) for i, c in enumerate(cases)])
         scheduled = sorted({c["step"][0] for c in cases if c.get("step")}
                            | {key for key in keys if key.startswith("controller.")})
         faults = sorted({c["fault"][0] for c in cases if c.get("fault")})
