@@ -194,8 +194,9 @@ def _followed_params(scenario, controller) -> list[str]:
 
 def simulate(scenario, batch: int = 1, baseline: bool = False, backend: str = "numpy",
              seed: int = 0, randomize: bool = False, progress: bool | None = False,
-             record: list[str] | None = None, pace: str = "sim") -> Trace:
-    """Run a scenario with its rule base (or, with baseline=True, its baseline controller)."""
+             record: list[str] | None = None, pace: str = "sim", first: int = 0) -> Trace:
+    """Run a scenario with its rule base (or, with baseline=True, its baseline controller).
+    first: the campaign's number of the first loop (build; runtime.campaign)."""
     if baseline:
         if not scenario.baseline:
             raise scenario.error("baseline", "this scenario names no baseline")
@@ -204,7 +205,7 @@ def simulate(scenario, batch: int = 1, baseline: bool = False, backend: str = "n
         controller = load_controller(scenario, batch, backend)
     own_signals = backend == "numpy" and not baseline
     expose = (scenario.controller.get("expose") or []) if own_signals else []
-    blocks = build(scenario, controller, batch, seed, randomize, expose)
+    blocks = build(scenario, controller, batch, seed, randomize, expose, first)
     trace = run(blocks, scenario.period, scenario.duration, batch, pace=pace, progress=progress,
                 initial=scenario.data.get("initial"), record=record)
     trace.meta.update(scenario=scenario.name, controller="baseline" if baseline else "fuzzy")
@@ -227,13 +228,35 @@ def references(scenario) -> dict[str, str | float]:
 
 
 def summarize(scenario, trace: Trace) -> dict[str, dict[str, float]]:
-    """metric label -> {mean, min, max, unit} over the batch (one loop: all three equal).
+    """metric label -> {mean, min, max, unit} over the batch (one loop: all three equal)."""
+    return summarize_values(scenario, loop_metrics(scenario, trace))
+
+
+def summarize_values(scenario, values: dict[str, np.ndarray]) -> dict[str, dict[str, float]]:
+    """metric label -> {mean, min, max, unit} of loop_metrics' per-loop values (NaN where no
+    loop has a finite value)."""
+    units = {_label(spec): spec.get("unit", "") for spec in scenario.metrics}
+    out: dict[str, dict[str, float]] = {}
+    for label, v in values.items():
+        finite = np.isfinite(v).any()
+        out[label] = {key: float(fn(v)) if finite else float("nan") for key, fn in
+                      (("mean", np.nanmean), ("min", np.nanmin), ("max", np.nanmax))}
+        out[label]["unit"] = units[label]
+    return out
+
+
+def _label(spec: dict) -> str:
+    return spec.get("label") or f"{spec.get('name')}({spec.get('signal')})"
+
+
+def loop_metrics(scenario, trace: Trace) -> dict[str, np.ndarray]:
+    """metric label -> its (N,) values, one per loop of the batch.
 
     A metric spec may say `smooth: SECONDS` (trailing moving average of signal and target
     first: a 40-ms count is noisy), `after: SECONDS` (judge only from then on), `where: FLAG`
     (judge only the samples where the 0/1 signal FLAG is on: the force error while the tool
     cuts) and `scale: K` (the value times K: mm/s as mm/min)."""
-    out: dict[str, dict[str, float]] = {}
+    out: dict[str, np.ndarray] = {}
     for i, spec in enumerate(scenario.metrics):
         kind, signal = spec.get("name"), spec.get("signal")
         if kind not in METRICS:
@@ -251,15 +274,8 @@ def summarize(scenario, trace: Trace) -> dict[str, dict[str, float]]:
         values = METRICS[kind](trace.time[keep], y[keep], target, spec)
         if spec.get("where"):
             values = _where(scenario, trace, spec, i, kind, y[keep], target, keep)
-        values = values * float(spec.get("scale", 1.0))
-        label = spec.get("label") or f"{kind}({signal})"
-        out[label] = {"mean": float(np.nanmean(values)) if np.isfinite(values).any() else
-                      float("nan"),
-                      "min": float(np.nanmin(values)) if np.isfinite(values).any() else
-                      float("nan"),
-                      "max": float(np.nanmax(values)) if np.isfinite(values).any() else
-                      float("nan"),
-                      "unit": spec.get("unit", "")}
+        out[_label(spec)] = np.broadcast_to(values * float(spec.get("scale", 1.0)),
+                                            (trace.batch,)).astype(float)
     return out
 
 

@@ -49,20 +49,17 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     learned = loop.learn(**learning) if learning else ""
     cases = _draw_cases(loop, a, options.max_examples, options.seed)
     try:
-        time, signals = loop.run(cases)
+        verdicts, firsts = _search(loop, checks, cases, options.cluster)
     except (ValueError, TypeError) as exc:   # e.g. a plant that cannot take a param per loop
         return [[Evidence("closed-loop", Status.UNDECIDED, f"the loop did not run with "
                           f"{', '.join(a['vary']) or 'these settings'}: {exc}")] for _ in checks]
-    try:
-        verdicts = [temporal.evaluate(c, time, signals, loop.params) for c in checks]
     except temporal.UnknownSignal as exc:
         return [[Evidence("closed-loop", Status.UNDECIDED, f"no signal or param named "
-                          f"`{exc.args[0]}` in the loop: {', '.join(sorted(signals))}")]
+                          f"`{exc.args[0]}` in the loop: {', '.join(sorted(exc.args[1]))}")]
                 for _ in checks]
     failing = {i: int(np.argmax(v)) for i, (v, _) in enumerate(verdicts) if v.any()}
-    shrunk = _shrink(loop, checks, {i: cases[k] for i, k in failing.items()},
-                     {i: _column(time, signals, k) for i, k in failing.items()}, a["vary"],
-                     options.shrink_rounds)
+    shrunk = _shrink(loop, checks, {i: cases[k] for i, k in failing.items()}, firsts,
+                     a["vary"], options.shrink_rounds)
     results, plots = [], OutputFolder(options.report_dir or ".")
     for i, (c, (violated, _)) in enumerate(zip(checks, verdicts)):
         if i not in shrunk:
@@ -83,6 +80,39 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
         results.append([Evidence("closed-loop", Status.VIOLATED, detail, cases=len(cases),
                                  trace=trace)])
     return results
+
+
+def _search(loop: "_Loop", checks: list[Property], cases: list[dict], cluster=None):
+    """Every case against every check: per check (violated (N,), when (N,)) over the cases in
+    order, and per failing check the trace of its first failing loop. With a cluster
+    (runtime.campaign) the cases run in chunks, there or on Dask; each loop's noise is keyed
+    by its case, so the verdicts are those of one batch."""
+    if cluster is None:
+        parts = [_check_chunk(loop, checks, cases)]
+    else:
+        import functools
+        from fuzzyc.runtime.campaign import chunks, map_chunks
+        parts = map_chunks(functools.partial(_check_chunk, loop, checks),
+                           [cases[r.start:r.stop] for r in chunks(len(cases), cluster.chunk)],
+                           cluster, label="closed loops")
+    verdicts = [tuple(np.concatenate([part[0][i][j] for part in parts]) for j in (0, 1))
+                for i in range(len(checks))]
+    firsts: dict[int, tuple] = {}
+    for _, first in parts:
+        firsts = {**first, **firsts}      # the earliest chunk's first failing loop wins
+    return verdicts, firsts
+
+
+def _check_chunk(loop: "_Loop", checks: list[Property], cases: list[dict]):
+    """One batch of cases: the verdicts of every check and each failing check's first failing
+    loop's trace."""
+    time, signals = loop.run(cases)
+    try:
+        verdicts = [temporal.evaluate(c, time, signals, loop.params) for c in checks]
+    except temporal.UnknownSignal as exc:    # say which signals there are
+        raise temporal.UnknownSignal(exc.args[0], list(signals)) from None
+    return verdicts, {i: _column(time, signals, int(np.argmax(v)))
+                      for i, (v, _) in enumerate(verdicts) if v.any()}
 
 
 def _column(time, signals, k: int):

@@ -30,6 +30,7 @@ class Options:
     report_dir: str | None = None   # counterexample plots go here
     only: str | None = None         # run only properties whose text contains this
     progress: Callable[[str], None] | None = None
+    cluster: Any = None             # a runtime.campaign.Cluster: closed-loop cases in chunks
 
 
 def covers_violation(note: str, evidence: list[Evidence]) -> bool:

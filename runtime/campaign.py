@@ -1,0 +1,140 @@
+"""Campaigns larger than one batch: the loops split into coarse chunks (thousands of loops
+each: one batched run per chunk, never one loop per task), run one after the other in this
+process or as tasks on Dask (`dask.distributed`, the optional extra `fuzzyc[dask]`).
+
+A loop draws its plant params and noise from its own stream, keyed by its number in the
+campaign (runtime.noise.KeyedNoise), so the numbers do not depend on the split: any chunk size,
+any number of workers, or one batch in one process give the same loops.
+"""
+from __future__ import annotations
+
+import contextlib
+from dataclasses import dataclass
+from typing import Any, Callable, Iterator, Sequence
+
+from .progress import Progress
+
+DEFAULT_CHUNK = 10_000   # loops per task: a WEDM loop step costs ~0.3 us batched, so a task
+                         # of 10^4 loops is seconds of work against milliseconds of overhead
+
+
+@dataclass
+class Cluster:
+    """Where the chunks run. Neither workers nor scheduler: in this process, one after the
+    other (a campaign bigger than memory still runs). workers: a Dask LocalCluster of that many
+    single-threaded worker processes; scheduler: the address of a running Dask scheduler
+    (tcp://host:8786), whose workers must have fuzzyc installed. chunk: loops per task.
+    progress: a bar over the tasks on stderr (None: only on a terminal)."""
+    workers: int | None = None
+    scheduler: str | None = None
+    chunk: int = DEFAULT_CHUNK
+    progress: bool | None = None
+
+    def __post_init__(self) -> None:
+        if self.chunk < 2:
+            raise ValueError(f"a chunk is at least 2 loops, not {self.chunk}")
+        if self.workers is not None and self.workers < 1:
+            raise ValueError(f"workers must be at least 1, not {self.workers}")
+        if self.workers is not None and self.scheduler:
+            raise ValueError("give workers (a local cluster) or scheduler (a running one), "
+                             "not both")
+
+
+def chunks(total: int, size: int) -> list[range]:
+    """The loops 0..total-1 as consecutive ranges of `size`. A last range of one loop joins
+    the one before: numpy sums a (T, 1) column pairwise but the columns of a (T, N) batch row
+    by row, so a loop's metrics alone would differ in the last bits from the same loop in a
+    batch (for that reason too, a chunk is at least 2 loops)."""
+    if size < 2:
+        raise ValueError(f"a chunk is at least 2 loops, not {size}")
+    starts = list(range(0, total, size))
+    if len(starts) > 1 and total - starts[-1] == 1:
+        starts.pop()
+    return [range(start, end) for start, end in zip(starts, starts[1:] + [total])]
+
+
+def map_chunks(task: Callable[[Any], Any], items: Sequence, cluster: Cluster,
+               label: str = "chunks") -> list:
+    """[task(item) for item in items], in order, run where `cluster` says. `task` and the
+    items travel to the workers by (cloud)pickle: module-level functions and plain data."""
+    bar = Progress(len(items), cluster.progress, label=f"{label} ({len(items)} tasks)")
+    if cluster.workers is None and not cluster.scheduler:
+        results = []
+        for item in items:
+            bar.update(len(results))
+            results.append(task(item))
+        bar.close()
+        return results
+    with _client(cluster) as client:
+        from distributed import as_completed
+        futures = client.map(task, items, pure=False)
+        for done, _ in enumerate(as_completed(futures), start=1):
+            if done < len(items):      # close() draws the last state
+                bar.update(done)
+        bar.close()
+        return client.gather(futures)     # re-raises a task's exception here
+
+
+@contextlib.contextmanager
+def _client(cluster: Cluster) -> Iterator[Any]:
+    try:
+        from distributed import Client, LocalCluster
+    except ImportError:
+        from fuzzyc.errors import Diagnostic, FuzzycError
+        raise FuzzycError([Diagnostic(None, "--workers and --scheduler run on Dask, which is "
+                                            "not installed: pip install 'fuzzyc[dask]'")]) \
+            from None
+    if cluster.scheduler:
+        with Client(cluster.scheduler) as client:
+            yield client
+        return
+    # processes, one thread each: the batched numpy loop holds the GIL between array calls
+    with LocalCluster(n_workers=cluster.workers, threads_per_worker=1, processes=True,
+                      dashboard_address=":0") as local, Client(local) as client:
+        yield client
+
+
+@dataclass
+class Campaign:
+    """A Monte Carlo campaign's result: `metrics` label -> (batch,) values, one per loop, in
+    loop order; `summary` label -> {mean, min, max, unit} over them (runtime.simulate
+    summarize's); `trace` the full trace of the first `kept` loops only (for CSV and plots)."""
+    batch: int
+    metrics: dict
+    summary: dict
+    trace: Any
+
+
+def simulate_campaign(scenario, batch: int, cluster: Cluster, keep: int = 20,
+                      **options) -> Campaign:
+    """`batch` loops of a scenario (runtime.simulate.simulate's options: baseline, backend,
+    seed, randomize, record) run in chunks where `cluster` says; the same numbers as one
+    simulate(scenario, batch, ...) whatever the split."""
+    import functools
+
+    import numpy as np
+
+    from .simulate import summarize_values
+    if options.get("pace", "sim") != "sim":
+        raise ValueError("a campaign runs in simulated time (pace='sim')")
+    task = functools.partial(_simulate_chunk, scenario, keep, options)
+    parts = map_chunks(task, chunks(batch, cluster.chunk), cluster, label="loops")
+    metrics = {label: np.concatenate([values[label] for values, _ in parts])
+               for label in parts[0][0]}
+    kept = [trace for _, trace in parts if trace is not None]
+    trace = kept[0]
+    trace.signals = {name: np.concatenate([t.signals[name] for t in kept], axis=1)
+                     for name in trace.signals}
+    return Campaign(batch, metrics, summarize_values(scenario, metrics), trace)
+
+
+def _simulate_chunk(scenario, keep: int, options: dict, loops: range):
+    """One task: the loops of one chunk as a batch; their metrics, and the trace of those of
+    them among the campaign's first `keep` loops (None if none is)."""
+    from .simulate import loop_metrics, simulate
+    trace = simulate(scenario, batch=len(loops), first=loops.start, progress=False, **options)
+    values = loop_metrics(scenario, trace)
+    shown = max(0, min(keep - loops.start, len(loops)))
+    if shown:
+        trace.signals = {name: v[:, :shown] for name, v in trace.signals.items()}
+    return values, trace if shown else None
