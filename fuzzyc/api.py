@@ -22,6 +22,7 @@ from .errors import FuzzycError
 from .model import Model
 
 if TYPE_CHECKING:
+    from fuzzyc.runtime.campaign import Cluster
     from fuzzyc.runtime.trace import Trace
     from .verifier.report import VerifyReport
 
@@ -142,18 +143,20 @@ def compile_lut(model: Model, resolution: int = 33) -> Header:
 def verify(model: Model | PathLike, *, max_examples: int = 100, seed: int = 0,
            backend: str = "numpy", only: str | None = None,
            report_dir: PathLike | None = None,
-           progress: Callable[[str], None] | None = None) -> VerifyReport:
+           progress: Callable[[str], None] | None = None,
+           cluster: Cluster | None = None) -> VerifyReport:
     """Check every property of a model (or of the file at that path); a model that declares
     none gets the structural defaults. `only` keeps the properties whose text contains it;
     `report_dir` receives the plots of closed-loop counterexamples; `progress` is called with
-    each property's text before it is checked."""
+    each property's text before it is checked; `cluster` (fuzzyc.runtime.campaign.Cluster) checks
+    the closed-loop cases in chunks, on Dask with workers or a scheduler (docs/campaigns.md)."""
     from .verifier import Options, verify_model
     from .verifier.report import VerifyReport
     if not isinstance(model, Model):
         model = load(model)
     options = Options(backend=backend, max_examples=max_examples, seed=seed,
                       report_dir=None if report_dir is None else str(report_dir), only=only,
-                      progress=progress)
+                      progress=progress, cluster=cluster)
     return VerifyReport(verify_model(model, options))
 
 
@@ -169,13 +172,16 @@ class Simulation:
 def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int = 1,
              settings: Mapping[str, Any] | None = None, baseline: bool = False,
              randomize: bool = False, backend: str = "numpy", seed: int = 0,
-             pace: str = "sim", progress: bool | None = False) -> Simulation:
+             pace: str = "sim", progress: bool | None = False,
+             cluster: Cluster | None = None) -> Simulation:
     """Run a scenario (a shipped name such as "wedm_rough" or a YAML path) with its own rule
     base or the rule file `rulebase` (any format `load` reads); `settings` overrides scenario keys, dotted as in
     `fuzzyc simulate --set` ({"duration": 2, "plant.tension": 800}); `baseline` runs the
     scenario's baseline controller instead; `randomize` draws each loop's plant params;
     `pace="wall"` runs in real time (one period per period); `progress` shows a progress line
-    on stderr (None: when it is a terminal)."""
+    on stderr (None: when it is a terminal). `cluster` (fuzzyc.runtime.campaign.Cluster) runs
+    the loops in chunks, on Dask with workers or a scheduler, with the same numbers; then
+    `trace` holds the first 20 loops and `metrics` are over all of them (docs/campaigns.md)."""
     from fuzzyc.plants.scenario import load as load_scenario
     from fuzzyc.runtime.simulate import simulate as run_scenario, summarize
     overrides = dict(settings or {})
@@ -183,6 +189,11 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
         from .formats import absolute_ref
         overrides["controller.rulebase"] = absolute_ref(os.fspath(rulebase))
     loaded = load_scenario(scenario, overrides)
+    if cluster is not None:
+        from fuzzyc.runtime.campaign import simulate_campaign
+        campaign = simulate_campaign(loaded, batch, cluster, baseline=baseline, backend=backend,
+                                     seed=seed, randomize=randomize, pace=pace)
+        return Simulation(loaded, campaign.trace, campaign.summary)
     trace = run_scenario(loaded, batch=batch, baseline=baseline, backend=backend, seed=seed,
                          randomize=randomize, progress=progress, pace=pace)
     return Simulation(loaded, trace, summarize(loaded, trace))

@@ -31,8 +31,7 @@ class Cluster:
     progress: bool | None = None
 
     def __post_init__(self) -> None:
-        if self.chunk < 2:
-            raise ValueError(f"a chunk is at least 2 loops, not {self.chunk}")
+        chunks(0, self.chunk)      # checks the size
         if self.workers is not None and self.workers < 1:
             raise ValueError(f"workers must be at least 1, not {self.workers}")
         if self.workers is not None and self.scheduler:
@@ -40,13 +39,20 @@ class Cluster:
                              "not both")
 
 
+BLOCK = 8   # loops: a chunk is a multiple of this (see chunks)
+
+
 def chunks(total: int, size: int) -> list[range]:
-    """The loops 0..total-1 as consecutive ranges of `size`. A last range of one loop joins
-    the one before: numpy sums a (T, 1) column pairwise but the columns of a (T, N) batch row
-    by row, so a loop's metrics alone would differ in the last bits from the same loop in a
-    batch (for that reason too, a chunk is at least 2 loops)."""
-    if size < 2:
-        raise ValueError(f"a chunk is at least 2 loops, not {size}")
+    """The loops 0..total-1 as consecutive ranges of `size` loops, a multiple of BLOCK.
+
+    Why: a loop must compute the same bits in any batch. OpenBLAS's matrix-vector kernels
+    (the engine's sums over output terms) take 8 rows at a time and the leftover rows another
+    way, so a loop's last bits depend on its place modulo 8; chunks that start at multiples of
+    8 keep every loop's place. For the same reason a last range of one loop joins the one
+    before: numpy sums a (T, 1) column pairwise but the columns of a (T, N) batch row by row."""
+    if size < BLOCK or size % BLOCK:
+        raise ValueError(f"a chunk is a multiple of {BLOCK} loops (the place of a loop in its "
+                         f"batch modulo {BLOCK} changes its last bits), not {size}")
     starts = list(range(0, total, size))
     if len(starts) > 1 and total - starts[-1] == 1:
         starts.pop()

@@ -50,3 +50,29 @@ def _unwritable(path: Path, folder: bool) -> str | None:
     except OSError as exc:
         return f"cannot create anything in {existing} ({exc.strerror or exc})"
     return None
+
+
+def add_campaign_arguments(parser) -> None:
+    """--workers / --scheduler / --chunk: run the loops in chunks, on Dask (runtime.campaign)."""
+    where = parser.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=int, metavar="N",
+                       help="run the loops in chunks on a local Dask cluster of N processes "
+                            "(pip install 'fuzzyc[dask]'); the numbers do not change")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run the chunks on a running Dask cluster (tcp://host:8786)")
+    parser.add_argument("--chunk", type=int, metavar="LOOPS",
+                        help="loops per task (default 10000; alone: chunks in this process)")
+
+
+def cluster_from(args):
+    """The runtime.campaign.Cluster the arguments ask for; None for one batch in-process."""
+    if args.workers is None and args.scheduler is None and args.chunk is None:
+        return None
+    from fuzzyc.runtime.campaign import DEFAULT_CHUNK, Cluster
+    from ..errors import Diagnostic, FuzzycError
+    try:
+        chunk = DEFAULT_CHUNK if args.chunk is None else args.chunk
+        return Cluster(args.workers, args.scheduler, chunk,
+                       progress=True if getattr(args, "progress", False) else None)
+    except ValueError as exc:
+        raise FuzzycError([Diagnostic(None, str(exc))]) from None

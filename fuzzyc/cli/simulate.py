@@ -1,7 +1,8 @@
 """`fuzzyc simulate FILE --scenario NAME`: run a rule base in a scenario's closed loop.
 
 Writes to -o DIR: trace.csv (the first loops of the batch), trace.png, summary.txt and
-summary.json (the scenario's metrics: mean/min/max over the batch).
+summary.json (the scenario's metrics: mean/min/max over the batch). --workers, --scheduler or
+--chunk split the batch into chunks (runtime.campaign, docs/campaigns.md): the same files.
 """
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ import sys
 from pathlib import Path
 
 from ..atomic import write_text
-from .common import RULE_FILE_HELP, check_output
+from .common import RULE_FILE_HELP, add_campaign_arguments, check_output, cluster_from
 from ..errors import Diagnostic, FuzzycError
 
 CSV_LOOPS = 8    # a batch of thousands would make a huge CSV: keep the first loops
@@ -32,6 +33,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--pace", choices=("sim", "wall"), default="sim")
     p.add_argument("--progress", action="store_true", help="show progress even without a tty")
     p.add_argument("-o", "--out", default="out/simulate", help="output folder")
+    add_campaign_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -47,8 +49,9 @@ def parse_sets(items: list[str]) -> dict[str, str]:
 
 
 def format_summary(title: str, controller: str, summary: dict, trace,
-                   notes: list[str] = ()) -> str:
-    lines = [f"{title}", f"controller: {controller}; batch {trace.batch}; "
+                   notes: list[str] = (), batch: int | None = None) -> str:
+    """batch: the loops the summary is over (default the trace's)."""
+    lines = [f"{title}", f"controller: {controller}; batch {batch or trace.batch}; "
              f"{trace.steps} periods of {trace.period * 1000:g} ms"]
     if trace.deadline_misses:
         lines.append(f"deadline misses: {trace.deadline_misses}")
@@ -79,9 +82,14 @@ def run(args) -> int:
     from fuzzyc.runtime.simulate import references, rulebase_ref
     from ..api import simulate
     check_output(args.out, folder=True)
+    cluster = cluster_from(args)
+    if cluster is not None and args.pace != "sim":
+        raise FuzzycError([Diagnostic(None, "--pace wall runs one batch in real time; "
+                                            "--workers, --scheduler and --chunk need --pace sim")])
     run = simulate(args.scenario, args.file, batch=args.batch, settings=parse_sets(args.sets),
                    baseline=args.baseline, randomize=args.randomize, backend=args.backend,
-                   seed=args.seed, pace=args.pace, progress=True if args.progress else None)
+                   seed=args.seed, pace=args.pace, progress=True if args.progress else None,
+                   cluster=cluster)
     scenario, trace, summary = run.scenario, run.trace, run.metrics
     out = Path(args.out)
     trace.to_csv(out / "trace.csv", loops=CSV_LOOPS)
@@ -89,19 +97,19 @@ def run(args) -> int:
     plot_trace(trace, out / "trace.png", panels, references(scenario), title=scenario.title)
     controller = "baseline" if args.baseline else rulebase_ref(scenario)
     text = format_summary(scenario.title, controller, summary, trace,
-                          controller_notes(scenario, args.baseline) + scenario.notes)
+                          controller_notes(scenario, args.baseline) + scenario.notes, args.batch)
     write_text(out / "summary.txt", text)
-    write_text(out / "summary.json", _json(scenario, controller, trace, summary))
+    write_text(out / "summary.json", _json(scenario, controller, trace, summary, args.batch))
     sys.stdout.write(text)
     print(f"wrote {out}/trace.csv, trace.png, summary.txt, summary.json")
     return 0
 
 
-def _json(scenario, controller: str, trace, summary: dict) -> str:
+def _json(scenario, controller: str, trace, summary: dict, batch: int) -> str:
     """JSON without NaN (not valid JSON): a metric that does not exist is null."""
     def clean(v):
         return None if isinstance(v, float) and v != v else v
     metrics = {k: {kk: clean(vv) for kk, vv in v.items()} for k, v in summary.items()}
     return json.dumps({"scenario": scenario.name, "controller": controller,
-                       "batch": trace.batch, "deadline_misses": trace.deadline_misses,
+                       "batch": batch, "deadline_misses": trace.deadline_misses,
                        "metrics": metrics}, indent=2) + "\n"

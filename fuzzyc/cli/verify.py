@@ -10,9 +10,10 @@ They are said to be defaults, before the results and in each result's name (`def
 """
 from __future__ import annotations
 
+import contextlib
 import sys
 
-from .common import RULE_FILE_HELP, check_output
+from .common import RULE_FILE_HELP, add_campaign_arguments, check_output, cluster_from
 from ..errors import FuzzycError
 
 
@@ -28,6 +29,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--report", metavar="DIR",
                    help="write verify.json, verify.junit.xml and counterexample plots here")
     p.add_argument("--only", metavar="TEXT", help="only properties whose text contains TEXT")
+    add_campaign_arguments(p)
     p.set_defaults(run=run)
 
 
@@ -70,18 +72,21 @@ def run(args) -> int:
         check_output(args.report, folder=True)
     progress = _Progress()
     report, notes, bad_input = VerifyReport([]), [], False
-    for path in args.files:
-        try:
-            model = load(path)
-            notes.append(defaults_note(path, model))
-            report.results += verify(model, max_examples=args.max_examples, seed=args.seed,
-                                     backend=args.backend, only=args.only,
-                                     report_dir=args.report, progress=progress).results
-        except FuzzycError as exc:
-            progress.done()
-            for diagnostic in exc.diagnostics:
-                print(diagnostic.format(), file=sys.stderr)
-            bad_input = True
+    cluster = cluster_from(args)
+    with cluster or contextlib.nullcontext():     # one Dask cluster for every property
+        for path in args.files:
+            try:
+                model = load(path)
+                notes.append(defaults_note(path, model))
+                report.results += verify(model, max_examples=args.max_examples,
+                                         seed=args.seed, backend=args.backend, only=args.only,
+                                         report_dir=args.report, progress=progress,
+                                         cluster=cluster).results
+            except FuzzycError as exc:
+                progress.done()
+                for diagnostic in exc.diagnostics:
+                    print(diagnostic.format(), file=sys.stderr)
+                bad_input = True
     progress.done()
     for note in filter(None, notes):
         print(note)
