@@ -9,6 +9,7 @@ any number of workers, or one batch in one process give the same loops.
 from __future__ import annotations
 
 import contextlib
+import logging
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator, Sequence
 
@@ -24,7 +25,10 @@ class Cluster:
     other (a campaign bigger than memory still runs). workers: a Dask LocalCluster of that many
     single-threaded worker processes; scheduler: the address of a running Dask scheduler
     (tcp://host:8786), whose workers must have fuzzyc installed. chunk: loops per task.
-    progress: a bar over the tasks on stderr (None: only on a terminal)."""
+    progress: a bar over the tasks on stderr (None: only on a terminal).
+
+    Used as a context manager (`with Cluster(workers=2) as cluster:`), one Dask client (and
+    local cluster) serves every campaign inside; otherwise each campaign starts its own."""
     workers: int | None = None
     scheduler: str | None = None
     chunk: int = DEFAULT_CHUNK
@@ -37,6 +41,34 @@ class Cluster:
         if self.workers is not None and self.scheduler:
             raise ValueError("give workers (a local cluster) or scheduler (a running one), "
                              "not both")
+        self._open: contextlib.ExitStack | None = None
+        self._client: Any = None
+        self._held = False
+
+    @property
+    def local(self) -> bool:
+        """True when the chunks run in this process."""
+        return self.workers is None and not self.scheduler
+
+    def client(self) -> Any:
+        """The Dask client, started on first use."""
+        if self._client is None:
+            self._open = contextlib.ExitStack()
+            self._client = self._open.enter_context(_client(self))
+        return self._client
+
+    def close(self) -> None:
+        if self._open is not None:
+            self._open.close()
+        self._open = self._client = None
+
+    def __enter__(self) -> "Cluster":
+        self._held = True
+        return self
+
+    def __exit__(self, *exc) -> None:
+        self._held = False
+        self.close()
 
 
 BLOCK = 8   # loops: a chunk is a multiple of this (see chunks)
@@ -64,21 +96,24 @@ def map_chunks(task: Callable[[Any], Any], items: Sequence, cluster: Cluster,
     """[task(item) for item in items], in order, run where `cluster` says. `task` and the
     items travel to the workers by (cloud)pickle: module-level functions and plain data."""
     bar = Progress(len(items), cluster.progress, label=f"{label} ({len(items)} tasks)")
-    if cluster.workers is None and not cluster.scheduler:
+    if cluster.local:
         results = []
         for item in items:
             bar.update(len(results))
             results.append(task(item))
         bar.close()
         return results
-    with _client(cluster) as client:
+    try:
         from distributed import as_completed
-        futures = client.map(task, items, pure=False)
+        futures = cluster.client().map(task, items, pure=False)
         for done, _ in enumerate(as_completed(futures), start=1):
             if done < len(items):      # close() draws the last state
                 bar.update(done)
         bar.close()
-        return client.gather(futures)     # re-raises a task's exception here
+        return cluster.client().gather(futures)     # re-raises a task's exception here
+    finally:
+        if not cluster._held:
+            cluster.close()
 
 
 @contextlib.contextmanager
@@ -96,7 +131,8 @@ def _client(cluster: Cluster) -> Iterator[Any]:
         return
     # processes, one thread each: the batched numpy loop holds the GIL between array calls
     with LocalCluster(n_workers=cluster.workers, threads_per_worker=1, processes=True,
-                      dashboard_address=":0") as local, Client(local) as client:
+                      dashboard_address=":0", silence_logs=logging.ERROR) as local, \
+            Client(local) as client:
         yield client
 
 

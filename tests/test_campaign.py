@@ -12,7 +12,7 @@ import pytest
 from fuzzyc.cli import main
 from fuzzyc.errors import FuzzycError
 from fuzzyc.plants.scenario import load
-from fuzzyc.runtime.campaign import Cluster, chunks, simulate_campaign
+from fuzzyc.runtime.campaign import Cluster, chunks, map_chunks, simulate_campaign
 from fuzzyc.runtime.simulate import loop_metrics, simulate, summarize
 from fuzzyc.verify import Options, verify_model
 
@@ -148,3 +148,12 @@ def test_closed_loop_search_in_chunks_gives_the_same_verdicts(scheduler):
         assert signals.keys() == split[0].violation.trace["signals"].keys()
         for name, values in signals.items():
             np.testing.assert_array_equal(split[0].violation.trace["signals"][name], values)
+
+
+def test_one_client_serves_every_campaign_inside_with(scheduler):
+    with Cluster(scheduler=scheduler, chunk=8) as cluster:
+        assert map_chunks(abs, [-1, -2], cluster) == [1, 2]
+        first = cluster.client()
+        assert map_chunks(abs, [-3], cluster) == [3]
+        assert cluster.client() is first
+    assert cluster._client is None
