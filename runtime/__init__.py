@@ -36,9 +36,16 @@ Metrics (runtime.metrics): settling_time, overshoot, steady_state_error, chatter
     steady_change, event_count, moving_average — over (T, N) arrays, one value per loop.
 Scenarios (runtime.simulate, with fuzzyc.plants.scenario.load(name_or_path, overrides)):
     simulate(scenario, batch=1, baseline=False, backend="numpy", seed=0, randomize=False,
-             progress=False, record=None, pace="sim") -> Trace
+             progress=False, record=None, pace="sim", first=0) -> Trace
     summarize(scenario, trace) -> {label: {mean, min, max, unit}}
-    build(scenario, controller, batch=1, seed=0, randomize=False, expose=()) -> blocks
+    loop_metrics(scenario, trace) -> {label: (N,) values}; summarize_values(scenario, those)
+    build(scenario, controller, batch=1, seed=0, randomize=False, expose=(), first=0) -> blocks
+      loop k of the batch is loop first + k of a campaign: its plant params and noise come
+      from streams keyed by (seed, first + k) (runtime.noise.KeyedNoise)
+Campaigns (runtime.campaign, docs/campaigns.md): Cluster(workers=None, scheduler=None,
+    chunk=10000, progress=None); simulate_campaign(scenario, batch, cluster, **options) ->
+    Campaign(batch, metrics, summary, trace of the first loops); map_chunks(task, items,
+    cluster) -> [task(item)...] in this process or on Dask
     load_controller(scenario, batch, backend="numpy") -> controller with the scenario's params
     references(scenario) -> {signal: set point} for plots
   Block order: schedules -> plant (sees the controller outputs of the previous period, u(-1)
