@@ -109,6 +109,14 @@ def test_simulate_command_writes_the_same_files_in_chunks(tmp_path, scheduler):
     assert json.loads((plain / "summary.json").read_text())["batch"] == BATCH
 
 
+def test_the_c_back_end_in_chunks_writes_the_same_files(tmp_path):
+    pytest.importorskip("fuzzyc.backends.cload", reason="the C back end needs a C compiler")
+    plain = _simulate_cli(tmp_path / "plain", "--backend", "c")
+    split = _simulate_cli(tmp_path / "split", "--backend", "c", "--chunk", "8")
+    for name in ("summary.json", "trace.csv"):
+        assert filecmp.cmp(plain / name, split / name, shallow=False), name
+
+
 def test_workers_without_dask_is_a_clear_error(monkeypatch, tmp_path, capsys):
     monkeypatch.setitem(__import__("sys").modules, "distributed", None)   # import fails
     with pytest.raises(FuzzycError, match=r"pip install 'fuzzyc\[dask\]'"):
