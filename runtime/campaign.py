@@ -104,13 +104,14 @@ def map_chunks(task: Callable[[Any], Any], items: Sequence, cluster: Cluster,
         bar.close()
         return results
     try:
+        client = cluster.client()        # a FuzzycError first when Dask is missing
         from distributed import as_completed
-        futures = cluster.client().map(task, items, pure=False)
+        futures = client.map(task, items, pure=False)
         for done, _ in enumerate(as_completed(futures), start=1):
             if done < len(items):      # close() draws the last state
                 bar.update(done)
         bar.close()
-        return cluster.client().gather(futures)     # re-raises a task's exception here
+        return client.gather(futures)     # re-raises a task's exception here
     finally:
         if not cluster._held:
             cluster.close()
