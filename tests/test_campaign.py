@@ -14,7 +14,7 @@ from fuzzyc.errors import FuzzycError
 from fuzzyc.plants.scenario import load
 from fuzzyc.runtime.campaign import Cluster, chunks, map_chunks, simulate_campaign
 from fuzzyc.runtime.simulate import loop_metrics, simulate, summarize
-from fuzzyc.verify import Options, verify_model
+from fuzzyc.verifier import Options, verify_model
 
 BATCH, SEED = 61, 5
 
