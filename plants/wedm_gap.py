@@ -151,11 +151,14 @@ class WedmGapParams:
     tension: float = 800.0          # gf (Table 3)
     flushing: float = 2.0           # bar, mean of upper and lower (Table 3)
     current_slope: float = 380.0    # A/us, triangular current (Yan & Liao; 450 in Liao & Yu)
-    discharge_voltage: float = 25.0     # V; assumption: arc-column voltage of brass wire in water
+    discharge_voltage: float = 80.0     # V, Liao & Yu 3.1: the iso-energy generator's mean
+                                        # working voltage during a discharge (V_D of eq. 1)
     open_voltage: float = 110.0     # V, the ignition circuit (Yan & Liao)
     arc_on_time: float = 0.2        # us; assumption: arcs are cut short by the generator
+                                    # (Liao & Yu's A_on, 0.1-0.5 us; 0.2 in eq. 16 below)
     u0: float = 10.0                # J/mm^3; assumption: heat to melt tool steel
-    efficiency: float = 0.04        # assumption: share of discharge energy that removes metal
+    efficiency: float = 0.0125      # Liao & Yu eq. 16 (eq16_efficiency): the share of
+                                    # the discharge energy that removes metal
     kerf: float = 0.29              # mm; assumption: 0.25 mm wire + 2 x 20 um side gap
     td_ref: float = 4.0             # us at g_ref; assumption (ignition delays of a few us)
     g_ref: float = 10.0             # um
@@ -174,8 +177,9 @@ class WedmGapParams:
     tau_flush: float = 3.0          # s; assumption: debris residence time in a 30 mm kerf
     v_retract: float = 2.0          # mm/min; assumption: the servo's back-off speed
     tau_wire: float = 0.5           # s; assumption: wire heating (precursor 50 ms - 2 s)
-    q_rupture_per_speed: float = 0.22   # W/mm per m/min at 800 gf; assumption: breaks at
-                                        # ~1.3 x Yr1 (39 kHz) in the finish cut of test 1
+    q_rupture_per_speed: float = 1.25   # W/mm per m/min at 800 gf; assumption: breaks at
+                                        # ~1.15 x Yr1 (34.5 kHz) in the finish cut of test 1:
+                                        # 34.5 kHz x 7.6 mJ / 30 mm / 7 m/min = 1.25
     arc_rupture_ratio: float = 0.5  # Yan & Liao: "abnormal ratio rises to 50 % or more"
     arc_rupture_time: float = 60.0  # s, Yan & Liao: "60 seconds or longer"
     gap0: float = 9.0               # um, initial gap (a scenario's starting condition)
@@ -189,9 +193,30 @@ def height_efficiency(height: np.ndarray) -> np.ndarray:
 
 
 def discharge_energy(p: WedmGapParams, on_time) -> np.ndarray:
-    """J per discharge of a triangular current: V_D * (K t_on) * t_on / 2."""
+    """J per discharge, Liao & Yu eq. 1: an isosceles triangle of current rising at K for
+    t_on and falling as fast (2 t_on long, peak K t_on): V_D * K t_on * 2 t_on / 2."""
     t = np.asarray(on_time) * 1e-6
-    return p.discharge_voltage * p.current_slope * 1e6 * t * t / 2
+    return p.discharge_voltage * p.current_slope * 1e6 * t * t
+
+
+def liao_yu_gamma(on_time, arc_on_time) -> np.ndarray:
+    """Liao & Yu eq. 16, SKD11 on their 450-A/us machine: mm^2/min of H x F per kHz of
+    discharges at 10 mm; on-times in us (the fit's variables are in steps of 0.1 us)."""
+    x1 = np.log(np.asarray(on_time) * 10) / np.log(9)
+    x2 = np.log(np.asarray(arc_on_time) * 10) / np.log(5)
+    return (4.592 * x1 ** 2 + 2.016 * x2 ** 2 - 0.274 * x1 * x2 - 2.692 * x1 - 1.28 * x2
+            + 1.095)
+
+
+def eq16_efficiency(p: WedmGapParams, ratio: float = 0.4) -> float:
+    """The efficiency eta at which this plant's eq. 7 gamma equals eq. 16's at t_on 0.5 us,
+    10 mm and abnormal ratio `ratio` (Yan & Liao's finish optimum 40 %), the same removal
+    per joule on a generator of slope K instead of 450 A/us (gamma ~ K, eq. 7)."""
+    gamma = liao_yu_gamma(0.5, p.arc_on_time) * p.current_slope / 450.0   # mm^2/min/kHz
+    weight = (0.5 ** 2 * (1 - ratio) + p.arc_on_time ** 2 * ratio / 2) * 1e-12
+    area_per_pulse = gamma / 60e3                                          # mm^2
+    return float(area_per_pulse * p.kerf * p.u0
+                 / (p.discharge_voltage * p.current_slope * 1e6 * weight))
 
 
 def initial_state(params: WedmGapParams, batch: int, rng=None) -> dict[str, np.ndarray]:
@@ -213,7 +238,10 @@ def pulse_statistics(p: WedmGapParams, gap, debris, t_off, on_time, height=None)
     p_a = 1.0 - (1.0 - restrike) * (1.0 - debris_arc)
     t_d = (p.td_ref * (p.td_height / height) ** p.td_area_exponent
            * np.exp(np.minimum((gap - p.g_ref) / p.g_scale, 30.0)))
-    cycle = on_time + t_off + (1 - p_s) * (1 - p_a) * t_d
+    # a normal pulse waits t_d and discharges for 2 t_on (eq. 1's isosceles triangle); the
+    # generator cuts an abnormal one (arc or short) to the arc on-time, 2 A_on long
+    normal = (1 - p_s) * (1 - p_a)
+    cycle = t_off + normal * (t_d + 2 * on_time) + (1 - normal) * 2 * p.arc_on_time
     return p_s, p_a, t_d, cycle
 
 
@@ -221,15 +249,20 @@ def rates(p: WedmGapParams, gap, debris, feed, t_off, on_time, height):
     """The mean process at a state: dict of frequencies (Hz), ratios, speeds (mm/min), V."""
     p_s, p_a, t_d, cycle = pulse_statistics(p, gap, debris, t_off, on_time, height)
     no_short, no_arc = 1 - p_s, 1 - p_a
+    normal, arcs = no_short * no_arc, no_short * p_a       # shares of all pulses
     fq = no_short / (cycle * 1e-6)                         # discharges per second
-    ratio = p_s + no_short * p_a
-    energy_weight = (on_time ** 2 * no_arc + p.arc_on_time ** 2 * p_a / 2) * 1e-12
+    ratio = p_s + arcs
+    # eq. 3 per pulse: a normal discharge carries V_D K t_on^2 (eq. 1), an arc V_D K A_on^2,
+    # a short nothing
+    energy_weight = (on_time ** 2 * normal + p.arc_on_time ** 2 * arcs) * 1e-12
     volume = (p.discharge_voltage * p.current_slope * 1e6 * energy_weight
-              * p.efficiency * height_efficiency(height) / p.u0)   # mm^3 per discharge
-    v_erosion = fq * volume / (p.kerf * height) * 60.0     # mm/min the front recedes
+              * p.efficiency * height_efficiency(height) / p.u0)   # mm^3 per pulse
+    v_erosion = volume / (cycle * 1e-6) / (p.kerf * height) * 60.0   # mm/min the front recedes
     v_table = feed * no_short - p.v_retract * p_s ** 2
-    voltage = (p.open_voltage * no_short * no_arc * t_d
-               + p.discharge_voltage * on_time * no_short) / cycle
+    # the mean over the whole cycle: V_open while a normal pulse waits, V_D while a pulse
+    # discharges (2 t_on, or 2 A_on for an arc), 0 V during shorts and the off-time
+    voltage = (p.open_voltage * normal * t_d
+               + p.discharge_voltage * (normal * 2 * on_time + arcs * 2 * p.arc_on_time)) / cycle
     return {"fq": fq, "pulses": 1e6 / cycle, "ratio": ratio, "v_erosion": v_erosion,
             "v_table": v_table, "voltage": voltage, "energy": discharge_energy(p, on_time)}
 

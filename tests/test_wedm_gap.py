@@ -21,9 +21,10 @@ def hold(params, feed, t_off, seconds, height=None, rng=None):
     return state, out, history
 
 
-def test_discharge_energy_of_a_triangular_pulse():
-    # V_D * (K t_on) * t_on / 2 = 25 V * 190 A * 0.5e-6 s / 2 = 1.1875 mJ at K = 380 A/us
-    assert W.discharge_energy(W.WedmGapParams(), 0.5) == pytest.approx(1.1875e-3)
+def test_discharge_energy_of_an_isosceles_pulse():
+    # Liao & Yu eq. 1: V_D K t_on^2 (current up at K for t_on, down as fast: peak K t_on,
+    # 2 t_on long) = 80 V * 380 A/us * (0.5 us)^2 = 80 * 190 A * 0.5e-6 s = 7.6 mJ
+    assert W.discharge_energy(W.WedmGapParams(), 0.5) == pytest.approx(7.6e-3)
 
 
 def test_height_times_feed_is_gamma_times_spark_frequency():
