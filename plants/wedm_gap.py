@@ -249,11 +249,13 @@ def rates(p: WedmGapParams, gap, debris, feed, t_off, on_time, height):
     """The mean process at a state: dict of frequencies (Hz), ratios, speeds (mm/min), V."""
     p_s, p_a, t_d, cycle = pulse_statistics(p, gap, debris, t_off, on_time, height)
     no_short, no_arc = 1 - p_s, 1 - p_a
-    normal, arcs = no_short * no_arc, no_short * p_a       # shares of all pulses
+    normal = no_short * no_arc                             # share of all pulses
     fq = no_short / (cycle * 1e-6)                         # discharges per second
-    ratio = p_s + arcs
-    # eq. 3 per pulse: a normal discharge carries V_D K t_on^2 (eq. 1), an arc V_D K A_on^2,
-    # a short nothing
+    ratio = p_s + no_short * p_a
+    # eq. 3 per pulse: a normal discharge carries V_D K t_on^2 (eq. 1); about half of the
+    # abnormal pulses are arcs carrying V_D K A_on^2, the rest shorts carrying nothing
+    # (Liao & Yu, measured)
+    arcs = ratio / 2
     energy_weight = (on_time ** 2 * normal + p.arc_on_time ** 2 * arcs) * 1e-12
     volume = (p.discharge_voltage * p.current_slope * 1e6 * energy_weight
               * p.efficiency * height_efficiency(height) / p.u0)   # mm^3 per pulse

@@ -90,10 +90,13 @@ def test_finish_spark_frequency_below_reference(finish):
     assert np.max(smooth(trace["spark_freq"])) < 30.0
 
 
-@pytest.mark.xfail(strict=True, reason="finding: our plant holds 40 % at a wide gap with a "
-                   "short off-time (~6 us), so the mean gap voltage reads ~97 V, not 45 V: the "
-                   "e1 = P block moves feed and 1/t_off together, and 45 V at < 30 kHz needs "
-                   "t_off near 20 us")
+@pytest.mark.xfail(strict=True, reason="finding: the loop ends at 40 % with t_off 5.9 us and "
+                   "19 kHz, so the mean gap voltage over the cycle reads 97 V. 45 V under 30 kHz "
+                   "needs t_off >= 19.4 us at the end and a spark frequency near Yr1, i.e. a feed "
+                   "near 1.0 mm/min (eq. 8, 1.16 mm2/min per kHz at 30 mm); from test 1's start "
+                   "(0.3 mm/min, 32 us) the rule table's e1 = P block moves 1/t_off with the feed "
+                   "(0.33 per us per mm/min measured), so +0.7 mm/min ends near 3.8 us "
+                   "(docs/plants.md)")
 def test_finish_mean_gap_voltage_about_45_v(finish):
     _, trace = finish
     assert np.mean(trace["gap_voltage"][-2000:, 0]) == pytest.approx(45.0, abs=10.0)
@@ -128,6 +131,13 @@ def test_baseline_voltage_p_has_a_steady_voltage_error(finish_baseline):
     assert err == pytest.approx(feed / 0.05, rel=0.1)
 
 
+def test_rough_starts_near_40_percent(rough):
+    # Fig. 8a: "from the initial level of 40 %"; the first 40-ms count and the first 2 s
+    _, trace = rough
+    assert trace["abnormal_ratio"][0, 0] == pytest.approx(0.40, abs=0.04)
+    assert smooth(trace["abnormal_ratio"])[0, 0] == pytest.approx(0.40, abs=0.06)
+
+
 def test_rough_reaches_60_percent_and_off_time_near_19_2(rough):
     _, trace = rough
     t, ratio, ref = ratio_view(trace)
@@ -149,6 +159,17 @@ def test_setpoint_change_tracked_both_ways(setpoint):
     for t0, t1 in ((150, 180), (250, 280), (350, 380)):
         window = (t >= t0) & (t < t1)
         assert np.mean(np.abs(ratio[window] - ref[window])) < 0.03
+
+
+@pytest.mark.xfail(strict=True, reason="finding: the last 30 s average 52.8 % at 28-30 kHz: the "
+                   "plant's 55 % point at test 2's off-times (16-20 us) sits at 29.9-31.8 kHz, at or "
+                   "above Yr1 = 30 kHz (Yan & Liao's reading, mean + 3 sd, puts it at <= 27.5), so "
+                   "e1 leaves P and the critical region's rules hold the ratio under its set point")
+def test_setpoint_ends_at_its_55_percent(setpoint):
+    # "good tracking ability ... without causing ... steady error": the last 30 s within 1 point
+    _, trace = setpoint
+    t, ratio, _ = ratio_view(trace)
+    assert np.mean(ratio[t >= 350]) == pytest.approx(0.55, abs=0.01)
 
 
 def test_setpoint_summary_is_reported(setpoint):
@@ -187,8 +208,12 @@ def test_c_backend_refuses_a_set_point_schedule_it_cannot_follow():
         build(scenario, Compiled(model))
 
 
-@pytest.mark.xfail(strict=True, reason="finding: the rough loop settles at ~1.1 mm/min x 50 mm "
-                   "= ~55 mm2/min; the paper reports about 100 mm2/min")
+@pytest.mark.xfail(strict=True, reason="finding: the rough loop settles at 1.1 mm/min x 50 mm "
+                   "= 56 mm2/min at 19 kHz, the plant's 60 % point at t_off 20 us; about 100 "
+                   "needs it near 2.0 mm/min and 30 kHz. A viscous flushing law (debris ~ v H^2 / "
+                   "(g^3 p), tried) puts it at 2.16 mm/min, 29.5 kHz, 108 mm2/min, but the loop "
+                   "then follows the e1 = P block to t_off 2.7 us and test 2 runs away "
+                   "(docs/plants.md)")
 def test_rough_machining_speed_about_100_mm2_per_min(rough):
     _, trace = rough
     assert np.mean(trace["removal_rate"][-1000:, 0]) == pytest.approx(100.0, rel=0.2)
