@@ -162,7 +162,7 @@ def test_setpoint_change_tracked_both_ways(setpoint):
 
 
 @pytest.mark.xfail(strict=True, reason="finding: the last 30 s average 52.8 % at 28-30 kHz: the "
-                   "plant's 55 % point at test 2's off-times (16-20 us) sits at 29.9-31.8 kHz, at or "
+                   "plant's 55 % point at test 2's off-times (16-20 us) sits at 30.9-32.6 kHz, "
                    "above Yr1 = 30 kHz (Yan & Liao's reading, mean + 3 sd, puts it at <= 27.5), so "
                    "e1 leaves P and the critical region's rules hold the ratio under its set point")
 def test_setpoint_ends_at_its_55_percent(setpoint):
