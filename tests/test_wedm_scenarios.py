@@ -131,11 +131,13 @@ def test_baseline_voltage_p_has_a_steady_voltage_error(finish_baseline):
     assert err == pytest.approx(feed / 0.05, rel=0.1)
 
 
-def test_rough_starts_near_40_percent(rough):
-    # Fig. 8a: "from the initial level of 40 %"; the first 40-ms count and the first 2 s
-    _, trace = rough
-    assert trace["abnormal_ratio"][0, 0] == pytest.approx(0.40, abs=0.04)
-    assert smooth(trace["abnormal_ratio"])[0, 0] == pytest.approx(0.40, abs=0.06)
+def test_rough_starts_near_40_percent():
+    # Fig. 8a: "from the initial level of 40 %". One 40-ms count is noisy (its sd across loops
+    # is about 0.015, single counts reach 0.35), so the start is judged over 8 loops: the mean
+    # first count, and the mean over the first 2 s (the controller has begun to move it).
+    trace = simulate(load("wedm_rough", {"duration": "2"}), batch=8)
+    assert np.mean(trace["abnormal_ratio"][0]) == pytest.approx(0.40, abs=0.03)
+    assert np.mean(trace["abnormal_ratio"][:WINDOW]) == pytest.approx(0.40, abs=0.06)
 
 
 def test_rough_reaches_60_percent_and_off_time_near_19_2(rough):
