@@ -4,7 +4,8 @@ Format (every key but `plant` optional):
 
     title: "WEDM finish cut (Yan & Liao 1998, Table 3 test 1)"
     plant:
-      model: wedm_gap                 # a module of fuzzyc.plants
+      model: wedm_gap                 # a module of fuzzyc.plants, or `gymnasium` with the
+                                      # keys of plants/gym_env.py (env, observations, action)
       params: {height: 30, ...}       # fields of the module's params dataclass
       randomize: {tension: 0.05}      # relative std of each param across a batch (when asked)
     controller:
@@ -44,6 +45,8 @@ import yaml
 
 from fuzzyc.errors import Diagnostic, FuzzycError
 from fuzzyc.model import SourceLoc
+
+from . import gym_env
 
 SCENARIO_DIR = Path(__file__).resolve().parent / "scenarios"
 TOP_KEYS = {"title", "source", "plant", "controller", "baseline", "observers", "duration",
@@ -161,12 +164,18 @@ class Scenario:
                                        f"`{dotted}`: {message}", source)])
 
     def plant_module(self):
+        """The plant module of fuzzyc.plants the scenario names, or for `model: gymnasium` a
+        GymPlant, which has what a plant module has (plants/gym_env.py)."""
+        if self.plant_name == gym_env.MODEL:
+            return gym_env.from_scenario(self)
         return _plant_attr(self, "plant.model", self.plant_name, None)
 
     def plant_params(self, batch: int = 1, rng: np.random.Generator | None = None,
                      randomize: bool = False):
         """The plant's params dataclass; with randomize, (N,) arrays drawn around each value."""
         module = self.plant_module()
+        if isinstance(module, gym_env.GymPlant):
+            return module.params
         cls = _params_class(self, module)
         given = dict(self.data["plant"].get("params") or {})
         names = {f.name for f in dataclasses.fields(cls)}
@@ -275,6 +284,9 @@ def _check_keys(scenario: Scenario) -> None:
             continue
         if not isinstance(value, dict):
             raise scenario.error(section, "must be a mapping")
+        if section == "plant" and value.get("model") == gym_env.MODEL:
+            gym_env.from_scenario(scenario)      # its own keys, checked there
+            continue
         for key in value:
             if key not in known:
                 raise scenario.error(f"{section}.{key}",
