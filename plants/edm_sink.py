@@ -139,8 +139,11 @@ class PIGapServo:
     def initial_outputs(self) -> dict[str, float]:
         return {self.output_name: 0.0}
 
+    def error(self, signals: dict[str, np.ndarray]) -> np.ndarray:
+        return np.nan_to_num(np.asarray(signals[self.input_name], float) - self.Vset)
+
     def step(self, signals: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        e = np.nan_to_num(np.asarray(signals[self.input_name], float) - self.Vset)
+        e = self.error(signals)
         raw = self.Kp * e + self.integral
         saturated = np.abs(raw) >= self.vmax
         unwinding = np.sign(e) != np.sign(raw)

@@ -19,6 +19,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .edm_sink import PIGapServo
+
 INPUTS = ("u", "disturbance")
 OUTPUTS = ("y",)
 
@@ -78,34 +80,23 @@ def step(params: FopdtParams, state: dict[str, np.ndarray], inputs: dict[str, np
 
 
 @dataclass
-class PI:
-    """A crisp PI baseline, u = Kp e + Ki integral(e), e = setpoint - y, held in [umin, umax]
-    with conditional integration (no wind-up). Default gains: the SIMC rule for the
-    scenario's plant (K = 1, T = 5 s, L = 1 s: Kp = T / (K 2L) = 2.5, Ti = min(T, 8L) = 5 s)."""
+class PI(PIGapServo):
+    """The crisp PI baseline: the EDM servo's law (conditional integration, output held in
+    [-vmax, vmax]) on e = setpoint - y, the set point the bus signal `r`. Default gains: the
+    SIMC rule for the scenario's plant (K = 1, T = 5 s, L = 1 s: Kp = T / (K 2L) = 2.5,
+    Ti = min(T, 8L) = 5 s, Ki = Kp / Ti = 0.5 /s)."""
     Kp: float = 2.5
-    Ki: float = 0.5               # 1/s: Kp / Ti
+    Ki: float = 0.5               # 1/s
+    vmax: float = 10.0
     period: float = 0.1
-    umin: float = -10.0
-    umax: float = 10.0
-    setpoint_name: str = "r"
     input_name: str = "y"
     output_name: str = "u"
+    setpoint_name: str = "r"
 
     def __post_init__(self) -> None:
-        self.input_names = [self.input_name, self.setpoint_name]
-        self.output_names = [self.output_name]
-        self.integral = np.zeros(1)
+        super().__post_init__()
+        self.input_names.append(self.setpoint_name)
 
-    def reset(self, batch: int) -> None:
-        self.integral = np.zeros(batch)
-
-    def initial_outputs(self) -> dict[str, float]:
-        return {self.output_name: 0.0}
-
-    def step(self, signals: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
-        e = np.asarray(signals[self.setpoint_name], float) - np.asarray(
+    def error(self, signals: dict[str, np.ndarray]) -> np.ndarray:
+        return np.asarray(signals[self.setpoint_name], float) - np.asarray(
             signals[self.input_name], float)
-        raw = self.Kp * e + self.integral
-        holds = ((raw >= self.umax) & (e > 0)) | ((raw <= self.umin) & (e < 0))
-        self.integral = np.where(holds, self.integral, self.integral + self.Ki * e * self.period)
-        return {self.output_name: np.clip(self.Kp * e + self.integral, self.umin, self.umax)}
