@@ -189,3 +189,21 @@ def test_without_gymnasium_the_message_says_how_to_install(tmp_path, monkeypatch
     monkeypatch.setitem(sys.modules, "gymnasium", None)     # import gymnasium -> ImportError
     message = error(toy_scenario(tmp_path, TANK), lambda sc: simulate(sc))
     assert "pip install 'fuzzyc[gym]'" in message
+
+
+def test_discrete_actions_go_to_the_nearest_mapped_value(gym, tmp_path):
+    # MountainCar-v0 has actions 0, 1, 2 (push left, none, right)
+    def actions(extra, outputs):
+        path = tmp_path / "car.yaml"
+        path.write_text("plant:\n  model: gymnasium\n  env: MountainCar-v0\n"
+                        f"  observations: [position, velocity]\n  action: push\n{extra}")
+        plant = scenarios.load(path).plant_module()
+        state = plant.initial_state(plant.params, len(outputs))
+        return list(plant._action(plant.params, state["env"], {"push": np.array(outputs)},
+                                  0.0, len(outputs)))
+    # {0: -1, 1: 0, 2: 1}: -0.6 -> 0; -0.4 and 0.4 -> 1; 0.6 -> 2; 0.5 is as near 0 as 1:
+    # the tie goes to the first listed, action 1
+    assert actions("  discrete: {0: -1, 1: 0, 2: 1}\n",
+                   [-0.6, -0.4, 0.4, 0.6, 0.5]) == [0, 1, 1, 2, 1]
+    # without `discrete` the output is the action number, rounded to the nearest of 0, 1, 2
+    assert actions("", [0.4, 0.6, 1.7, 5.0, -3.0]) == [0, 1, 2, 2, 0]
