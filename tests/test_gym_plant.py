@@ -163,6 +163,8 @@ def test_mistakes_in_a_gym_plant_are_located(gym, tmp_path):
          "no module `no_such_module`"),
         (TANK.replace("gym_toy_env:Tank", "collections:OrderedDict"), "toy.yaml:3",
          "not a gymnasium.Env subclass"),
+        (TANK.replace("gym_toy_env:Tank", "os:system"), "toy.yaml:3",
+         "not a gymnasium.Env subclass"),
         (TANK.replace("rate: 2.0", "rat: 2.0"), "toy.yaml:4", "rat"),
         (TANK.replace("1: level10", "7: level10"), "toy.yaml:5", "not index 7"),
         (TANK.replace("0: level}", "0: reward}"), "toy.yaml:5", "writes itself"),
@@ -207,3 +209,12 @@ def test_discrete_actions_go_to_the_nearest_mapped_value(gym, tmp_path):
                    [-0.6, -0.4, 0.4, 0.6, 0.5]) == [0, 1, 1, 2, 1]
     # without `discrete` the output is the action number, rounded to the nearest of 0, 1, 2
     assert actions("", [0.4, 0.6, 1.7, 5.0, -3.0]) == [0, 1, 2, 2, 0]
+
+
+def test_wall_clock_pacing_runs_the_same_loop(gym):
+    # --pace wall sleeps to the clock between steps: the same 10 steps, the same values
+    sc = cartpole({"duration": "0.2"})
+    sim, wall = simulate(sc, batch=2), simulate(sc, batch=2, pace="wall")
+    assert wall.steps == sim.steps == 10
+    for name in ("x", "theta", "force", "return", "env_seed"):
+        np.testing.assert_array_equal(wall[name], sim[name])
