@@ -208,13 +208,15 @@ def _shipped() -> dict[str, list[Path]]:
     rulebases = Path(fuzzyc.rulebases.__file__).resolve().parent
     # examples/ sits beside rulebases/, in the source tree and (as fuzzyc/examples) installed
     c_example = rulebases.parent / "examples" / "c"
+    gym_example = rulebases.parent / "examples" / "gymnasium"
     return {"rulebases": sorted(rulebases.glob("*.fz")),
             "scenarios": sorted(SCENARIO_DIR.glob("*.yaml")),
-            "c": [c_example / "Makefile", c_example / "main.c"]}
+            "c": [c_example / "Makefile", c_example / "main.c"],
+            "gymnasium": sorted([*gym_example.glob("*.fz"), *gym_example.glob("*.yaml")])}
 
 
 def examples() -> list[Path]:
-    """Every shipped example file: rule bases, scenarios, the C example."""
+    """Every shipped example file: rule bases, scenarios, the C and Gymnasium examples."""
     return [path for paths in _shipped().values() for path in paths]
 
 
@@ -229,8 +231,8 @@ def example(name: str) -> Path:
 
 
 def copy_examples(destination: PathLike) -> list[Path]:
-    """Copy the shipped examples into destination/rulebases, /scenarios and /c (made when
-    missing); refuses (FuzzycError) to overwrite a file. Returns the written paths."""
+    """Copy the shipped examples into destination/rulebases, /scenarios, /c and /gymnasium
+    (made when missing); refuses (FuzzycError) to overwrite a file. Returns the written paths."""
     from .errors import Diagnostic
     destination = Path(destination)
     plan = [(source, destination / folder / source.name)

@@ -81,6 +81,8 @@ def test_examples_command_lists_and_copies_the_shipped_files(installed):
     assert sorted(p.name for p in (target / "scenarios").iterdir()) == sorted(
         p.name for p in (ROOT / "plants" / "scenarios").glob("*.yaml"))
     assert (target / "c" / "main.c").read_bytes() == (ROOT / "examples" / "c" / "main.c").read_bytes()
+    assert sorted(p.name for p in (target / "gymnasium").iterdir()) == [
+        "cartpole.fz", "cartpole.yaml", "pendulum.fz", "pendulum.yaml"]
     assert "75 rules" in run([fuzzyc, "check", str(target / "rulebases" / "wedm_three_region.fz")],
                              cwd=tmp, env=env)
     again = subprocess.run([fuzzyc, "examples", str(target)], cwd=tmp, env=env,
