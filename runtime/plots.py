@@ -11,9 +11,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 from fuzzyc.atomic import save_figure  # noqa: E402
 from fuzzyc.escape import plot_text  # noqa: E402
 
-from .trace import Trace  # noqa: E402
-
-MAX_LINES = 20   # a batch of thousands is drawn as its first loops only
+from .trace import SHOWN_LOOPS, Trace  # noqa: E402
 
 
 def plot_trace(trace: Trace, path: str | Path, signals: list[str] | None = None,
@@ -26,7 +24,7 @@ def plot_trace(trace: Trace, path: str | Path, signals: list[str] | None = None,
     fig, axes = plt.subplots(len(names), 1, figsize=(8, 1.8 * len(names) + 0.6), sharex=True,
                              squeeze=False)
     for ax, name in zip(axes[:, 0], names):
-        ax.plot(trace.time, trace[name][:, :MAX_LINES], lw=0.8)
+        ax.plot(trace.time, trace[name][:, :SHOWN_LOOPS], lw=0.8)
         ref = references.get(name)
         if isinstance(ref, str) and ref in trace:
             ax.plot(trace.time, trace[ref][:, 0], "k--", lw=0.8, label=plot_text(ref))

@@ -8,6 +8,10 @@ import numpy as np
 
 from fuzzyc.atomic import atomic_path
 
+# The loops of a batch a picture draws and trace.csv keeps by default: a Monte Carlo batch of
+# thousands would make an unreadable plot and a CSV of gigabytes.
+SHOWN_LOOPS = 20
+
 
 @dataclass
 class Trace:

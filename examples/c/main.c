@@ -3,8 +3,12 @@
  * Build (NAME = the controller's name, UPPER = the same in capitals):
  *   gcc -std=c99 -O2 -I DIR -DFZ_MODEL=NAME -DFZ_UPPER=UPPER examples/c/main.c -lm -o controller
  * Each input line holds the chain's raw inputs (N_SIGNALS values, comma separated); each output
- * line holds the chain's outputs after that sample.  With -r the lines hold the rule base's
- * inputs instead and the output is the bare rule base.  Lines that do not start with a number
+ * line holds the chain's outputs after that sample.  The lines are a time series: one
+ * controller steps through them, so delta() and the integrators carry over from line to line,
+ * as `fuzzyc eval FILE --csv IN.csv --series` computes (plain `fuzzyc eval --csv` evaluates
+ * every row on its own, from the initial state).  With -r the lines hold the rule base's
+ * inputs instead and the output is the bare rule base (no state: the rows are independent,
+ * as `fuzzyc eval FILE --csv IN.csv --core`).  Lines that do not start with a number
  * (a CSV header) are echoed as a comment.  nan and inf are accepted.
  */
 #include <stdio.h>

@@ -1,8 +1,13 @@
-"""`fuzzyc eval`: one evaluation with the rules that fired, or a whole CSV in one batch.
+"""`fuzzyc eval`: one evaluation with the rules that fired, or a whole CSV.
 
 Without --core the values are the controller's raw inputs and one step of the whole signal
 chain runs from its initial state (so delta() is 0 and integrators start from their `from`
 value); with --core they are the rule base's own (scaled) inputs.
+
+A CSV's rows are independent points by default, each evaluated from the initial state in one
+batch; with --series they are successive samples of one controller (delta() and the
+integrators carry over from row to row), as examples/c's program reads its input.
+NAME=VALUE beside --csv holds an input the CSV lacks at that value on every row.
 """
 from __future__ import annotations
 
@@ -22,11 +27,18 @@ from ..model import Model
 def add_parser(subparsers) -> None:
     p = subparsers.add_parser("eval", help="evaluate a controller at one point or over a CSV")
     p.add_argument("file", metavar="FILE", help=RULE_FILE_HELP)
-    p.add_argument("values", nargs="*", metavar="NAME=VALUE")
+    p.add_argument("values", nargs="*", metavar="NAME=VALUE",
+                   help="every input's value; with --csv, an input the CSV lacks, held on "
+                        "every row")
     p.add_argument("--core", action="store_true",
                    help="feed the rule base's scaled inputs directly (e.g. e1=0.5)")
     p.add_argument("--json", action="store_true", help="print {outputs, fired} as JSON")
-    p.add_argument("--csv", metavar="IN.csv", help="evaluate every row of a CSV in one batch")
+    p.add_argument("--csv", metavar="IN.csv",
+                   help="evaluate every row of a CSV; the rows are independent points, each "
+                        "from the initial state, unless --series")
+    p.add_argument("--series", action="store_true",
+                   help="with --csv: the rows are successive samples of one controller "
+                        "(delta() and integrators carry over), as examples/c reads them")
     p.set_defaults(run=run)
 
 
@@ -38,7 +50,9 @@ def _fail(message: str) -> FuzzycError:
     return FuzzycError([Diagnostic(None, message)])
 
 
-def parse_assignments(model: Model, pairs: list[str], core: bool) -> dict[str, float]:
+def parse_assignments(model: Model, pairs: list[str], core: bool,
+                      complete: bool = True) -> dict[str, float]:
+    """{input: value} from NAME=VALUE; complete: every input must have one."""
     names = input_names(model, core)
     values: dict[str, float] = {}
     for pair in pairs:
@@ -54,7 +68,7 @@ def parse_assignments(model: Model, pairs: list[str], core: bool) -> dict[str, f
         except ValueError:
             raise _fail(f"`{text}` is not a number (in `{pair}`)") from None
     missing = [n for n in names if n not in values]
-    if missing:
+    if missing and complete:
         raise _fail(f"missing input{'s' if len(missing) > 1 else ''}: {', '.join(missing)}")
     return values
 
@@ -76,8 +90,29 @@ def evaluate_batch(model: Model, columns: dict[str, np.ndarray], core: bool) -> 
     if core:
         return evaluate(model, columns)
     controller = Controller(model, batch=len(next(iter(columns.values()))))
+    return _step(controller, columns)
+
+
+def evaluate_series(model: Model, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """Every output of one controller stepped through the rows in order (the rule base's
+    outputs, then the chain's), its state carried from row to row."""
+    from ..api import Controller
+    n = len(next(iter(columns.values())))
+    if n == 0:
+        return evaluate_batch(model, columns, core=False)
+    controller = Controller(model, batch=1)
+    rows = [_step(controller, {k: v[i:i + 1] for k, v in columns.items()}) for i in range(n)]
+    return {name: np.concatenate([row[name] for row in rows]) for name in rows[0]}
+
+
+def _step(controller, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    """One step: the rule base's outputs (copied: the controller reuses its arrays), then the
+    chain's."""
     outputs = controller.step(columns)
-    return {**{v.name: controller.signals[v.name] for v in model.rulebase.outputs}, **outputs}
+    result = {v.name: np.array(controller.signals[v.name])
+              for v in controller.model.rulebase.outputs}
+    result.update(outputs)
+    return result
 
 
 def run(args) -> int:
@@ -85,6 +120,9 @@ def run(args) -> int:
     model = load(args.file)
     if args.csv:
         return _run_csv(model, args)
+    if args.series:
+        raise _fail("--series reads the rows of --csv IN.csv as a time series; one point "
+                    "has no series")
     values = parse_assignments(model, args.values, args.core)
     columns = {k: np.array([v]) for k, v in values.items()}
     warn_out_of_range(model, columns, args.core)
@@ -128,18 +166,28 @@ def _print_table(model: Model, rb_inputs, outputs, fired) -> None:
 
 
 def _run_csv(model: Model, args) -> int:
+    if args.series and args.core:
+        raise _fail("--series steps the signal chain; the rule base alone (--core) has no "
+                    "state, so its rows are independent anyway: drop one of the two")
     names = input_names(model, args.core)
+    held = parse_assignments(model, args.values, args.core, complete=False)
     rows = read_csv(args.csv)
     if not rows:
         raise _fail(f"{args.csv}: the file is empty; its first line must name the inputs")
     header = [h.strip() for h in rows[0]]
-    missing = [n for n in names if n not in header]
+    twice = [n for n in held if n in header]
+    if twice:
+        raise _fail(f"{', '.join(twice)}: given both as NAME=VALUE and as a column of "
+                    f"{args.csv}; NAME=VALUE is for an input the CSV lacks")
+    missing = [n for n in names if n not in header and n not in held]
     if missing:
         raise _fail(f"{args.csv}:1:1: the header lacks {', '.join(missing)} "
-                    f"(inputs of {model.name}: {', '.join(names)})")
-    columns = {n: np.empty(len(rows) - 1) for n in names}
+                    f"(inputs of {model.name}: {', '.join(names)}; NAME=VALUE holds one "
+                    f"at a value on every row)")
+    columns = {n: np.full(len(rows) - 1, held[n]) if n in held else np.empty(len(rows) - 1)
+               for n in names}
     for line_no, row in enumerate(rows[1:], start=2):
-        for name in names:
+        for name in (n for n in names if n not in held):
             col = header.index(name)
             try:
                 columns[name][line_no - 2] = float(row[col])
@@ -149,7 +197,8 @@ def _run_csv(model: Model, args) -> int:
                 raise _fail(f"{args.csv}:{line_no}:{col + 1}: `{shown}` is not a number "
                             f"(column {name})") from None
     warn_out_of_range(model, columns, args.core)
-    outputs = evaluate_batch(model, columns, args.core)
+    outputs = (evaluate_series(model, columns) if args.series
+               else evaluate_batch(model, columns, args.core))
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(names + list(outputs))

@@ -1,11 +1,14 @@
 """`fuzzyc simulate FILE --scenario NAME`: run a rule base in a scenario's closed loop.
 
-Writes to -o DIR: trace.csv (the first loops of the batch), trace.png, summary.txt and
-summary.json (the scenario's metrics: mean/min/max over the batch). --workers, --scheduler or
---chunk split the batch into chunks (runtime.campaign, docs/campaigns.md): the same files.
+Writes to -o DIR: trace.csv (the first --csv-loops loops of the batch, 20 unless told: every
+loop of 10,000 would be gigabytes), trace.png (the same loops drawn), summary.txt and
+summary.json (the scenario's metrics: mean/min/max over the whole batch). --workers,
+--scheduler or --chunk split the batch into chunks (runtime.campaign, docs/campaigns.md): the
+same files, the trace of the first 20 loops only.
 """
 from __future__ import annotations
 
+import argparse
 import json
 import sys
 from pathlib import Path
@@ -13,8 +16,7 @@ from pathlib import Path
 from ..atomic import write_text
 from .common import RULE_FILE_HELP, add_campaign_arguments, check_output, cluster_from
 from ..errors import Diagnostic, FuzzycError
-
-CSV_LOOPS = 8    # a batch of thousands would make a huge CSV: keep the first loops
+from fuzzyc.runtime.trace import SHOWN_LOOPS
 
 
 def add_parser(subparsers) -> None:
@@ -32,9 +34,33 @@ def add_parser(subparsers) -> None:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--pace", choices=("sim", "wall"), default="sim")
     p.add_argument("--progress", action="store_true", help="show progress even without a tty")
+    p.add_argument("--csv-loops", type=csv_loops, default=SHOWN_LOOPS, metavar="N|all",
+                   help=f"loops written to trace.csv (default {SHOWN_LOOPS}, as many as trace.png "
+                        f"draws: a big batch would make a huge file; `all` writes every loop); "
+                        f"the metrics always cover the whole batch")
     p.add_argument("-o", "--out", default="out/simulate", help="output folder")
     add_campaign_arguments(p)
     p.set_defaults(run=run)
+
+
+def csv_loops(text: str) -> int | None:
+    """--csv-loops: a positive count, or `all` (None: no limit)."""
+    if text == "all":
+        return None
+    if not text.isdigit() or int(text) < 1:
+        raise argparse.ArgumentTypeError(f"`{text}` is not a positive number or `all`")
+    return int(text)
+
+
+def csv_note(batch: int, loops: int | None, recorded: int) -> str:
+    """What trace.csv holds, said when it is not the whole batch. recorded: the loops the
+    trace has (a campaign in chunks records the first 20 only)."""
+    written = recorded if loops is None else min(loops, recorded)
+    if written >= batch:
+        return ""
+    why = ("--csv-loops all writes every one" if recorded >= batch
+           else f"a campaign in chunks records the first {recorded} only")
+    return f" (trace.csv holds the first {written} of {batch} loops: {why})"
 
 
 def parse_sets(items: list[str]) -> dict[str, str]:
@@ -92,7 +118,7 @@ def run(args) -> int:
                    cluster=cluster)
     scenario, trace, summary = run.scenario, run.trace, run.metrics
     out = Path(args.out)
-    trace.to_csv(out / "trace.csv", loops=CSV_LOOPS)
+    trace.to_csv(out / "trace.csv", loops=args.csv_loops)
     panels = [name for name in scenario.plots if name in trace] or None
     plot_trace(trace, out / "trace.png", panels, references(scenario), title=scenario.title)
     controller = "baseline" if args.baseline else rulebase_ref(scenario)
@@ -101,7 +127,8 @@ def run(args) -> int:
     write_text(out / "summary.txt", text)
     write_text(out / "summary.json", _json(scenario, controller, trace, summary, args.batch))
     sys.stdout.write(text)
-    print(f"wrote {out}/trace.csv, trace.png, summary.txt, summary.json")
+    print(f"wrote {out}/trace.csv, trace.png, summary.txt, summary.json"
+          + csv_note(args.batch, args.csv_loops, trace.batch))
     return 0
 
 

@@ -1,0 +1,33 @@
+"""`fuzzyc simulate --batch N`: trace.csv keeps the loops the plot draws (20) unless told, says
+so when it keeps fewer than the batch, and `--csv-loops all` writes every loop."""
+import pytest
+
+from fuzzyc.cli import main
+
+
+def loops_in_csv(out) -> int:
+    header = (out / "trace.csv").read_text().splitlines()[0].split(",")
+    return sum(name.startswith("spark_freq[") for name in header)
+
+
+@pytest.mark.parametrize("batch,option,written,said", [
+    (20, [], 20, False),
+    (23, [], 20, True),
+    (23, ["--csv-loops", "all"], 23, False),
+    (23, ["--csv-loops", "5"], 5, True),
+])
+def test_csv_loops(tmp_path, capsys, batch, option, written, said):
+    out = tmp_path / "run"
+    assert main(["simulate", "--scenario", "wedm_finish", "--set", "duration=0.4",
+                 "--batch", str(batch), *option, "-o", str(out)]) == 0
+    assert loops_in_csv(out) == written
+    note = f"trace.csv holds the first {written} of {batch} loops: --csv-loops all"
+    assert (note in capsys.readouterr().out) == said
+
+
+@pytest.mark.parametrize("value", ["0", "-3", "some"])
+def test_bad_csv_loops_refused(tmp_path, capsys, value):
+    with pytest.raises(SystemExit):
+        main(["simulate", "--scenario", "wedm_finish", "--csv-loops", value,
+              "-o", str(tmp_path)])
+    assert "is not a positive number or `all`" in capsys.readouterr().err
