@@ -1,4 +1,9 @@
-"""Pictures of a rule base: membership functions and control surfaces, as PNG."""
+"""Pictures of a rule base: membership functions and control surfaces, as PNG.
+
+Each picture has a `draw_*` function returning the matplotlib Figure (what the tests inspect)
+and a `plot_*` one writing it atomically. Every axis names its unit: a variable declared
+without one is dimensionless in the language, shown `[-]`.
+"""
 from __future__ import annotations
 
 from pathlib import Path
@@ -15,66 +20,141 @@ from .escape import OutputFolder, plot_text  # noqa: E402
 from .membership import memberships  # noqa: E402
 from .model import Model, TermKind, Variable  # noqa: E402
 
+MEMBERSHIP_LABEL = "membership [-]"
+
+
+def axis_label(name: str, unit: str | None) -> str:
+    """`name [unit]`; no unit declared is dimensionless, `[-]`."""
+    return plot_text(f"{name} [{unit or '-'}]")
+
+
+def term_colour(t: int) -> str:
+    """One colour per term, the same in every picture of the variable (singletons included)."""
+    return f"C{t % 10}"
+
 
 def save(fig, path: Path) -> Path:
     return save_figure(fig, path, dpi=110)
 
 
-def plot_variable(var: Variable, path: Path) -> Path:
+def draw_variable(var: Variable):
+    """The variable's terms over its range: a curve per term, a stem per singleton."""
     fig, ax = plt.subplots(figsize=(6, 2.6))
     x = np.linspace(var.lo, var.hi, 801)
     mu = memberships(var, x)
     for t, name in enumerate(var.names):
         if var.kinds[t] == TermKind.SINGLETON:
-            ax.vlines(var.params[t, 0], 0, 1, lw=2, label=plot_text(name))
+            ax.vlines(var.params[t, 0], 0, 1, lw=2, color=term_colour(t), label=plot_text(name))
         else:
-            ax.plot(x, mu[:, t], lw=1.6, label=plot_text(name))
-    unit = f" [{var.unit}]" if var.unit else ""
-    ax.set(xlabel=plot_text(var.name + unit), ylabel="membership", ylim=(-0.03, 1.08),
+            ax.plot(x, mu[:, t], lw=1.6, color=term_colour(t), label=plot_text(name))
+    ax.set(xlabel=axis_label(var.name, var.unit), ylabel=MEMBERSHIP_LABEL, ylim=(-0.03, 1.08),
            xlim=(var.lo, var.hi))
     if var.n_terms <= 12:
         ax.legend(loc="upper center", ncol=min(var.n_terms, 7), fontsize=7, frameon=False,
                   bbox_to_anchor=(0.5, 1.25))
     fig.tight_layout()
-    return save(fig, path)
+    return fig
 
 
-def plot_surface(model: Model, output: str, axes: tuple[str, str], fixed: dict[str, float],
-                 path: Path, n: int = 61) -> Path:
-    """The output over two rule-base inputs, the others held at `fixed` values."""
-    rb = model.rulebase
-    names = [v.name for v in rb.inputs]
+def plot_variable(var: Variable, path: Path) -> Path:
+    return save(draw_variable(var), path)
+
+
+def _grid(lo_hi: list[tuple[float, float]], names: list[str], axes: tuple[str, str],
+          fixed: dict[str, float], n: int):
+    """The (n, n) mesh over the two `axes` and every column of the batch: the axes from the
+    mesh, the others at `fixed` (default: the middle of the range)."""
     i, j = names.index(axes[0]), names.index(axes[1])
-    gx = np.linspace(rb.inputs[i].lo, rb.inputs[i].hi, n)
-    gy = np.linspace(rb.inputs[j].lo, rb.inputs[j].hi, n)
-    X, Y = np.meshgrid(gx, gy)
-    x = np.empty((X.size, len(names)))
-    for k, v in enumerate(rb.inputs):
-        x[:, k] = fixed.get(v.name, 0.5 * (v.lo + v.hi))
-    x[:, i], x[:, j] = X.ravel(), Y.ravel()
-    z = evaluate(rb, x)[:, rb.output_index(output)].reshape(X.shape)
-    fig = plt.figure(figsize=(6, 4.6))
+    X, Y = np.meshgrid(np.linspace(*lo_hi[i], n), np.linspace(*lo_hi[j], n))
+    columns = {name: np.full(X.size, fixed.get(name, 0.5 * (lo + hi)))
+               for name, (lo, hi) in zip(names, lo_hi)}
+    columns[axes[0]], columns[axes[1]] = X.ravel(), Y.ravel()
+    return X, Y, columns
+
+
+def _surface_figure(X, Y, z, labels: tuple[str, str, str], title: str):
+    fig = plt.figure(figsize=(6, 4.8))
     ax = fig.add_subplot(projection="3d")
     ax.plot_surface(X, Y, z, cmap="viridis", linewidth=0, antialiased=True)
-    held = ", ".join(f"{k}={v:g}" for k, v in fixed.items() if k not in axes)
-    ax.set(xlabel=plot_text(axes[0]), ylabel=plot_text(axes[1]), zlabel=plot_text(output),
-           title=plot_text(f"{model.name}: {output}" + (f" ({held})" if held else "")))
+    ax.set(xlabel=labels[0], ylabel=labels[1], zlabel=labels[2])
+    ax.set_title(plot_text(title), fontsize=9)
     fig.tight_layout()
-    return save(fig, path)
+    return fig
+
+
+def _held(fixed: dict[str, float], axes: tuple[str, str]) -> str:
+    held = ", ".join(f"{k}={v:g}" for k, v in fixed.items() if k not in axes)
+    return f" ({held})" if held else ""
+
+
+def draw_surface(model: Model, output: str, axes: tuple[str, str], fixed: dict[str, float],
+                 n: int = 61):
+    """The rule-base output over two rule-base (scaled) inputs, the others held at `fixed`."""
+    rb = model.rulebase
+    names = [v.name for v in rb.inputs]
+    X, Y, columns = _grid([(v.lo, v.hi) for v in rb.inputs], names, axes, fixed, n)
+    z = evaluate(rb, np.column_stack([columns[name] for name in names]))
+    out = rb.outputs[rb.output_index(output)]
+    by_name = {v.name: v for v in rb.inputs}
+    labels = (axis_label(axes[0], by_name[axes[0]].unit),
+              axis_label(axes[1], by_name[axes[1]].unit), axis_label(output, out.unit))
+    return _surface_figure(X, Y, z[:, rb.output_index(output)].reshape(X.shape), labels,
+                           f"{model.name}: {output}" + _held(fixed, axes))
+
+
+def draw_signal_surface(model: Model, output: str, axes: tuple[str, str],
+                        fixed: dict[str, float], n: int = 61):
+    """The rule-base output over two raw (physical) inputs of the controller, through one step
+    of the signal chain from its initial state (delta() is 0, filters start at the input)."""
+    from .controller import Controller
+    names = [s.name for s in model.signals]
+    X, Y, columns = _grid([(s.lo, s.hi) for s in model.signals], names, axes, fixed, n)
+    controller = Controller(model, batch=X.size)
+    controller.step(columns)
+    z = np.asarray(controller.signals[output]).reshape(X.shape)
+    by_name = {s.name: s for s in model.signals}
+    out = model.rulebase.outputs[model.rulebase.output_index(output)]
+    labels = (axis_label(axes[0], by_name[axes[0]].unit),
+              axis_label(axes[1], by_name[axes[1]].unit), axis_label(output, out.unit))
+    return _surface_figure(X, Y, z, labels, f"{model.name}: {output} over the raw inputs, "
+                                            f"first step" + _held(fixed, axes))
+
+
+def default_fixed(lo_hi: dict[str, tuple[float, float]]) -> dict[str, float]:
+    """Where a surface holds the inputs it does not draw: the upper end of a range within
+    [-1, 1] (a scaled error: its saturated end), else the middle."""
+    return {name: hi if hi <= 1 else 0.5 * (lo + hi) for name, (lo, hi) in lo_hi.items()}
+
+
+def has_physical_view(model: Model) -> bool:
+    """Two raw inputs at least, and not simply the rule base's own inputs."""
+    signals = [s.name for s in model.signals]
+    return len(signals) >= 2 and set(signals) != {v.name for v in model.rulebase.inputs}
 
 
 def plot_model(model: Model, out_dir: Path, axes: tuple[str, str] | None = None,
                fixed: dict[str, float] | None = None) -> list[Path]:
-    """Writes MODEL_VAR_terms.png per variable and MODEL_OUTPUT_surface.png per output into
-    out_dir, the names made safe (`OutputFolder`): variable names come from the input file."""
+    """Writes into out_dir, the names made safe (`OutputFolder`: variable names come from the
+    input file): MODEL_VAR_terms.png per variable, MODEL_OUTPUT_surface.png per output over
+    two rule-base inputs, and MODEL_OUTPUT_surface_raw.png over the last two raw inputs
+    (`has_physical_view`). `fixed` holds the other inputs, rule-base or raw, by name."""
     rb = model.rulebase
     folder = OutputFolder(out_dir)
+    fixed = fixed or {}
     written = [plot_variable(v, folder.file(f"{model.name}_{v.name}_terms", ".png"))
                for v in rb.inputs + rb.outputs if v.n_terms <= 12]
     if len(rb.inputs) >= 2:
         axes = axes or (rb.inputs[-2].name, rb.inputs[-1].name)
-        fixed = fixed or {v.name: v.hi if v.hi <= 1 else 0.5 * (v.lo + v.hi) for v in rb.inputs}
+        held = default_fixed({v.name: (v.lo, v.hi) for v in rb.inputs})
+        held.update((k, v) for k, v in fixed.items() if k in held)
         for v in rb.outputs:
-            written.append(plot_surface(model, v.name, axes, fixed,
-                                        folder.file(f"{model.name}_{v.name}_surface", ".png")))
+            written.append(save(draw_surface(model, v.name, axes, held),
+                                folder.file(f"{model.name}_{v.name}_surface", ".png")))
+    if has_physical_view(model):
+        raw_axes = (model.signals[-2].name, model.signals[-1].name)
+        held = {s.name: 0.5 * (s.lo + s.hi) for s in model.signals}
+        held.update((k, v) for k, v in fixed.items() if k in held)
+        for v in rb.outputs:
+            written.append(save(draw_signal_surface(model, v.name, raw_axes, held),
+                                folder.file(f"{model.name}_{v.name}_surface_raw", ".png")))
     return written

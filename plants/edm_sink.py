@@ -39,6 +39,9 @@ import numpy as np
 
 INPUTS = ("velocity",)
 OUTPUTS = ("measured_voltage", "mean_voltage", "gap", "velocity_actual", "removal", "short")
+# every signal's unit, for plot axes ("-": a 0/1 flag)
+UNITS = {"velocity": "mm/s", "measured_voltage": "V", "mean_voltage": "V", "gap": "um",
+         "velocity_actual": "mm/s", "removal": "mm", "short": "-"}
 
 
 @dataclass

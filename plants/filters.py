@@ -119,6 +119,10 @@ class SOSFilter:
         self.input_names = [self.input_name]
         self.output_names = [self.output_name]
 
+    def units(self, known: dict[str, str]) -> dict[str, str]:
+        """A filter's output has its input's unit (for plot axes)."""
+        return {self.output_name: known[self.input_name]} if self.input_name in known else {}
+
     def reset(self, batch: int) -> None:
         self._state = np.zeros((batch, len(self.sos), 2))
         self._last = np.full(batch, np.nan)

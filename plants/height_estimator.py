@@ -83,6 +83,10 @@ class HeightEstimator:
 
     output_names = ["height_est", "height_raw", "forgetting"]
 
+    def units(self, known: dict[str, str]) -> dict[str, str]:
+        """The outputs' units, for plot axes (the forgetting factor is a ratio)."""
+        return {"height_est": "mm", "height_raw": "mm", "forgetting": "-"}
+
     def __post_init__(self) -> None:
         self.input_names = ["spark_freq", "feed_actual"] + (
             [] if self.ratio_ref is None else ["abnormal_ratio"])

@@ -45,6 +45,9 @@ import numpy as np
 
 INPUTS = ("feed",)
 OUTPUTS = ("force", "feed_actual", "position", "done", "cutting")
+# every signal's unit, for plot axes ("-": a 0/1 flag)
+UNITS = {"feed": "mm/min", "force": "N", "feed_actual": "mm/min", "position": "mm", "done": "-",
+         "cutting": "-"}
 
 
 @dataclass

@@ -49,6 +49,7 @@ from fuzzyc.model import SourceLoc
 from . import gym_env
 
 SCENARIO_DIR = Path(__file__).resolve().parent / "scenarios"
+RULEBASE_SETTING = "controller.rulebase"    # what FILE on the command line sets
 TOP_KEYS = {"title", "source", "plant", "controller", "baseline", "observers", "duration",
             "period", "initial", "schedules", "metrics", "plots", "notes"}
 SECTION_KEYS = {"plant": {"model", "params", "randomize"},
@@ -109,11 +110,17 @@ class Scenario:
     data: dict
     lines: _Lines = field(repr=False)
     text: str = field(repr=False, default="")
+    settings: dict[str, str] = field(default_factory=dict)   # the --set overrides applied
 
     # --- plain views of the data -------------------------------------------------------------
     @property
     def title(self) -> str:
-        return str(self.data.get("title", self.name))
+        """The file's title, then the settings changed from the command line, so a plot or a
+        summary of `--set plant.feed=100` does not pass for the file's own run. (The rule
+        file chosen is not repeated here: the summary names the controller.)"""
+        changed = [f"{k}={v}" for k, v in self.settings.items() if k != RULEBASE_SETTING]
+        title = str(self.data.get("title", self.name))
+        return title + (f" [--set {', '.join(changed)}]" if changed else "")
 
     @property
     def notes(self) -> list[str]:
@@ -316,7 +323,7 @@ def load(name_or_path: str | Path, overrides: dict[str, str] | None = None) -> S
     if not isinstance(data, dict):
         raise FuzzycError([Diagnostic(SourceLoc(str(path), 1, 1),
                                       "a scenario file must be a YAML mapping")])
-    scenario = Scenario(path.stem, path, data, _Lines(text), text)
+    scenario = Scenario(path.stem, path, data, _Lines(text), text, dict(overrides or {}))
     for key, raw in (overrides or {}).items():
         try:
             _apply_override(data, key, yaml.safe_load(str(raw)))

@@ -126,6 +126,10 @@ ANGLE_OUTPUTS = tuple(f"error_{int(a)}" for a in TABLE2_ANGLES)
 NORMAL_OUTPUTS = tuple(f"normal_{int(a)}" for a in TABLE2_ANGLES)
 OUTPUTS = ("feed", "thickness", "angle", "in_corner", "feed_actual", "corner_error",
            "error_sum", "done", *ANGLE_OUTPUTS, *NORMAL_OUTPUTS, "normal_time")
+# every signal's unit, for plot axes ("-": a 0/1 flag); feeds are removal rates per height
+UNITS = {"reduction": "%", "feed": "mm^2/min", "thickness": "mm", "angle": "deg",
+         "in_corner": "-", "feed_actual": "mm^2/min", "corner_error": "um", "error_sum": "um",
+         "done": "-", "normal_time": "s", **{name: "um" for name in ANGLE_OUTPUTS + NORMAL_OUTPUTS}}
 
 
 def parse_moves(program: str) -> np.ndarray:

@@ -175,6 +175,10 @@ from fuzzyc.expr import clip
 INPUTS = ("feed", "t_off", "height", "on_time")
 OUTPUTS = ("spark_freq", "abnormal_ratio", "gap_voltage", "removal_rate", "feed_actual",
            "rupture", "ruptures")
+# every signal's unit, for plot axes ("-": dimensionless, a ratio, a 0/1 flag or a count)
+UNITS = {"feed": "mm/min", "t_off": "us", "height": "mm", "on_time": "us", "spark_freq": "kHz",
+         "abnormal_ratio": "-", "gap_voltage": "V", "removal_rate": "mm^2/min",
+         "feed_actual": "mm/min", "rupture": "-", "ruptures": "count"}
 
 # Liao & Yu Table 1: true height -> height read with gamma identified at 10 mm.
 TABLE1_TRUE = np.array([10.0, 20.0, 30.0, 40.0, 50.0, 60.0])

@@ -154,6 +154,24 @@ def make_observers(scenario) -> list:
             for i, spec in enumerate(scenario.data.get("observers") or [])]
 
 
+def signal_units(scenario) -> dict[str, str]:
+    """signal -> unit, for plot axes: the plant module's UNITS, the observers' (`units(known)`:
+    a filter's output has its input's unit), then the rule file's declarations (its inputs,
+    outputs and `let` steps). A signal none of them names has none."""
+    from fuzzyc.formats import load_any
+    units = dict(getattr(scenario.plant_module(), "UNITS", {}))
+    for block in make_observers(scenario):
+        if hasattr(block, "units"):
+            units.update(block.units(units))
+    ref = scenario.rulebase_ref()
+    if ref is not None:
+        model = load_any(ref)
+        for item in (*model.signals, *model.outputs, *model.steps):
+            if item.unit:
+                units.setdefault(item.name, item.unit)
+    return units
+
+
 def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
           randomize: bool = False, expose: list[str] | tuple = (), first: int = 0) -> list:
     """The blocks of one scenario around `controller` (a rule-base controller or a baseline).

@@ -33,6 +33,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("--core", action="store_true",
                    help="feed the rule base's scaled inputs directly (e.g. e1=0.5)")
     p.add_argument("--json", action="store_true", help="print {outputs, fired} as JSON")
+    p.add_argument("--plot", metavar="OUT.png",
+                   help="draw the rule viewer of this evaluation: per fired rule the input "
+                        "terms and the cut consequent, per output the aggregate and the "
+                        "defuzzified value")
     p.add_argument("--csv", metavar="IN.csv",
                    help="evaluate every row of a CSV; the rows are independent points, each "
                         "from the initial state, unless --series")
@@ -119,6 +123,8 @@ def run(args) -> int:
     from ..api import load
     model = load(args.file)
     if args.csv:
+        if args.plot:
+            raise _fail("--plot draws one evaluation; it does not go with --csv")
         return _run_csv(model, args)
     if args.series:
         raise _fail("--series reads the rows of --csv IN.csv as a time series; one point "
@@ -128,6 +134,11 @@ def run(args) -> int:
     warn_out_of_range(model, columns, args.core)
     outputs = {k: float(v[0]) for k, v in evaluate_batch(model, columns, args.core).items()}
     fired, rb_inputs = _explain(model, columns, args.core)
+    if args.plot:
+        from ..atomic import save_figure
+        from ..ruleview import draw_rule_view
+        print(f"wrote {save_figure(draw_rule_view(model, rb_inputs), args.plot, dpi=110)}",
+              file=sys.stderr)
     if args.json:
         # Strict JSON: a value that is not finite (the engine gives none) would be null.
         print(json.dumps(_finite_or_null({"outputs": outputs, "fired": fired}), indent=2,

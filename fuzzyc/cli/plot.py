@@ -1,4 +1,5 @@
-"""`fuzzyc plot FILE -o DIR`: membership functions and control surfaces as PNG."""
+"""`fuzzyc plot FILE -o DIR`: membership functions and control surfaces as PNG (surfaces over
+the rule base's inputs and, when they differ, over the controller's raw inputs)."""
 from __future__ import annotations
 
 from .common import RULE_FILE_HELP, check_output
@@ -12,8 +13,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--inputs", metavar="X,Y", help="the two rule-base inputs of the surface "
                                                    "(default: the last two)")
     p.add_argument("--at", action="append", default=[], metavar="NAME=VALUE",
-                   help="value of another input on the surface (default: its upper end when "
-                        "the range is within [-1, 1], else its middle)")
+                   help="value of another input on the surfaces, a rule-base or a raw input "
+                        "(default: a rule-base input's upper end when its range is within "
+                        "[-1, 1], else the middle of the range)")
     p.set_defaults(run=run)
 
 
@@ -29,18 +31,16 @@ def run(args) -> int:
         unknown = [a for a in axes if a not in names]
         if len(axes) != 2 or unknown:
             raise FuzzycError([Diagnostic(None, f"--inputs takes two of {', '.join(names)}")])
+    held = names + [s.name for s in model.signals]
     fixed = {}
     for pair in args.at:
         name, _, value = pair.partition("=")
-        if name not in names:
-            raise FuzzycError([Diagnostic(None, f"--at: `{name}` is not one of {', '.join(names)}")])
+        if name not in held:
+            raise FuzzycError([Diagnostic(None, f"--at: `{name}` is not one of {', '.join(held)}")])
         try:
             fixed[name] = float(value)
         except ValueError:
             raise FuzzycError([Diagnostic(None, f"--at: `{value}` is not a number")]) from None
-    if fixed:
-        defaults = {v.name: v.hi if v.hi <= 1 else 0.5 * (v.lo + v.hi) for v in model.rulebase.inputs}
-        fixed = {**defaults, **fixed}
-    for path in plot_model(model, args.out, axes, fixed or None):
+    for path in plot_model(model, args.out, axes, fixed):
         print(path)
     return 0

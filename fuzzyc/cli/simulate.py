@@ -30,6 +30,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--randomize", action="store_true",
                    help="draw the plant params of each loop around the scenario's values")
     p.add_argument("--baseline", action="store_true", help="run the scenario's baseline")
+    p.add_argument("--compare", action="store_true",
+                   help="run the scenario's baseline too (same batch and seed): trace.png "
+                        "draws both, summary.txt and .json hold both")
     p.add_argument("--backend", choices=("numpy", "c"), default="numpy")
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--pace", choices=("sim", "wall"), default="sim")
@@ -104,39 +107,60 @@ def controller_notes(scenario, baseline: bool) -> list[str]:
 
 
 def run(args) -> int:
-    from fuzzyc.runtime.plots import plot_trace
-    from fuzzyc.runtime.simulate import references, rulebase_ref
+    from fuzzyc.runtime.plots import plot_runs
+    from fuzzyc.runtime.simulate import references, rulebase_ref, signal_units
     from ..api import simulate
     check_output(args.out, folder=True)
     cluster = cluster_from(args)
     if cluster is not None and args.pace != "sim":
         raise FuzzycError([Diagnostic(None, "--pace wall runs one batch in real time; "
                                             "--workers, --scheduler and --chunk need --pace sim")])
-    run = simulate(args.scenario, args.file, batch=args.batch, settings=parse_sets(args.sets),
-                   baseline=args.baseline, randomize=args.randomize, backend=args.backend,
-                   seed=args.seed, pace=args.pace, progress=True if args.progress else None,
-                   cluster=cluster)
+    if args.compare and args.baseline:
+        raise FuzzycError([Diagnostic(None, "--compare runs the baseline beside the rule "
+                                            "base; --baseline alone runs only the baseline")])
+
+    def run_loop(baseline: bool):
+        return simulate(args.scenario, args.file, batch=args.batch,
+                        settings=parse_sets(args.sets), baseline=baseline,
+                        randomize=args.randomize, backend=args.backend, seed=args.seed,
+                        pace=args.pace, progress=True if args.progress else None,
+                        cluster=cluster)
+
+    run = run_loop(args.baseline)
     scenario, trace, summary = run.scenario, run.trace, run.metrics
     out = Path(args.out)
     trace.to_csv(out / "trace.csv", loops=args.csv_loops)
-    panels = [name for name in scenario.plots if name in trace] or None
-    plot_trace(trace, out / "trace.png", panels, references(scenario), title=scenario.title)
     controller = "baseline" if args.baseline else rulebase_ref(scenario)
     text = format_summary(scenario.title, controller, summary, trace,
                           controller_notes(scenario, args.baseline) + scenario.notes, args.batch)
+    runs = {"baseline" if args.baseline else "fuzzy": trace}
+    compared = None
+    if args.compare:
+        base = run_loop(True)
+        runs["baseline"], compared = base.trace, base.metrics
+        text += "\n" + format_summary(scenario.title, "baseline", compared, runs["baseline"],
+                                      batch=args.batch)
+    panels = [name for name in scenario.plots if name in trace] or None
+    plot_runs(runs, out / "trace.png", panels, references(scenario), scenario.title,
+              signal_units(scenario))
     write_text(out / "summary.txt", text)
-    write_text(out / "summary.json", _json(scenario, controller, trace, summary, args.batch))
+    write_text(out / "summary.json", _json(scenario, controller, summary, args.batch,
+                                           trace.deadline_misses, compared))
     sys.stdout.write(text)
     print(f"wrote {out}/trace.csv, trace.png, summary.txt, summary.json"
           + csv_note(args.batch, args.csv_loops, trace.batch))
     return 0
 
 
-def _json(scenario, controller: str, trace, summary: dict, batch: int) -> str:
-    """JSON without NaN (not valid JSON): a metric that does not exist is null."""
-    def clean(v):
-        return None if isinstance(v, float) and v != v else v
-    metrics = {k: {kk: clean(vv) for kk, vv in v.items()} for k, v in summary.items()}
-    return json.dumps({"scenario": scenario.name, "controller": controller,
-                       "batch": batch, "deadline_misses": trace.deadline_misses,
-                       "metrics": metrics}, indent=2) + "\n"
+def _json(scenario, controller: str, summary: dict, batch: int, deadline_misses: int,
+          baseline: dict | None = None) -> str:
+    """JSON without NaN (not valid JSON): a metric that does not exist is null. `baseline`: the
+    metrics of the baseline run beside (--compare)."""
+    def clean(metrics: dict) -> dict:
+        return {k: {kk: None if isinstance(vv, float) and vv != vv else vv
+                    for kk, vv in v.items()} for k, v in metrics.items()}
+    result = {"scenario": scenario.name, "controller": controller, "batch": batch,
+              "deadline_misses": deadline_misses, "metrics": clean(summary)}
+    if baseline is not None:
+        result["baseline_metrics"] = clean(baseline)
+    return json.dumps(result, indent=2) + "\n"

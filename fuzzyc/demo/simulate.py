@@ -2,7 +2,8 @@
 
 Iterates over the shipped scenario files (each one's rule base and baseline), runs both at
 batch 1, and prints one row per scenario and controller with the scenario's own metrics.
-Plots and summaries go to out/simulate/NAME/{fuzzy,baseline}/.
+out/simulate/NAME/trace.png draws both runs on one figure; the summaries go to
+out/simulate/NAME/{fuzzy,baseline}/summary.txt.
 """
 from __future__ import annotations
 
@@ -20,19 +21,25 @@ def _cell(value: dict) -> str:
     return "-" if mean != mean else f"{mean:.4g}"
 
 
-def run_one(scenario, baseline: bool) -> dict:
-    from fuzzyc.runtime.plots import plot_trace
-    from fuzzyc.runtime.simulate import references, simulate, summarize
+def run_one(scenario, baseline: bool):
+    """One run at batch 1: its trace and summary (the summary also written out)."""
+    from fuzzyc.runtime.simulate import simulate, summarize
     trace = simulate(scenario, baseline=baseline)
     summary = summarize(scenario, trace)
     folder = OUT / scenario.name / ("baseline" if baseline else "fuzzy")
-    panels = [n for n in scenario.plots if n in trace] or None
-    plot_trace(trace, folder / "trace.png", panels, references(scenario),
-               title=scenario.title)
     write_text(folder / "summary.txt", format_summary(
         scenario.title, "baseline" if baseline else "fuzzy", summary, trace,
         controller_notes(scenario, baseline) + scenario.notes))
-    return summary
+    return trace, summary
+
+
+def plot_comparison(scenario, traces: dict) -> None:
+    from fuzzyc.runtime.plots import plot_runs
+    from fuzzyc.runtime.simulate import references, signal_units
+    first = next(iter(traces.values()))
+    panels = [n for n in scenario.plots if n in first] or None
+    plot_runs(traces, OUT / scenario.name / "trace.png", panels, references(scenario),
+              scenario.title, signal_units(scenario))
 
 
 def main(names: list[str] | None = None) -> int:
@@ -40,9 +47,11 @@ def main(names: list[str] | None = None) -> int:
     start = time.perf_counter()
     for name in names or available():
         scenario = load(name)
-        runs = {"fuzzy": run_one(scenario, False)}
+        traces, runs = {}, {}
+        traces["fuzzy"], runs["fuzzy"] = run_one(scenario, False)
         if scenario.baseline and scenario.rulebase_path() is not None:
-            runs["baseline"] = run_one(scenario, True)
+            traces["baseline"], runs["baseline"] = run_one(scenario, True)
+        plot_comparison(scenario, traces)
         labels = list(runs["fuzzy"])
         print(f"\n{scenario.title}")
         width = max(len(label) for label in labels) + 2
