@@ -102,16 +102,23 @@ def draw_surface(model: Model, output: str, axes: tuple[str, str], fixed: dict[s
                            f"{model.name}: {output}" + _held(fixed, axes))
 
 
-def draw_signal_surface(model: Model, output: str, axes: tuple[str, str],
-                        fixed: dict[str, float], n: int = 61):
-    """The rule-base output over two raw (physical) inputs of the controller, through one step
-    of the signal chain from its initial state (delta() is 0, filters start at the input)."""
+def raw_surface(model: Model, output: str, axes: tuple[str, str], fixed: dict[str, float],
+                n: int = 61) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(X, Y, Z) meshes: the rule-base output over two raw (physical) inputs of the
+    controller, through one step of the signal chain from its initial state (delta() is 0,
+    filters start at the input), the other raw inputs at `fixed` (default: mid-range)."""
     from .controller import Controller
     names = [s.name for s in model.signals]
     X, Y, columns = _grid([(s.lo, s.hi) for s in model.signals], names, axes, fixed, n)
     controller = Controller(model, batch=X.size)
     controller.step(columns)
-    z = np.asarray(controller.signals[output]).reshape(X.shape)
+    return X, Y, np.asarray(controller.signals[output]).reshape(X.shape)
+
+
+def draw_signal_surface(model: Model, output: str, axes: tuple[str, str],
+                        fixed: dict[str, float], n: int = 61):
+    """The figure of `raw_surface`."""
+    X, Y, z = raw_surface(model, output, axes, fixed, n)
     by_name = {s.name: s for s in model.signals}
     out = model.rulebase.outputs[model.rulebase.output_index(output)]
     labels = (axis_label(axes[0], by_name[axes[0]].unit),
