@@ -19,7 +19,7 @@ import sys
 
 import numpy as np
 
-from .common import RULE_FILE_HELP
+from .common import RULE_FILE_HELP, check_output
 from ..errors import Diagnostic, FuzzycError, read_source, source_lines
 from ..model import Model
 
@@ -130,6 +130,8 @@ def run(args) -> int:
         raise _fail("--series reads the rows of --csv IN.csv as a time series; one point "
                     "has no series")
     values = parse_assignments(model, args.values, args.core)
+    if args.plot:
+        check_output(args.plot)
     columns = {k: np.array([v]) for k, v in values.items()}
     warn_out_of_range(model, columns, args.core)
     outputs = {k: float(v[0]) for k, v in evaluate_batch(model, columns, args.core).items()}
