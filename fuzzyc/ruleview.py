@@ -73,7 +73,7 @@ def _draw_aggregate(ax, rb: RuleBase, o: int, act: np.ndarray, x: np.ndarray,
                     grid: np.ndarray) -> None:
     """The aggregated output membership (area methods) or term strengths at their positions
     (peak methods, singletons)."""
-    var, inference = rb.outputs[o], rb.inference
+    var, inference = rb.outputs[o], rb.inference_of(o)      # an output may have its own
     concl = rb.consequents[:, o]
     on = np.flatnonzero((concl >= 0) & (act > 0))
     point_terms = np.isin(var.kinds, (TermKind.SINGLETON, TermKind.LINEAR)).all()
@@ -106,6 +106,9 @@ def draw_rule_view(model: Model, point: dict[str, float], max_rules: int = MAX_R
     out_grid = [np.linspace(v.lo, v.hi, 401) for v in rb.outputs]
     positions = [term_positions(v, x) for v in rb.outputs]
     for row, r in enumerate(shown):
+        if r in rb.conditions:      # a nested and/or/not condition: no one term per input
+            axes[row, 0].set_title(plot_text(f"#{r + 1}: {rb.describe_rule(r)}"), fontsize=6,
+                                   loc="left")
         for i, var in enumerate(rb.inputs):
             ax = axes[row, i]
             if rb.antecedents[r, i] >= 0:

@@ -129,7 +129,8 @@ OUTPUTS = ("feed", "thickness", "angle", "in_corner", "feed_actual", "corner_err
 # every signal's unit, for plot axes ("-": a 0/1 flag); feeds are removal rates per height
 UNITS = {"reduction": "%", "feed": "mm^2/min", "thickness": "mm", "angle": "deg",
          "in_corner": "-", "feed_actual": "mm^2/min", "corner_error": "um", "error_sum": "um",
-         "done": "-", "normal_time": "s", **{name: "um" for name in ANGLE_OUTPUTS + NORMAL_OUTPUTS}}
+         "done": "-", "normal_time": "s",
+         **{name: "um" for name in ANGLE_OUTPUTS + NORMAL_OUTPUTS}}
 
 
 def parse_moves(program: str) -> np.ndarray:
