@@ -18,6 +18,7 @@ STATEFUL_FUNCTIONS = {"delta": 1, "prev": 1, "lowpass": 3}
 
 BINARY_OPS = ("add", "sub", "mul", "div", "pow")
 
+
 def fold_left(node: Expr, leaf, binary):
     """Evaluate an expression tree without recursing down left operands: a sum of 1000 terms is
     a left-deep chain 1000 deep. `leaf(n)` gives the value of a node that is no binary operator

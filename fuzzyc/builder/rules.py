@@ -39,6 +39,7 @@ LINEAR_DEFUZZIFIERS = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
 HEDGES = {None: Hedge.NONE, "very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT,
           "extremely": Hedge.EXTREMELY, "seldom": Hedge.SELDOM, "sharply": Hedge.SHARPLY}
 
+
 @dataclass
 class RuleSpec:
     """One rule by names, as a front end collects it, before it becomes rows of the matrices."""
@@ -56,6 +57,7 @@ class RuleSpec:
             return {Connective.AND if step[0] == CondOp.AND else Connective.OR
                     for step in self.program if step[0] in (CondOp.AND, CondOp.OR)}
         return {self.connective} if len(self.clauses) > 1 else set()
+
 
 @dataclass
 class BlockSpec:
@@ -77,6 +79,7 @@ class BlockSpec:
 
     def inference_of(self, output: str) -> Inference:
         return replace(self.inference, **self.choices.get(output, {}))
+
 
 def assemble_rulebase(inputs: list[Variable], outputs: list[Variable], rules: list[RuleSpec],
                       inference: Inference) -> RuleBase:
@@ -103,6 +106,7 @@ def assemble_rulebase(inputs: list[Variable], outputs: list[Variable], rules: li
         connective=np.array([int(r.connective) for r in rules], dtype=np.int64),
         inference=inference, rule_locs=[r.loc for r in rules], origins=[r.origin for r in rules],
         conditions=conditions)
+
 
 def merge_rules(rules: list[RuleSpec]) -> list[RuleSpec]:
     """Rules with the same premise and weight concluding on different outputs become one rule

@@ -32,6 +32,7 @@ PLAIN_SHAPES = {
 
 SHAPE_ARITY.update({word: arity for word, (_, arity, _, _) in PLAIN_SHAPES.items()})
 
+
 @dataclass
 class LinguisticVar:
     """A variable being assembled from `var`/`terms` statements."""
@@ -49,6 +50,7 @@ class LinguisticVar:
     def term_names(self) -> list[str]:
         return [t[0] for t in self.terms]
 
+
 def _core(kind: TermKind, params) -> tuple[float, float]:
     """The interval where a term is fully true (or its centre): it must meet the range."""
     if kind in (TermKind.TRAPEZOID, TermKind.PISHAPE):
@@ -61,6 +63,7 @@ def _core(kind: TermKind, params) -> tuple[float, float]:
     if kind == TermKind.LINEAR:
         return -INF, INF
     return params[0], params[0]
+
 
 def to_variable(v: LinguisticVar) -> Variable:
     kinds = np.array([int(t[1]) for t in v.terms], dtype=np.int64)
