@@ -166,3 +166,32 @@ def test_title_follows_set(tmp_path, capsys):
     import json
     result = json.loads((tmp_path / "summary.json").read_text())
     assert set(result["baseline_metrics"]) == set(result["metrics"])
+
+
+CENTROID = """controller area {
+  input a in [0, 1]
+  terms a : L = tri(-1, 0, 1), H = tri(0, 1, 2)
+  var m in [0, 1]
+  terms m : L = tri(-1, 0, 1), H = tri(0, 1, 2)
+  inference implication = min, aggregation = max, defuzzify = centroid
+  rule if a is L then m is L
+  rule if a is H then m is H
+  output u in [0, 1] = m
+}
+"""
+
+
+def test_rule_viewer_area_aggregate(tmp_path):
+    """a = 0.3: L fires 0.7, H 0.3; M(u) = max(min(.7, 1 - u), min(.3, u)) is .7 up to .3,
+    1 - u to .7, then .3. Area .21 + .2 + .09 = .5; moment .0315 + (.130667 - .036) + .0765 =
+    .202667; centroid .405333."""
+    source = tmp_path / "area.fz"
+    source.write_text(CENTROID)
+    fig = draw_rule_view(load(source), {"a": 0.3})
+    axes = np.array(fig.axes).reshape(3, 2)
+    aggregate = axes[2, 1]
+    assert vertical_lines(aggregate, DEFUZZIFIED_COLOUR) == pytest.approx([0.405333], abs=1e-6)
+    curve = next(line for line in aggregate.lines if len(line.get_xdata()) > 2)
+    u, m = curve.get_xdata(), curve.get_ydata()
+    assert m == pytest.approx(np.maximum(np.minimum(0.7, 1 - u), np.minimum(0.3, u)))
+    assert axes[0, 1].get_title() == "#1: m is L (0.7)"
