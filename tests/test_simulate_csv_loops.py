@@ -31,3 +31,15 @@ def test_bad_csv_loops_refused(tmp_path, capsys, value):
         main(["simulate", "--scenario", "wedm_finish", "--csv-loops", value,
               "-o", str(tmp_path)])
     assert "is not a positive number or `all`" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("loops,recorded,note", [
+    (20, 10_000, "the first 20 of 10000 loops: --csv-loops all writes every one"),
+    (None, 10_000, ""),
+    # a campaign in chunks (--workers) records the first 20 loops only
+    (None, 20, "the first 20 of 10000 loops: a campaign in chunks records the first 20 only"),
+    (5, 20, "the first 5 of 10000 loops: a campaign in chunks records the first 20 only"),
+])
+def test_csv_note_says_why(loops, recorded, note):
+    from fuzzyc.cli.simulate import csv_note
+    assert csv_note(10_000, loops, recorded) == (f" (trace.csv holds {note})" if note else "")
