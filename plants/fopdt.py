@@ -23,6 +23,8 @@ from .edm_sink import PIGapServo
 
 INPUTS = ("u", "disturbance")
 OUTPUTS = ("y",)
+# a generic plant: its signals are in whatever unit the study gives them ("-" on the plots)
+UNITS = {"u": "-", "disturbance": "-", "y": "-"}
 
 
 @dataclass
