@@ -13,8 +13,9 @@ Defuzzification (`fuzzyc.defuzz`) takes either form.  Where every output can be 
 from its terms' strengths alpha_j (peak-based methods; area-based ones with MAX aggregation, or
 SUM with PRODUCT implication; not PROBSUM or BOUNDED_SUM, whose area methods need every rule's
 own shape), the sparse case goes one step further: `fuzzyc.grid` scatters the 2**I
-activations straight into alpha, with tables per cell of the input grid, and the exact centroid
-has a closed form in alpha (`fuzzyc.centroid`) where the output terms allow it.  Batches are
+activations straight into alpha, with tables per cell of the input grid (per term tuple for
+wide rule bases, where the cells' tables would be too big), and the exact centroid has a closed
+form in alpha (`fuzzyc.centroid`) where the output terms allow it.  Batches are
 processed in chunks so memory stays flat in the batch size.
 """
 from __future__ import annotations
@@ -25,7 +26,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .defuzz import OutputDefuzzifier, safe_ratio
-from .grid import GridStrengths
+from .grid import GridStrengths, lookup_rows
 from .membership import LocalPartition, apply_hedges, memberships
 from .model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
 from .norms import combine, firing
@@ -149,10 +150,10 @@ class CompiledRuleBase:
         """The grid fast path, when every output can be defuzzified from term strengths
         aggregated the same way."""
         aggregations = {d.strength_aggregation() for d in self.defuzzifiers}
-        if len(aggregations) != 1 or None in aggregations or self.codes is not None or \
-                not GridStrengths.fits(rb, self.partitions, self.lookup.shape[1]):
+        if len(aggregations) != 1 or None in aggregations:
             return None
-        return GridStrengths(rb, self.partitions, self.lookup, self.radix, aggregations.pop())
+        return GridStrengths(rb, self.partitions, self.lookup, self.radix, self.codes,
+                             aggregations.pop())
 
     def _build_lookup(self, rb: RuleBase) -> None:
         """lookup[row] = the rules whose antecedent is the term tuple of that row, padded with
@@ -194,8 +195,7 @@ class CompiledRuleBase:
             mu = m if mu is None else \
                 combine([mu[:, :, None], m[:, None, :]], tnorm, True).reshape(n, -1)
         if self.codes is not None:
-            row = np.minimum(np.searchsorted(self.codes, cell), len(self.codes) - 1)
-            cell = np.where(self.codes[row] == cell, row, len(self.codes))
+            cell = lookup_rows(self.codes, cell)
         rid = self.lookup[cell].reshape(n, -1)
         if self.lookup.shape[1] > 1:
             mu = np.repeat(mu, self.lookup.shape[1], axis=1)

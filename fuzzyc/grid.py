@@ -11,6 +11,14 @@ from one gather in a joint segment table, the corner activations by broadcasting
 gather of the cell's columns and one scatter per output into the strength row (`defuzz.Scatter`:
 max, sum, bounded sum = sum capped at 1, probsum = 1 - the product of 1 - act).  The
 arithmetic per activation is the sparse path's, so results are identical.
+
+The per-cell tables hold cells * 2**I entries (6**I for three triangles per input), too many
+beyond a few inputs (`fits`).  Past that the columns and weights are tabled per term tuple
+instead (per row of the engine's rule lookup), and each sample finds its 2**I corners' rows
+itself: the term ids of each input's two slots, scaled by the input's place in the tuple code,
+summed over the corners by broadcasting as the activations are multiplied.  The per-sample work
+stays about 2**I, the table as big as the engine's lookup, and the activations, their order and
+the scatter are the same as with per-cell tables.
 """
 from __future__ import annotations
 
@@ -29,7 +37,7 @@ class GridStrengths:
     """The strengths of all outputs' terms for a rule base whose inputs are local partitions."""
 
     def __init__(self, rb: RuleBase, partitions: list[LocalPartition], lookup: np.ndarray,
-                 radix: np.ndarray, aggregation: Aggregation):
+                 radix: np.ndarray, codes: np.ndarray | None, aggregation: Aggregation):
         self.partitions = partitions
         self.product = rb.inference.and_ == TNorm.PRODUCT
         self.accumulate = SCATTERS[aggregation]
@@ -40,7 +48,19 @@ class GridStrengths:
         self.slices = [slice(int(o), int(o) + t) for o, t in zip(self.offsets, n_terms)]
         self.n_seg = np.array([len(p.breaks) + 1 for p in partitions])
         self.depth = lookup.shape[1]
-        self._build(rb, lookup, radix)
+        self.n_candidates = len(n_terms) * self.depth << len(partitions)    # O * K per sample
+        self.codes = codes
+        self.unit_weights = bool(np.all(rb.weights == 1.0))
+        weights = np.append(rb.weights.astype(float), 0.0)
+        consequents = np.vstack([rb.consequents, np.full(len(rb.outputs), -1)])
+        # rule (R = none) -> its consequent's column in the strength row, per output (O, R + 1)
+        self.rule_columns = (self.offsets[:-1] + np.where(
+            consequents >= 0, consequents, np.array(n_terms))).T
+        self.columns = None
+        if codes is None and self.fits(rb, partitions, self.depth):
+            self._build(lookup, radix, weights)
+        else:
+            self._build_tuple_tables(lookup, radix, weights)
         self._fuse_partitions()
 
     @staticmethod
@@ -51,10 +71,9 @@ class GridStrengths:
 
     def work_per_sample(self) -> int:
         """Floats per sample: memberships and segments, activations, scatter indices, alpha."""
-        n_candidates = self.columns.shape[0]
-        return 4 * (8 * len(self.partitions) + 2 * n_candidates + self.width)
+        return 4 * (8 * len(self.partitions) + 2 * self.n_candidates + self.width)
 
-    def _build(self, rb: RuleBase, lookup: np.ndarray, radix: np.ndarray) -> None:
+    def _build(self, lookup: np.ndarray, radix: np.ndarray, weights: np.ndarray) -> None:
         n_in = len(self.partitions)
         # term id of input i in slot s of segment k: table column 6 + s (see LocalPartition)
         seg = np.stack(np.meshgrid(*[np.arange(n) for n in self.n_seg], indexing="ij"),
@@ -64,16 +83,26 @@ class GridStrengths:
                          for i in range(n_in)], axis=-1).astype(np.intp)    # (cells, 2^I, I)
         place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
         rules = lookup[term @ place].reshape(len(seg), -1)                  # (cells, K)
-        weights = np.append(rb.weights.astype(float), 0.0)
-        consequents = np.vstack([rb.consequents, np.full(len(rb.outputs), -1)])
-        cons = consequents[rules]                                           # (cells, K, O)
-        n_terms = self.offsets[1:] - self.offsets[:-1] - 1
-        column = self.offsets[:-1] + np.where(cons >= 0, cons, n_terms)
         # candidate-major tables so every gather and every loop runs along the batch
-        self.columns = np.ascontiguousarray(column.transpose(2, 1, 0).reshape(-1, len(seg)))
+        column = self.rule_columns[:, rules]                                # (O, cells, K)
+        self.columns = np.ascontiguousarray(column.transpose(0, 2, 1).reshape(-1, len(seg)))
         self.weights = np.ascontiguousarray(weights[rules].T)               # (K, cells)
-        self.unit_weights = bool(np.all(rb.weights == 1.0))
         self.stride = np.concatenate([np.cumprod(self.n_seg[::-1])[::-1][1:], [1]])
+
+    def _build_tuple_tables(self, lookup: np.ndarray, radix: np.ndarray,
+                            weights: np.ndarray) -> None:
+        """Per lookup row (term tuple) and depth: the columns (O, rows * depth) and weights;
+        per segment of every input (in the fused segment order) and slot: the slot's term id
+        times the input's place in the tuple code (2, segments)."""
+        # the smallest integer type: the samples' gathers from this table are scattered over
+        # 4**I rows for three terms per input, 1 MB at 10 inputs at 1 byte a row (8 as intp)
+        self.tuple_columns = np.ascontiguousarray(
+            self.rule_columns[:, lookup.ravel()].astype(np.min_scalar_type(self.width)))
+        self.tuple_weights = weights[lookup.ravel()]
+        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
+        self.slot_codes = np.concatenate(
+            [p.table[:, 6:8].T.astype(np.intp) * place[i] for i, p in enumerate(self.partitions)],
+            axis=1)
 
     def _fuse_partitions(self) -> None:
         """One table for all inputs' segments, so locating a sample takes a few numpy calls
@@ -98,7 +127,7 @@ class GridStrengths:
         """(n, the columns as flat positions in a batch of n, arange(n), the clip bounds at
         full size (I, n))."""
         shape = (len(self.lo), n)
-        self._tables = (n, self.columns * n, np.arange(n),
+        self._tables = (n, None if self.columns is None else self.columns * n, np.arange(n),
                         np.ascontiguousarray(np.broadcast_to(self.lo, shape)),
                         np.ascontiguousarray(np.broadcast_to(self.hi, shape)))
         return self._tables
@@ -132,7 +161,7 @@ class GridStrengths:
                     else np.searchsorted(part.breaks, xc[i], side="right")
         if has_nan:
             seg[nan] = 0
-        cell = self.stride @ seg                                            # exact (integers)
+        cell = self.stride @ seg if self.columns is not None else None     # exact (integers)
         seg += self.segment_base
         row = self.segment_table.take(seg, axis=1)                          # (6, I, N)
         mu = (xc - row[0:2]) / row[2:4] + row[4:6]                          # (2, I, N)
@@ -148,10 +177,17 @@ class GridStrengths:
                 act = np.minimum(act[:, None], mu[None, :, i]).reshape(2 * len(act), n)
         if self.depth > 1:
             act = np.repeat(act, self.depth, axis=0)
-        if not self.unit_weights:
-            act = act * self.weights.take(cell, axis=1)
+        if cell is not None:                # per-cell tables
+            index = scaled.take(cell, axis=1)                               # (O * K, N)
+            weights = None if self.unit_weights else self.weights.take(cell, axis=1)
+        else:                               # per-tuple tables
+            key = self._corner_rows(seg, n)                                 # (K, N)
+            index = self.tuple_columns.take(key, axis=1).reshape(-1, n).astype(np.intp)
+            index *= n                                                      # (O * K, N)
+            weights = None if self.unit_weights else self.tuple_weights.take(key)
+        if weights is not None:
+            act = act * weights
         act = firing(act)
-        index = scaled.take(cell, axis=1)                                   # (O * K, N)
         index += arange
         alpha = np.full(self.width * n, self.accumulate.start)
         act = self.accumulate.values(act.reshape(-1))
@@ -160,3 +196,23 @@ class GridStrengths:
         for rows in index.reshape(len(self.slices), -1):
             self.accumulate.ufunc.at(alpha, rows, act)
         return self.accumulate.finish(alpha.reshape(self.width, n))
+
+    def _corner_rows(self, seg: np.ndarray, n: int) -> np.ndarray:
+        """seg (I, N) in the fused segment order -> the per-tuple table position (K, N) of
+        every candidate, in the order of the activations (corner-major, then depth)."""
+        slot = self.slot_codes.take(seg, axis=1)                            # (2, I, N)
+        code = slot[:, 0]
+        for i in range(1, len(seg)):
+            code = (code[:, None] + slot[None, :, i]).reshape(2 * len(code), n)
+        if self.codes is not None:
+            code = lookup_rows(self.codes, code)
+        if self.depth > 1:
+            code = (code[:, None] * self.depth + np.arange(self.depth)[:, None]).reshape(-1, n)
+        return code
+
+
+def lookup_rows(codes: np.ndarray, cell: np.ndarray) -> np.ndarray:
+    """The engine's lookup row of each term-tuple code where the rules' codes are kept sorted:
+    the code's rank among them, or the extra last row (no rule) for a code that is not there."""
+    row = np.minimum(np.searchsorted(codes, cell), len(codes) - 1)
+    return np.where(codes[row] == cell, row, len(codes))

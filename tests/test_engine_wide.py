@@ -1,7 +1,9 @@
 """Wide rule bases (more than 6 inputs) stay on the sparse path: a sample fires at most 2**I
 term tuples, looked up in a direct cell table or, where that table would be too big, among the
 rules' sorted cell codes.  Both agree with the dense reference; a hand-computed 7-input value;
-the C back end keeps every rule beyond 6 inputs, as before."""
+the C back end keeps every rule beyond 6 inputs, as before.  Past the grid's per-cell tables the
+grid path tables columns per term tuple: the same bits as the sparse candidates' scatter and as
+the per-cell tables, and the dense reference's values, on random wide rule bases."""
 from __future__ import annotations
 
 import itertools
@@ -9,9 +11,11 @@ import itertools
 import numpy as np
 import pytest
 
+from fuzzyc import grid
 from fuzzyc.backends.c import HeaderWriter
 from fuzzyc.backends.c_expr import REAL_TYPES
 from fuzzyc.builder import RuleSpec, assemble_rulebase
+from fuzzyc.defuzz import term_strengths
 from fuzzyc.engine import MAX_LOOKUP_CELLS, CompiledRuleBase, evaluate
 from fuzzyc.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
                           Model, SourceLoc, TermKind, TNorm, Variable)
@@ -55,6 +59,7 @@ def test_seven_input_full_grid_is_sparse_and_equals_dense(inference):
     rb = rulebase(7, 3, itertools.product(range(3), repeat=7), inference)
     fast = CompiledRuleBase(rb)
     assert fast.sparse and fast.codes is None               # 4**7 cells: a direct table
+    assert fast.grid is not None and fast.grid.columns is None     # tables per term tuple
     x = points(7)
     np.testing.assert_allclose(fast.evaluate_chunk(x),
                                CompiledRuleBase(rb, allow_sparse=False).evaluate_chunk(x),
@@ -67,7 +72,7 @@ def test_sorted_codes_beyond_the_direct_table_equal_dense():
     rb = rulebase(8, 7, sorted(combos), Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
     assert 8 ** 8 > MAX_LOOKUP_CELLS
     fast = CompiledRuleBase(rb)
-    assert fast.sparse and fast.codes is not None and fast.grid is None
+    assert fast.sparse and fast.codes is not None and fast.grid.columns is None
     x = points(8, 2000)
     np.testing.assert_allclose(fast.evaluate_chunk(x),
                                CompiledRuleBase(rb, allow_sparse=False).evaluate_chunk(x),
@@ -80,6 +85,74 @@ def test_seven_inputs_by_hand():
     # x0 = .25: t0 .5, t1 .5; the other six at 0: t0 1.  Two rules fire at min .5:
     # (0,0,...) sum 0 -> lo, (1,0,...) sum 1 -> mid; (.5*0 + .5*5) / (.5 + .5) = 2.5
     assert evaluate(rb, [[0.25] + [0.0] * 6])[0, 0] == pytest.approx(2.5, abs=1e-12)
+
+
+WIDE_INFERENCES = [
+    Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA),                           # min, max
+    Inference(and_=TNorm.PRODUCT, aggregation=Aggregation.PROBSUM,
+              defuzzifier=Defuzzifier.CENTER_OF_AREA),
+    Inference(and_=TNorm.PRODUCT, implication=Implication.PRODUCT, aggregation=Aggregation.SUM,
+              defuzzifier=Defuzzifier.CENTROID),
+    Inference(aggregation=Aggregation.SUM, defuzzifier=Defuzzifier.WEIGHTED_AVERAGE),
+    Inference(defuzzifier=Defuzzifier.CENTROID),                                  # min, max
+]
+
+
+def random_wide(n_in: int, inference: Inference, seed: int):
+    """Random rules over 3-4 term partitions: repeated premises (lookup depth > 1), weights
+    in (0, 1], two triangle outputs, one rule in five silent about the second."""
+    rng = np.random.default_rng(seed)
+    inputs = [partition(f"x{i}", int(rng.integers(3, 5))) for i in range(n_in)]
+    outputs = [Variable(name, 0.0, 10.0, ["lo", "mid", "hi"], np.full(3, int(TermKind.TRAPEZOID)),
+                        np.array([[-5.0, 0, 0, 5], [0, 5, 5, 10], [5, 10, 10, 15]]))
+               for name in ("y", "z")]
+    premises = [tuple(int(rng.integers(0, v.n_terms)) for v in inputs) for _ in range(700)]
+    premises += premises[:60]
+    rules = [RuleSpec({f"x{i}": (t, False, Hedge.NONE) for i, t in enumerate(premise)},
+                      Connective.AND,
+                      {"y": int(rng.integers(0, 3))} | ({"z": int(rng.integers(0, 3))}
+                                                        if rng.random() < 0.8 else {}),
+                      float(rng.uniform(0.05, 1.0)), LOC, "")
+             for premise in premises]
+    return assemble_rulebase(inputs, outputs, rules, inference)
+
+
+@pytest.mark.parametrize("inference", WIDE_INFERENCES)
+@pytest.mark.parametrize("n_in", [7, 9])
+def test_tuple_tables_equal_the_sparse_scatter_and_dense(inference, n_in):
+    rb = random_wide(n_in, inference, seed=n_in)
+    fast = CompiledRuleBase(rb)
+    assert fast.grid is not None and fast.grid.columns is None and fast.lookup.shape[1] > 1
+    x = points(n_in, 600)
+    x[21] = np.inf
+    x[22, 1] = -np.inf
+    # term strengths: the very bits of the sparse path's candidates and scatter
+    act, rid = fast.candidates(x)
+    alpha = fast.grid(x)
+    for o, d in enumerate(fast.defuzzifiers):
+        expected = term_strengths(act, fast.consequents[rid, o], 3, d.strength_aggregation())
+        np.testing.assert_array_equal(alpha[fast.grid.slices[o]].T, expected)
+    # outputs: the dense reference's values (it aggregates in rule order, hence not bit for
+    # bit).  Probsum's 1 - prod(1 - a) keeps only the top digits of a small strength (a product
+    # of 9 memberships near 1e-5 keeps ~11 of its 16 in 1 - a), so there the two orders agree
+    # to ~1e-11 of the output range [0, 10], not to the last bits.
+    atol = 1e-9 if inference.aggregation == Aggregation.PROBSUM else 1e-12
+    np.testing.assert_allclose(fast.evaluate_chunk(x),
+                               CompiledRuleBase(rb, allow_sparse=False).evaluate_chunk(x),
+                               rtol=0, atol=atol)
+
+
+@pytest.mark.parametrize("inference", WIDE_INFERENCES[:3])
+def test_tuple_tables_equal_the_per_cell_tables(inference, monkeypatch):
+    rb = random_wide(4, inference, seed=4)
+    per_cell = CompiledRuleBase(rb)
+    monkeypatch.setattr(grid, "MAX_TABLE_ENTRIES", 0)     # nothing fits: tables per tuple
+    per_tuple = CompiledRuleBase(rb)
+    assert per_cell.grid.columns is not None and per_tuple.grid.columns is None
+    x = points(4, 600)
+    np.testing.assert_array_equal(per_tuple.grid(x), per_cell.grid(x))
+    np.testing.assert_array_equal(per_tuple.evaluate_rows(np.ascontiguousarray(x.T)),
+                                  per_cell.evaluate_chunk(x).T)
 
 
 def test_few_rules_over_many_inputs_stay_dense():
