@@ -3,8 +3,9 @@
 Each input has three uniform triangle terms on [-1, 1] (a partition), every combination of
 terms is one AND rule (3**I rules), the consequent is the singleton term nearest the mean of
 the premise's term indices, and the output is the center of area (eq. 2).  Microseconds per
-evaluation at batch 1 and batch 1,000, median of repeats; the engine path that ran (grid,
-sparse or dense); and the dense reference `activations` on the same batch for comparison
+evaluation at batch 1 and batch 1,000, median of repeats; the engine path that ran (grid with
+per-cell tables, grid with tables per term tuple, sparse or dense); the CPU time of the batch
+alongside its wall time; and the dense reference `activations` on the same batch for comparison
 (only where it stays under a few seconds).  Writes benchmarks/results/wide.md.
 
     python3 benchmarks/bench_wide.py [--quick]
@@ -16,6 +17,7 @@ import os
 import pathlib
 import platform
 import sys
+import time
 
 import numpy as np
 
@@ -53,7 +55,9 @@ def full_grid(n_inputs: int):
 
 def path_of(rb) -> str:
     engine = compiled(rb)
-    return "grid" if engine.grid is not None else "sparse" if engine.sparse else "dense"
+    if engine.grid is not None:
+        return "grid" if engine.grid.columns is not None else "grid, tables per term tuple"
+    return "sparse" if engine.sparse else "dense"
 
 
 def main(quick: bool = False) -> str:
@@ -66,20 +70,24 @@ def main(quick: bool = False) -> str:
         xk = rng.uniform(-1, 1, (1000, n_in))
         one = median_seconds(lambda: evaluate(rb, x1), 30) * 1e6
         batch = median_seconds(lambda: evaluate(rb, xk), 5) * 1e6 / len(xk)
+        batch_cpu = median_seconds(lambda: evaluate(rb, xk), 5, time.process_time) * 1e6 / len(xk)
         dense = ""
         if rb.n_rules <= 3 ** 8:
             dense = f"{median_seconds(lambda: activations(rb, xk), 3) * 1e6 / len(xk):.2f}"
-        row = [n_in, f"{rb.n_rules:,}", path_of(rb), f"{one:.1f}", f"{batch:.2f}", dense]
+        row = [n_in, f"{rb.n_rules:,}", path_of(rb), f"{one:.1f}", f"{batch:.2f}",
+               f"{batch_cpu:.2f}", dense]
         rows.append(row)
         print(" | ".join(map(str, row)), flush=True)
     load_after = os.getloadavg()[0]
     header = ["inputs", "rules", "engine path", "batch 1: us/eval", "batch 1000: us/eval",
-              "dense activations only, batch 1000: us/eval"]
+              "batch 1000: CPU us/eval", "dense activations only, batch 1000: us/eval"]
     text = ("# Engine cost against the number of inputs\n\n"
             "Full-grid rule bases: three uniform triangles per input, one AND rule per term "
             "combination (3^I rules), center of area over five singletons. Median of repeats; "
             "the last column is the dense reference computing every rule's activation (no "
-            "defuzzification), for scale. "
+            "defuzzification), for scale. The CPU column counts this process's CPU time only: "
+            "on a loaded machine a call longer than a scheduler time slice also waits for the "
+            "other processes in wall time. "
             f"numpy {np.__version__}, CPython {platform.python_version()}; load average (1 min) "
             f"{load_before:.1f} at the start, {load_after:.1f} at the end "
             f"({os.cpu_count()} CPUs).\n\n" + markdown_table(header, rows))
