@@ -69,8 +69,8 @@ def test_finish_reaches_40_percent_within_200_s(finish):
 
 
 def test_finish_settling_time_is_the_papers_150_s(finish):
-    # Fig. 7a: about 150 s; the issue's 150 +- 50 s. Here about 106 s (102-110 s over noise
-    # seeds 0-9): the time is the integrators' travel in the e1 = P block, where du1 = du2 move
+    # Fig. 7a: about 150 s; the issue's 150 +- 50 s. Here about 113 s (112.7 s at
+    # seed 0): the time is the integrators' travel in the e1 = P block, where du1 = du2 move
     # feed and 1/t_off together. 40 % is reached at feed 0.67 mm/min, t_off 6.0 us: +0.37
     # mm/min at up to 1.8e-4 per 40 ms (4.5e-3 mm/min per s) is at least 82 s at the full
     # rate, longer as e2 falls from PB to PS near the set point. The finish cut's ratio

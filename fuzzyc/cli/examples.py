@@ -1,5 +1,5 @@
 """`fuzzyc examples [DIR]`: list the shipped rule bases, scenarios and C example, or copy them
-into DIR (DIR/rulebases, DIR/scenarios, DIR/c) to start from after `pip install fuzzyc`."""
+into DIR (DIR/rulebases, DIR/scenarios, DIR/c, DIR/gymnasium) to start from after `pip install fuzzyc`."""
 from __future__ import annotations
 
 
@@ -7,7 +7,7 @@ def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "examples", help="list the shipped rule bases, scenarios and C example, or copy them",
         description="Without DIR: list the shipped examples with their titles. With DIR: copy "
-                    "them into DIR/rulebases, DIR/scenarios and DIR/c (never overwriting).")
+                    "them into DIR/rulebases, DIR/scenarios, DIR/c and DIR/gymnasium (never overwriting).")
     p.add_argument("folder", nargs="?", metavar="DIR", help="folder to copy the examples into")
     p.set_defaults(run=run)
 
@@ -16,7 +16,9 @@ def run(args) -> int:
     from .. import api
     if args.folder:
         copied = api.copy_examples(args.folder)
-        print(f"copied {len(copied)} files into {args.folder}: rulebases/, scenarios/, c/")
+        folders = sorted({path.parent.name for path in copied})
+        print(f"copied {len(copied)} files into {args.folder}: "
+              + ", ".join(f"{name}/" for name in folders))
         print(f"try: fuzzyc verify {args.folder}/rulebases/wedm_three_region.fz")
         return 0
     import yaml
