@@ -95,7 +95,7 @@ def test_finish_spark_frequency_below_reference(finish):
                    "needs t_off >= 19.4 us at the end and a spark frequency near Yr1, i.e. a feed "
                    "near 1.0 mm/min (eq. 8, 1.16 mm2/min per kHz at 30 mm); from test 1's start "
                    "(0.3 mm/min, 32 us) the rule table's e1 = P block moves 1/t_off with the feed "
-                   "(0.33 per us per mm/min measured), so +0.7 mm/min ends near 3.8 us "
+                   "(0.32 per us per mm/min measured), so +0.7 mm/min ends near 3.9 us "
                    "(docs/plants.md)")
 def test_finish_mean_gap_voltage_about_45_v(finish):
     _, trace = finish
