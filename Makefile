@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench clean
+.PHONY: demo test bench clean conformance
 
 $(STAMP): pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV) || { echo "python3 -m venv failed: on Debian install python3-venv (apt-get install python3-venv)"; exit 1; }
@@ -19,8 +19,21 @@ demo: $(STAMP)
 test: $(STAMP)
 	$(PY) -m pytest -q -n 2 --dist loadfile
 
+# pyfuzzylite 8 pins numpy < 2: a venv of its own, for its example files and as a live oracle.
+PYFL_VENV := .venv-pyfuzzylite
+$(PYFL_VENV)/.installed:
+	$(PYTHON) -m venv $(PYFL_VENV)
+	$(PYFL_VENV)/bin/python -m pip install -q --disable-pip-version-check pyfuzzylite==8.0.6
+	@touch $@
+
+# The conformance table (every example file of fuzzylite 6, pyfuzzylite 8 and the Octave
+# toolkit against the tools themselves), then the live oracle tests.
+conformance: $(STAMP) $(PYFL_VENV)/.installed
+	$(PY) -m fuzzyc.conformance
+	$(PY) -m pytest -q -m conformance
+
 bench: $(STAMP)
 	$(PY) benchmarks/run_all.py
 
 clean:
-	rm -rf $(VENV) build *.egg-info out
+	rm -rf $(VENV) $(PYFL_VENV) build *.egg-info out

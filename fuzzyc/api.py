@@ -173,7 +173,7 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
              settings: Mapping[str, Any] | None = None, baseline: bool = False,
              randomize: bool = False, backend: str = "numpy", seed: int = 0,
              pace: str = "sim", progress: bool | None = False,
-             cluster: Cluster | None = None) -> Simulation:
+             cluster: Cluster | None = None, semantics: str = "exact") -> Simulation:
     """Run a scenario (a shipped name such as "wedm_rough" or a YAML path) with its own rule
     base or the rule file `rulebase` (any format `load` reads); `settings` overrides scenario keys, dotted as in
     `fuzzyc simulate --set` ({"duration": 2, "plant.tension": 800}); `baseline` runs the
@@ -181,7 +181,8 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
     `pace="wall"` runs in real time (one period per period); `progress` shows a progress line
     on stderr (None: when it is a terminal). `cluster` (fuzzyc.runtime.campaign.Cluster) runs
     the loops in chunks, on Dask with workers or a scheduler, with the same numbers; then
-    `trace` holds the first 20 loops and `metrics` are over all of them (docs/campaigns.md)."""
+    `trace` holds the first 20 loops and `metrics` are over all of them (docs/campaigns.md).
+    `semantics`: a source tool's arithmetic (docs/formats.md)."""
     from fuzzyc.plants.scenario import load as load_scenario
     from fuzzyc.runtime.simulate import simulate as run_scenario, summarize
     overrides = dict(settings or {})
@@ -195,7 +196,8 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
                                      seed=seed, randomize=randomize, pace=pace)
         return Simulation(loaded, campaign.trace, campaign.summary)
     trace = run_scenario(loaded, batch=batch, baseline=baseline, backend=backend, seed=seed,
-                         randomize=randomize, progress=progress, pace=pace)
+                         randomize=randomize, progress=progress, pace=pace,
+                         semantics=semantics)
     return Simulation(loaded, trace, summarize(loaded, trace))
 
 

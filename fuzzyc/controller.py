@@ -30,8 +30,11 @@ from .model import Model, Op, OutputKind, TermKind
 
 
 class Controller:
-    def __init__(self, model: Model, batch: int = 1):
+    def __init__(self, model: Model, batch: int = 1, semantics: str = "exact"):
+        """`semantics`: the rule base's arithmetic, exact or a tool's (formats.tool_semantics:
+        fuzzylite, pyfuzzylite, matlab, octave, optionally :RESOLUTION)."""
         self.model = model
+        self.semantics = semantics
         self.input_names = [s.name for s in model.signals]
         self.output_names = [o.name for o in model.outputs]
         self.params = model.symbol_values()
@@ -56,7 +59,13 @@ class Controller:
                          for o in self.model.outputs]
         # per rule block in order: its input names, its (index, output name)s, its engine
         self._blocks = [([v.name for v in rb.inputs], list(enumerate(v.name for v in rb.outputs)),
-                         compiled(rb)) for rb in self.model.blocks]
+                         self._engine(rb)) for rb in self.model.blocks]
+
+    def _engine(self, rb):
+        if self.semantics == "exact":
+            return compiled(rb)
+        from .formats.tool_semantics import ToolEngine
+        return ToolEngine(rb, self.semantics)
 
     @staticmethod
     def _initial_state(out) -> float:
@@ -172,4 +181,4 @@ class Controller:
             raise ValueError(f"{output}: values must be finite")
         var.params[:, 0] = values
         inputs, outputs, _ = self._blocks[k]
-        self._blocks[k] = (inputs, outputs, compiled(rb))    # rebuilt for the new values
+        self._blocks[k] = (inputs, outputs, self._engine(rb))    # rebuilt for the new values

@@ -42,8 +42,10 @@ from itertools import product
 import numpy as np
 
 from .centroid import ClosedFormCentroid
-from .membership import linear_coefficients, term_values, trapezoid
-from .model import Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable
+from .membership import linear_coefficients, term_inverse, term_values, trapezoid
+from .model import (Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable,
+                    aggregation_snorm)
+from .norms import combine, implied
 
 GRID_POINTS = 2001
 FLAT_TOLERANCE = 1e-12  # relative: how close to max(M) a value must be to count as a maximum
@@ -84,9 +86,32 @@ SCATTERS = {Aggregation.MAX: Scatter(np.maximum), Aggregation.SUM: Scatter(np.ad
             Aggregation.BOUNDED_SUM: Scatter(np.add, bounded=True)}
 
 
+# aggregations folded with their s-norm, and implications other than MIN/PRODUCT: M is not
+# piecewise linear (nor a low-degree polynomial) there, so it is integrated on the grid
+FOLDED = (Aggregation.DRASTIC_SUM, Aggregation.EINSTEIN_SUM, Aggregation.HAMACHER_SUM,
+          Aggregation.NILPOTENT_MAX)
+EXACT_IMPLICATIONS = (Implication.MIN, Implication.PRODUCT)
+
+
+def _folded_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
+                      aggregation: Aggregation) -> np.ndarray:
+    """alpha (N, T) for an s-norm folded over the candidates in order (0 where none)."""
+    snorm = aggregation_snorm(aggregation)
+    J = np.broadcast_to(J, act.shape)
+    out = np.zeros((act.shape[0], n_terms))
+    rows = np.arange(act.shape[0])
+    for c in range(act.shape[1]):
+        ok = J[:, c] >= 0
+        r, t = rows[ok], J[ok, c]
+        out[r, t] = combine([out[r, t], act[ok, c]], snorm, False)
+    return out
+
+
 def term_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
                    aggregation: Aggregation) -> np.ndarray:
     """alpha (N, T): the aggregation of act over the candidates concluding each term."""
+    if aggregation in FOLDED:
+        return _folded_strengths(act, J, n_terms, aggregation)
     scatter = SCATTERS[aggregation]
     if J.ndim == 1:        # the same consequents for every sample: a matrix product / gather
         onehot = J[:, None] == np.arange(n_terms)
@@ -132,11 +157,15 @@ class OutputDefuzzifier:
             self.reads = self.linear[:, 1:] != 0          # (T, I): the inputs each term weights
             self.input_lo = np.array([v.lo for v in inputs], dtype=float)
             self.input_hi = np.array([v.hi for v in inputs], dtype=float)
-        self.use_peaks = method in PEAK_BASED or bool(np.all(kinds == TermKind.SINGLETON))
-        self.sampled = not self.use_peaks and bool(
+        self.tsukamoto = method == Defuzzifier.TSUKAMOTO
+        self.use_peaks = not self.tsukamoto and (
+            method in PEAK_BASED or bool(np.all(kinds == TermKind.SINGLETON)))
+        self.sampled = not self.use_peaks and not self.tsukamoto and (bool(
             np.any((kinds != TermKind.TRAPEZOID) & (kinds != TermKind.SINGLETON)))
+            or inference.aggregation in FOLDED
+            or inference.implication not in EXACT_IMPLICATIONS)
         self.closed_form = None
-        if not self.use_peaks:
+        if not self.use_peaks and not self.tsukamoto:
             self._prepare_area(var)
             if method == Defuzzifier.CENTROID:
                 self.closed_form = ClosedFormCentroid.build(var, inference)
@@ -186,7 +215,7 @@ class OutputDefuzzifier:
 
     def work_per_sample(self, n_candidates: int) -> int:
         """A rough count of floats per sample, so the engine can size its chunks."""
-        if self.use_peaks:
+        if self.use_peaks or self.tsukamoto:
             return 8 * n_candidates
         if self.closed_form is not None:
             return self.closed_form.work_per_sample()
@@ -209,7 +238,9 @@ class OutputDefuzzifier:
 
     def strength_aggregation(self) -> Aggregation | None:
         """How the terms' strengths alpha are aggregated over the rules, or None when this
-        output needs every rule on its own (the SUM of MIN-clipped terms)."""
+        output needs every rule on its own (the SUM of MIN-clipped terms, Tsukamoto)."""
+        if self.tsukamoto:
+            return None
         if self.use_peaks:
             return Aggregation.SUM if self.inference.defuzzifier in (
                 Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM) \
@@ -261,6 +292,8 @@ class OutputDefuzzifier:
             return self.from_strengths(term_strengths(act, J, self.var.n_terms, aggregation), x)
         # every candidate rule is its own item (SUM of MIN-clipped terms, PROBSUM, BOUNDED_SUM)
         levels = np.where(J >= 0, act, 0.0)
+        if self.tsukamoto:
+            return self._tsukamoto(levels, np.broadcast_to(J, act.shape))
         ids = np.broadcast_to(J, act.shape)
         method, agg = self.inference.defuzzifier, self.inference.aggregation
         levels, ids = _firing(levels, ids)
@@ -272,8 +305,22 @@ class OutputDefuzzifier:
         x, items = self._sample(levels, ids)
         if agg == Aggregation.PROBSUM:
             return _area_defuzzify(method, x, _probsum(items), self.var.default)
+        if agg in FOLDED:
+            folded = combine([items[..., k] for k in range(items.shape[2])] or
+                             [np.zeros(items.shape[:2])], aggregation_snorm(agg), False)
+            return _area_defuzzify(method, x, folded, self.var.default)
         x, f = _bounded_at_one(x, items.sum(axis=2))
         return _area_defuzzify(method, x, f, self.var.default)
+
+    def _tsukamoto(self, levels: np.ndarray, ids: np.ndarray) -> np.ndarray:
+        """sum act_r z_r / sum act_r over the firing rules, z_r = mu^-1(act_r) (model.py) in
+        the output's range (a sigmoid reaches 1 only at infinity)."""
+        firing = levels > 0
+        t = ids.clip(0)
+        z = term_inverse(self.var.kinds[t], np.asarray(self.var.params, dtype=float)[t],
+                         np.where(firing, levels, 1.0)).clip(self.var.lo, self.var.hi)
+        num = np.where(firing, levels * z, 0.0).sum(axis=1)
+        return safe_ratio(num, levels.sum(axis=1), self.var.default)
 
     def _sample(self, levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Points (N, P) sorted, and the implied items IMP(level_k, mu_ids_k) there (N, P, K)."""
@@ -305,8 +352,7 @@ class OutputDefuzzifier:
         return self._implied(levels, mu)
 
     def _implied(self, levels: np.ndarray, mu: np.ndarray) -> np.ndarray:
-        lv = levels[:, None, :]
-        return np.minimum(lv, mu) if self.inference.implication == Implication.MIN else lv * mu
+        return implied(levels[:, None, :], mu, self.inference.implication)
 
     def _aggregated(self, levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Points and M there for MAX, or SUM of strengths (items one per term)."""

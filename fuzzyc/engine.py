@@ -25,7 +25,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .defuzz import OutputDefuzzifier, safe_ratio
+from .defuzz import SCATTERS, OutputDefuzzifier, safe_ratio
 from .grid import GridStrengths, lookup_rows
 from .membership import LocalPartition, apply_hedges, memberships
 from .model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
@@ -150,7 +150,7 @@ class CompiledRuleBase:
         """The grid fast path, when every output can be defuzzified from term strengths
         aggregated the same way."""
         aggregations = {d.strength_aggregation() for d in self.defuzzifiers}
-        if len(aggregations) != 1 or None in aggregations:
+        if len(aggregations) != 1 or None in aggregations or aggregations - SCATTERS.keys():
             return None
         return GridStrengths(rb, self.partitions, self.lookup, self.radix, self.codes,
                              aggregations.pop())

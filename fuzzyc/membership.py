@@ -105,6 +105,50 @@ def _concave(x: np.ndarray, p: np.ndarray) -> np.ndarray:
                         np.where(falling, (i - e) / (i - 2.0 * e + x), 1.0))
 
 
+def _sig(x: np.ndarray, center: np.ndarray, slope: np.ndarray) -> np.ndarray:
+    with np.errstate(over="ignore"):
+        return 1.0 / (1.0 + np.exp(-slope * (x - center)))
+
+
+def _sigmoid_difference(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return np.abs(_sig(x, p[:, 0], p[:, 1]) - _sig(x, p[:, 3], p[:, 2]))
+
+
+def _sigmoid_product(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    return _sig(x, p[:, 0], p[:, 1]) * _sig(x, p[:, 3], p[:, 2])
+
+
+def _gaussian_product(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    left = np.where(x < p[:, 0], _gaussian(x, p[:, 0:2]), 1.0)
+    right = np.where(x > p[:, 2], _gaussian(x, p[:, 2:4]), 1.0)
+    return left * right
+
+
+def _binary(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    start, direction = p[:, 0], p[:, 1]
+    return (((direction > start) & (x >= start)) | ((direction < start) & (x <= start))) * 1.0
+
+
+def _circle(x: np.ndarray, center: np.ndarray, r: np.ndarray, inside: np.ndarray) -> np.ndarray:
+    """sqrt(r^2 - (x - center)^2) / |r| where `inside` (elsewhere 0: no root of a negative)."""
+    dx = np.where(inside, x - center, 0.0)
+    return np.where(inside, np.sqrt(np.maximum(r * r - dx * dx, 0.0)) / np.abs(r), 0.0)
+
+
+def _semi_ellipse(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    s, e = np.minimum(p[:, 0], p[:, 1]), np.maximum(p[:, 0], p[:, 1])
+    r = 0.5 * (e - s)
+    return _circle(x, s + r, r, (x >= s) & (x <= e))
+
+
+def _arc(x: np.ndarray, p: np.ndarray) -> np.ndarray:
+    s, e = p[:, 0], p[:, 1]
+    rising = s < e
+    between = np.where(rising, (s <= x) & (x <= e), (e <= x) & (x <= s))
+    beyond = np.where(rising, x > e, x < e)
+    return np.where(beyond, 1.0, _circle(x, e, e - s, between))
+
+
 def _linear(x: np.ndarray, p: np.ndarray) -> np.ndarray:
     return np.zeros((x.shape[0], p.shape[0]))   # a consequent value, not a shape
 
@@ -122,6 +166,12 @@ _SHAPES = {
     TermKind.COSINE: _cosine,
     TermKind.CONCAVE: _concave,
     TermKind.LINEAR: _linear,
+    TermKind.SIGMOID_DIFFERENCE: _sigmoid_difference,
+    TermKind.SIGMOID_PRODUCT: _sigmoid_product,
+    TermKind.GAUSSIAN_PRODUCT: _gaussian_product,
+    TermKind.BINARY: _binary,
+    TermKind.SEMI_ELLIPSE: _semi_ellipse,
+    TermKind.ARC: _arc,
 }
 
 
@@ -151,6 +201,39 @@ def linear_coefficients(var: Variable, n_inputs: int) -> np.ndarray:
                              f"{len(row)} coefficients for {n_inputs} inputs")
         out[t] = row[:n_inputs + 1]
     return out
+
+
+def monotonic(kind: TermKind, params) -> bool:
+    """Whether the term has one inverse (Tsukamoto): a shoulder, sigmoid, S/Z shape, concave;
+    a singleton counts (its value is its own)."""
+    if kind == TermKind.TRAPEZOID:
+        return bool(np.isinf(params[0]) != np.isinf(params[3]))
+    return kind in (TermKind.SIGMOID, TermKind.SSHAPE, TermKind.ZSHAPE, TermKind.CONCAVE,
+                    TermKind.SINGLETON)
+
+
+def term_inverse(kinds: np.ndarray, params: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """z where each monotonic term (kinds (...), params (..., 4)) equals y (...) in (0, 1]."""
+    a, b, c, d = np.moveaxis(np.asarray(params, dtype=float), -1, 0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        low, high = np.sqrt(y / 2.0), np.sqrt((1.0 - y) / 2.0)
+        z = {TermKind.TRAPEZOID: np.where(np.isinf(d), a + (b - a) * y, d - (d - c) * y),
+             TermKind.SIGMOID: a - np.log(1.0 / y - 1.0) / b,
+             TermKind.SSHAPE: np.where(y <= 0.5, a + (b - a) * low, b - (b - a) * high),
+             TermKind.ZSHAPE: np.where(y <= 0.5, b - (b - a) * low, a + (b - a) * high),
+             TermKind.CONCAVE: 2.0 * b - a - (b - a) / y,
+             TermKind.SINGLETON: a}
+    out = np.full(np.shape(y), np.nan)
+    for kind, values in z.items():
+        out = np.where(kinds == kind, values, out)
+    return out
+
+
+def pointwise(kind: TermKind, params: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """The membership of terms of one kind, params (..., 4), each at its own point u (...)."""
+    p = np.asarray(params, dtype=float).reshape(-1, 4)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return _SHAPES[kind](np.ravel(u), p).reshape(np.shape(u))
 
 
 def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray) -> np.ndarray:

@@ -24,6 +24,20 @@ Membership of a term at x (params padded to 4 with 0):
                      else 0
   CONCAVE   (i, e):  i <= e: (e-i)/(2e-i-x) if x < e else 1;  i > e: (i-e)/(i-2e+x) if x > e
                      else 1   (fuzzylite's inflection/end concave edge)
+  SIGMOID_DIFFERENCE (left, rising, falling, right): |sig(left, rising) - sig(right, falling)|
+                     with sig(c, s) = 1 / (1 + exp(-s (x-c)))   (fuzzylite; MATLAB dsigmf)
+  SIGMOID_PRODUCT (left, rising, falling, right): sig(left, rising) * sig(right, falling)
+                     (fuzzylite; MATLAB psigmf)
+  GAUSSIAN_PRODUCT (mean_a, sigma_a, mean_b, sigma_b): g_a * g_b, g_a = GAUSSIAN(mean_a,
+                     sigma_a) if x < mean_a else 1, g_b = GAUSSIAN(mean_b, sigma_b) if x > mean_b
+                     else 1   (fuzzylite; MATLAB gauss2mf)
+  BINARY    (start, direction): 1 if (direction > start and x >= start) or (direction < start
+                     and x <= start), else 0   (fuzzylite)
+  SEMI_ELLIPSE (start, end): sqrt(r^2 - (x-c)^2) / r on [s, e] (s = min, e = max of the two,
+                     r = (e-s)/2, c = s + r), else 0   (fuzzylite 7+)
+  ARC       (start, end): a quarter circle centred at (end, 0) rising from start to end:
+                     r = end - start; sqrt(r^2 - (x-end)^2) / |r| between start and end, 1 beyond
+                     end, 0 before start   (fuzzylite 7+)
   LINEAR    (c0, c1, c2, c3): an output term only, for WEIGHTED_AVERAGE / WEIGHTED_SUM
                      (first-order Takagi-Sugeno): z = c0 + sum_i c_{i+1} x_i over the rule base's
                      inputs in order; with more than 3 inputs the row is in
@@ -104,6 +118,12 @@ class TermKind(IntEnum):
     COSINE = 9
     CONCAVE = 10
     LINEAR = 11
+    SIGMOID_DIFFERENCE = 12
+    SIGMOID_PRODUCT = 13
+    GAUSSIAN_PRODUCT = 14
+    BINARY = 15
+    SEMI_ELLIPSE = 16
+    ARC = 17
 
 
 class Hedge(IntEnum):
@@ -149,8 +169,15 @@ class SNorm(IntEnum):
 
 
 class Implication(IntEnum):
+    """A t-norm of the rule's activation and the term's membership; numbered as TNorm.  The
+    engine integrates MIN and PRODUCT exactly, the others on its sampled grid (defuzz.py)."""
     MIN = 0
     PRODUCT = 1
+    BOUNDED_DIFFERENCE = 2
+    DRASTIC_PRODUCT = 3
+    EINSTEIN_PRODUCT = 4
+    HAMACHER_PRODUCT = 5
+    NILPOTENT_MIN = 6
 
 
 class Aggregation(IntEnum):
@@ -158,6 +185,17 @@ class Aggregation(IntEnum):
     SUM = 1
     PROBSUM = 2        # 1 - prod(1 - m): the s-norm PROBSUM over the rules
     BOUNDED_SUM = 3    # min(1, sum m): the s-norm BOUNDED_SUM over the rules
+    # further s-norms folded over the rules (fuzzylite's); integrated on the sampled grid
+    DRASTIC_SUM = 4
+    EINSTEIN_SUM = 5
+    HAMACHER_SUM = 6
+    NILPOTENT_MAX = 7
+
+
+def aggregation_snorm(aggregation: Aggregation) -> SNorm | None:
+    """The s-norm an aggregation folds over the rules (None for SUM, which is no s-norm)."""
+    name = {Aggregation.PROBSUM: "PROBSUM"}.get(aggregation, aggregation.name)
+    return SNorm[name] if name in SNorm.__members__ else None
 
 
 class Defuzzifier(IntEnum):
@@ -167,6 +205,11 @@ class Defuzzifier(IntEnum):
     CENTER_OF_AREA = 3
     WEIGHTED_AVERAGE = 4
     WEIGHTED_SUM = 5
+    # Tsukamoto: each firing rule's value is where its monotonic output term equals the rule's
+    # activation, z_r = mu^-1(act_r) clipped to the output's range (a sigmoid is 1 only at
+    # infinity); y = sum act_r z_r / sum act_r (fuzzylite's reading of a WeightedAverage over
+    # Ramp, Sigmoid, SShape, ZShape, Concave terms).  Singletons: z_r = v.
+    TSUKAMOTO = 6
 
 
 PIECEWISE_LINEAR = (TermKind.TRAPEZOID, TermKind.SINGLETON)
@@ -225,8 +268,14 @@ class Variable:
                 out[i] = 0.5 * (lo_ + hi_)
             elif kind == TermKind.SSHAPE or kind == TermKind.CONCAVE:
                 out[i] = b                       # where it reaches 1
-            elif kind == TermKind.PISHAPE:
-                out[i] = 0.5 * (b + c)
+            elif kind in (TermKind.PISHAPE, TermKind.GAUSSIAN_PRODUCT):
+                out[i] = 0.5 * (a + c) if kind == TermKind.GAUSSIAN_PRODUCT else 0.5 * (b + c)
+            elif kind in (TermKind.SIGMOID_DIFFERENCE, TermKind.SIGMOID_PRODUCT):
+                out[i] = 0.5 * (a + d)           # between the two inflections
+            elif kind in (TermKind.SEMI_ELLIPSE,):
+                out[i] = 0.5 * (a + b)
+            elif kind == TermKind.ARC:
+                out[i] = b                       # where it reaches 1
             elif kind == TermKind.LINEAR:
                 out[i] = np.nan                  # no fixed value: depends on the inputs
             else:  # GAUSSIAN mean, BELL centre, SIGMOID centre, SINGLETON value, ZSHAPE start,

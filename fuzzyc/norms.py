@@ -41,6 +41,11 @@ S_NORMS = {
 }
 
 
+def implied(level: np.ndarray, mu: np.ndarray, implication) -> np.ndarray:
+    """A rule's level applied to a term's membership: the implication's t-norm (broadcast)."""
+    return T_NORMS[TNorm(int(implication))](level, mu)
+
+
 def combine(values: list[np.ndarray], norm: TNorm | SNorm, conjunction: bool) -> np.ndarray:
     """values[0] (norm) values[1] (norm) ..., left to right."""
     op = T_NORMS[TNorm(int(norm))] if conjunction else S_NORMS[SNorm(int(norm))]

@@ -283,8 +283,10 @@ class ToSyntax(Transformer):
 
     @v_args(meta=True)
     def terms(self, meta, items):
-        data = {"names": items[0], "range": None, "default": None, "terms": items[-1]}
-        for item in items[1:-1]:
+        defined = isinstance(items[-1], tuple) and items[-1][0] in ("list", "uniform")
+        data = {"names": items[0], "range": None, "default": None,
+                "terms": items[-1] if defined else ("list", [])}
+        for item in items[1:len(items) - defined]:
             data["range" if isinstance(item, tuple) else "default"] = item
         return self._stmt("terms", meta, data)
 

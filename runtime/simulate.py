@@ -39,7 +39,7 @@ METRICS = {
 }
 
 
-def load_controller(scenario, batch: int, backend: str = "numpy"):
+def load_controller(scenario, batch: int, backend: str = "numpy", semantics: str = "exact"):
     """The scenario's rule base (.fz, .fll, .fcl, .fis or FILE.fcl::NAME, through
     fuzzyc.formats.load_any) with its params and initial outputs applied, as a controller.
 
@@ -67,10 +67,11 @@ def load_controller(scenario, batch: int, backend: str = "numpy"):
         outputs[name].init = float(value)
     if backend == "c":
         from fuzzyc.backends.cload import CController
-        controller = CController(model, batch)
+        from fuzzyc.formats.tool_semantics import with_tool_semantics
+        controller = CController(with_tool_semantics(model, semantics, "--backend c"), batch)
     else:
         from fuzzyc.controller import Controller
-        controller = Controller(model, batch)
+        controller = Controller(model, batch, semantics)
     return BusNames(controller, rename) if rename else controller
 
 
@@ -212,7 +213,8 @@ def _followed_params(scenario, controller) -> list[str]:
 
 def simulate(scenario, batch: int = 1, baseline: bool = False, backend: str = "numpy",
              seed: int = 0, randomize: bool = False, progress: bool | None = False,
-             record: list[str] | None = None, pace: str = "sim", first: int = 0) -> Trace:
+             record: list[str] | None = None, pace: str = "sim", first: int = 0,
+             semantics: str = "exact") -> Trace:
     """Run a scenario with its rule base (or, with baseline=True, its baseline controller).
     first: the campaign's number of the first loop (build; runtime.campaign)."""
     if baseline:
@@ -220,7 +222,7 @@ def simulate(scenario, batch: int = 1, baseline: bool = False, backend: str = "n
             raise scenario.error("baseline", "this scenario names no baseline")
         controller = scenario.make("baseline", scenario.baseline)
     else:
-        controller = load_controller(scenario, batch, backend)
+        controller = load_controller(scenario, batch, backend, semantics)
     own_signals = backend == "numpy" and not baseline
     expose = (scenario.controller.get("expose") or []) if own_signals else []
     blocks = build(scenario, controller, batch, seed, randomize, expose, first)

@@ -17,7 +17,7 @@ EXPECTED = {
     "bad_syntax.fll": [("12:35", "ends too early")],
     "bad_unsupported.fll": [("4:14", "term shape `Discrete` is not supported"),
                             ("9:16", "defuzzifier `LargestOfMaximum` is not supported"),
-                            ("12:16", "implication `HamacherProduct` is not supported"),
+                            ("12:15", "activation `Highest` is not supported"),
                             ("13:23", "hedge `very very` is not supported"),
                             ("14:23", "did you mean `good`?")],
     "bad_syntax.fcl": [("7:3", "unexpected `TERM`: expected `(`, `;`")],
@@ -26,7 +26,7 @@ EXPECTED = {
                             ("19:9", "AND HAMACHER is not supported"),
                             ("20:41", "has no term `low`")],
     "bad_rules.fis": [("10:14", "DefuzzMethod `lom` is not supported"),
-                      ("15:5", "membership function `dsigmf` is not supported"),
+                      ("15:5", "membership function `my_custom_mf` is not supported"),
                       ("24:1", "expected a rule row"),
                       ("25:1", "`x` has 1 terms, no term 3")],
 }

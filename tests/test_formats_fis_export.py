@@ -42,7 +42,7 @@ def fis(text: str, warnings: list[str] | None = None) -> str:
 
 def test_small_rule_base_is_written_as_the_hand_written_file():
     # tests/format_corpus/small_export.fis was written by hand from MATLAB's format:
-    # lshoulder(2, 5) -> trapmf [0 0 2 5] (flat from the range's start), gauss(mean 10, sigma 2)
+    # lshoulder(2, 5) -> trapmf [-10 0 2 5] (flat over the range, its edge leaned out), gauss(mean 10, sigma 2)
     # -> gaussmf [sigma c] = [2 10], bell(centre 1, width 0.5, slope 2) -> gbellmf [a b c] =
     # [0.5 2 1]; rules: `1 -1` = low and not neg, `3 0` = high, e any; `: 2` = or.
     warnings: list[str] = []
@@ -54,8 +54,12 @@ def test_small_rule_base_is_written_as_the_hand_written_file():
     assert warnings == [
         "MATLAB evaluates Mamdani outputs on 101 points of the range (centroid of the sampled "
         "aggregate); fuzzyc integrates exactly: MATLAB's numbers differ by that sampling error",
-        "shoulder `low` of `x` is written as trapmf [0 0 2 5] (FIS has no infinite break "
-        "points): the same on [0, 10], 0 instead of 1 beyond it"]
+        # the shoulder's vertical edge leans out by the range's width: 0 - 10 = -10
+        "`low` of `x` is written as trapmf [-10 0 2 5] (FIS has no infinite break points, the "
+        "Octave toolkit no vertical edges): the same on [0, 10], not beyond it",
+        # a vertical edge at the range's low end -1 leans out by the width 2: -1 - 2 = -3
+        "`neg` of `e` is written as trapmf [-3 -1 -0.5 0] (FIS has no infinite break points, "
+        "the Octave toolkit no vertical edges): the same on [-1, 1], not beyond it"]
 
 
 def test_small_rule_base_read_back_gives_the_hand_computed_value():

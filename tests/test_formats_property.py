@@ -67,12 +67,14 @@ def rule_base(draw, fmt: str):
                       "fis": ([TNorm.MIN, TNorm.PRODUCT], [SNorm.MAX, SNorm.PROBSUM])}.get(
         fmt, (list(TNorm), list(SNorm)))
     got.inference = Inference(draw(st.sampled_from(tnorms)), draw(st.sampled_from(snorms)),
-                              draw(st.sampled_from(list(Implication))),
+                              draw(st.sampled_from([Implication.MIN, Implication.PRODUCT]
+                                                   if fmt == "fis" else list(Implication))),
                               Aggregation.MAX, draw(st.sampled_from(defuzz)))
     # FLL says center of area with a sum as WeightedAverage, which reads back as a weighted
     # average: the same numbers, another enum (test_formats_roundtrip compares those outputs).
-    # MATLAB has no bounded sum (FIS export refuses it)
-    aggregations = [a for a in Aggregation if fmt != "fis" or a != Aggregation.BOUNDED_SUM]
+    # MATLAB has max, sum and probor only (FIS export refuses the others)
+    aggregations = [a for a in Aggregation if fmt != "fis" or a in (
+        Aggregation.MAX, Aggregation.SUM, Aggregation.PROBSUM)]
     if fmt in ("fz", "fis") or got.inference.defuzzifier in AREA or (
             got.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA and fmt == "fcl"):
         got.inference.aggregation = draw(st.sampled_from(aggregations))

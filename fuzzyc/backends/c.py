@@ -82,6 +82,8 @@ SUMMED_PER_RULE = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)  # no
 def _check_constructs(rb: RuleBase) -> None:
     """The norms, hedges and term shapes the C back end emits (the engine has more)."""
     inf = rb.inference
+    if inf.defuzzifier == Defuzzifier.TSUKAMOTO:
+        raise _fail("the C back end does not emit the tsukamoto defuzzifier")
     own = [(name, choice) for name, choice in rb.output_choices.items()
            if choice != (inf.aggregation, inf.defuzzifier)]
     if own:

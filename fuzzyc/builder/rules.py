@@ -11,6 +11,7 @@ import numpy as np
 
 from ..conditions import Cond, Program, premise, program_array
 from ..errors import suggest
+from ..membership import monotonic
 from ..model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Implication, Inference,
                      RuleBase, SNorm, SourceLoc, TermKind, TNorm, Variable)
 from ..syntax import Clause, Condition, Name, Num, Stmt
@@ -20,15 +21,14 @@ INFERENCE_VALUES = {
     "and": {"product": TNorm.PRODUCT, "prod": TNorm.PRODUCT,
             **{t.name.lower(): t for t in TNorm}},
     "or": {"probabilistic_sum": SNorm.PROBSUM, **{t.name.lower(): t for t in SNorm}},
-    "implication": {"min": Implication.MIN, "product": Implication.PRODUCT,
-                    "prod": Implication.PRODUCT},
+    "implication": {"prod": Implication.PRODUCT, **{i.name.lower(): i for i in Implication}},
     "aggregation": {"probabilistic_sum": Aggregation.PROBSUM,
                     **{a.name.lower(): a for a in Aggregation}},
     "defuzzify": {"centroid": Defuzzifier.CENTROID, "bisector": Defuzzifier.BISECTOR,
                   "mean_of_maximum": Defuzzifier.MEAN_OF_MAXIMUM, "mom": Defuzzifier.MEAN_OF_MAXIMUM,
                   "center_of_area": Defuzzifier.CENTER_OF_AREA, "coa": Defuzzifier.CENTER_OF_AREA,
                   "weighted_average": Defuzzifier.WEIGHTED_AVERAGE,
-                  "weighted_sum": Defuzzifier.WEIGHTED_SUM},
+                  "weighted_sum": Defuzzifier.WEIGHTED_SUM, "tsukamoto": Defuzzifier.TSUKAMOTO},
 }
 
 INFERENCE_FIELD = {"and": "and_", "or": "or_", "implication": "implication",
@@ -378,7 +378,8 @@ class RulesBuilder:
                                               "`block`s, every rule belongs to one")
         written = {name for b in blocks for name in b.writes()}
         for v in self.vars.values():
-            if not v.terms and not (not v.is_input and v.name in written):
+            concluded = not v.is_input and v.name in written
+            if not v.terms and not v.stated and not concluded:
                 self.error(v.loc, f"`{v.name}` has no terms: add `terms {v.name} : ...`")
             if not v.is_input and v.lo is not None and not v.lo <= v.default <= v.hi:
                 self.error(v.loc, f"the default {v.default:g} of `{v.name}` is outside its range "
@@ -424,6 +425,9 @@ class RulesBuilder:
 
     def _check_linear_terms(self, v: LinguisticVar, n_inputs: int, inference: Inference) -> None:
         for name, kind, params, loc in v.terms:
+            if inference.defuzzifier == Defuzzifier.TSUKAMOTO and not monotonic(kind, params):
+                self.error(loc, f"tsukamoto needs monotonic output terms (shoulders, sigmoid, "
+                                f"sshape, zshape, concave) or singletons; `{name}` is neither")
             if kind != TermKind.LINEAR:
                 continue
             if inference.defuzzifier not in LINEAR_DEFUZZIFIERS:

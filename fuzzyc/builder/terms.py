@@ -28,6 +28,17 @@ PLAIN_SHAPES = {
     "cosine": (TermKind.COSINE, 2, lambda v: v[1] > 0, "cosine(center, width) with width > 0"),
     "concave": (TermKind.CONCAVE, 2, lambda v: v[0] != v[1],
                 "concave(inflection, end) with inflection != end"),
+    "sigmoid_difference": (TermKind.SIGMOID_DIFFERENCE, 4, lambda v: v[1] != 0 and v[2] != 0,
+                           "sigmoid_difference(left, rising, falling, right) with slopes != 0"),
+    "sigmoid_product": (TermKind.SIGMOID_PRODUCT, 4, lambda v: v[1] != 0 and v[2] != 0,
+                        "sigmoid_product(left, rising, falling, right) with slopes != 0"),
+    "gaussian_product": (TermKind.GAUSSIAN_PRODUCT, 4, lambda v: v[1] > 0 and v[3] > 0,
+                         "gaussian_product(mean_a, sigma_a, mean_b, sigma_b) with sigmas > 0"),
+    "binary": (TermKind.BINARY, 2, lambda v: v[0] != v[1],
+               "binary(start, direction) with direction != start"),
+    "semi_ellipse": (TermKind.SEMI_ELLIPSE, 2, lambda v: v[0] != v[1],
+                     "semi_ellipse(start, end) with start != end"),
+    "arc": (TermKind.ARC, 2, lambda v: v[0] != v[1], "arc(start, end) with start != end"),
 }
 
 SHAPE_ARITY.update({word: arity for word, (_, arity, _, _) in PLAIN_SHAPES.items()})
@@ -46,19 +57,27 @@ class LinguisticVar:
     learnable: list[bool] = field(default_factory=list)
     is_input: bool = False
     term_index: dict[str, int] = field(default_factory=dict)   # name -> place: linear cost
+    stated: bool = False        # a `terms` statement names it (`terms x :` gives no terms)
 
     def term_names(self) -> list[str]:
         return [t[0] for t in self.terms]
 
 
-def _core(kind: TermKind, params) -> tuple[float, float]:
+def term_core(kind: TermKind, params) -> tuple[float, float]:
     """The interval where a term is fully true (or its centre): it must meet the range."""
     if kind in (TermKind.TRAPEZOID, TermKind.PISHAPE):
         return params[1], params[2]
+    if kind in (TermKind.SIGMOID_DIFFERENCE, TermKind.SIGMOID_PRODUCT):
+        return params[0], params[3]
+    if kind == TermKind.GAUSSIAN_PRODUCT:
+        return params[0], params[2]
+    if kind == TermKind.SEMI_ELLIPSE:
+        return 0.5 * (params[0] + params[1]), 0.5 * (params[0] + params[1])
     rising = {TermKind.SSHAPE: True, TermKind.ZSHAPE: False,
-              TermKind.CONCAVE: params[0] < params[1]}.get(kind)
+              TermKind.CONCAVE: params[0] < params[1], TermKind.ARC: params[0] < params[1],
+              TermKind.BINARY: params[0] < params[1]}.get(kind)
     if rising is not None:      # an edge: fully true from its end on (up to its end)
-        edge = params[1] if kind != TermKind.ZSHAPE else params[0]
+        edge = params[0] if kind in (TermKind.ZSHAPE, TermKind.BINARY) else params[1]
         return (edge, INF) if rising else (-INF, edge)
     if kind == TermKind.LINEAR:
         return -INF, INF
@@ -108,6 +127,7 @@ class TermsBuilder:
                 self.error(name.loc, f"`{name.text}` already has terms; give all of a "
                                      "variable's terms in one `terms` statement")
                 continue
+            var.stated = True
             if s.data["default"] is not None:
                 var.default = s.data["default"].value
             kind, *rest = s.data["terms"]
@@ -235,7 +255,7 @@ class TermsBuilder:
         if name.text in var.term_index:
             self.error(name.loc, f"term `{name.text}` is already defined for `{var.name}`")
             return var.term_index[name.text]
-        core = _core(kind, params)
+        core = term_core(kind, params)
         if core[1] < var.lo or core[0] > var.hi:
             where = f"{core[0]:g}" if core[0] == core[1] else f"[{core[0]:g}, {core[1]:g}]"
             self.error(name.loc, f"term `{name.text}` of `{var.name}` peaks at {where}, outside "

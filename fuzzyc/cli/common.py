@@ -12,6 +12,15 @@ RULE_FILE_HELP = ("a .fz, .fll, .fcl or .fis rule file; FILE.fcl::NAME reads the
                   "NAME of an FCL file that has several")
 
 
+SEMANTICS_HELP = ("the arithmetic of a source tool where it differs from fuzzyc's exact one: "
+                  "fuzzylite (6), pyfuzzylite (8), matlab, octave, optionally :RESOLUTION "
+                  "(fuzzylite:200); default exact (docs/formats.md)")
+
+
+def add_semantics(parser) -> None:
+    parser.add_argument("--semantics", default="exact", metavar="TOOL[:N]", help=SEMANTICS_HELP)
+
+
 def check_output(path: str | Path, folder: bool = False) -> None:
     """Before any work: FuzzycError `cannot write to PATH: reason` unless PATH can be written,
     a folder (folder=True) or a file, made with its missing parent folders. Tried for real,

@@ -4,7 +4,8 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from .common import RULE_FILE_HELP, check_output
+from ..formats.tool_semantics import with_tool_semantics
+from .common import RULE_FILE_HELP, add_semantics, check_output
 
 NUMERIC = ("float", "double", "q15", "q31")
 
@@ -22,6 +23,7 @@ def add_parser(subparsers) -> None:
                         "chain on integers, NAME_q15.h / NAME_q31.h")
     p.add_argument("--resolution", type=int, default=33,
                    help="grid points per input (target lut)")
+    add_semantics(p)
     p.set_defaults(run=run)
 
 
@@ -45,7 +47,7 @@ def run(args) -> int:
     from ..backends.cload import STRICT_FLAGS, footprint
     from ..escape import c_identifier
     check_output(args.output, folder=True)
-    model = load(args.file)
+    model = with_tool_semantics(load(args.file), args.semantics, "compile")
     name = c_identifier(model.name)
     if args.target == "lut":
         header = compile_lut(model, args.resolution)

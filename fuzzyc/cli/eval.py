@@ -19,7 +19,7 @@ import sys
 
 import numpy as np
 
-from .common import RULE_FILE_HELP, check_output
+from .common import RULE_FILE_HELP, add_semantics, check_output
 from ..errors import Diagnostic, FuzzycError, read_source, source_lines
 from ..model import Model
 
@@ -43,6 +43,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--series", action="store_true",
                    help="with --csv: the rows are successive samples of one controller "
                         "(delta() and integrators carry over), as examples/c reads them")
+    add_semantics(p)
     p.set_defaults(run=run)
 
 
@@ -88,23 +89,31 @@ def warn_out_of_range(model: Model, values: dict[str, np.ndarray], core: bool) -
                   f"[{lo:g}, {hi:g}] (not clamped)", file=sys.stderr)
 
 
-def evaluate_batch(model: Model, columns: dict[str, np.ndarray], core: bool) -> dict[str, np.ndarray]:
+def evaluate_batch(model: Model, columns: dict[str, np.ndarray], core: bool,
+                   semantics: str = "exact") -> dict[str, np.ndarray]:
     """Every output for a batch of independent points (rule-base outputs, then the chain's)."""
     from ..api import Controller, evaluate
-    if core:
+    if core and semantics == "exact":
         return evaluate(model, columns)
-    controller = Controller(model, batch=len(next(iter(columns.values()))))
+    if core:
+        from ..formats.tool_semantics import ToolEngine
+        rb = model.rulebase
+        x = np.column_stack([columns[v.name] for v in rb.inputs])
+        y = ToolEngine(rb, semantics).evaluate_rows(x.T).T
+        return {v.name: y[:, o] for o, v in enumerate(rb.outputs)}
+    controller = Controller(model, batch=len(next(iter(columns.values()))), semantics=semantics)
     return _step(controller, columns)
 
 
-def evaluate_series(model: Model, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+def evaluate_series(model: Model, columns: dict[str, np.ndarray],
+                    semantics: str = "exact") -> dict[str, np.ndarray]:
     """Every output of one controller stepped through the rows in order (the rule base's
     outputs, then the chain's), its state carried from row to row."""
     from ..api import Controller
     n = len(next(iter(columns.values())))
     if n == 0:
-        return evaluate_batch(model, columns, core=False)
-    controller = Controller(model, batch=1)
+        return evaluate_batch(model, columns, core=False, semantics=semantics)
+    controller = Controller(model, batch=1, semantics=semantics)
     rows = [_step(controller, {k: v[i:i + 1] for k, v in columns.items()}) for i in range(n)]
     return {name: np.concatenate([row[name] for row in rows]) for name in rows[0]}
 
@@ -121,6 +130,8 @@ def _step(controller, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
 
 def run(args) -> int:
     from ..api import load
+    from ..formats.tool_semantics import parse_semantics
+    parse_semantics(args.semantics)
     model = load(args.file)
     if args.csv:
         if args.plot:
@@ -134,7 +145,8 @@ def run(args) -> int:
         check_output(args.plot)
     columns = {k: np.array([v]) for k, v in values.items()}
     warn_out_of_range(model, columns, args.core)
-    outputs = {k: float(v[0]) for k, v in evaluate_batch(model, columns, args.core).items()}
+    outputs = {k: float(v[0]) for k, v in
+               evaluate_batch(model, columns, args.core, args.semantics).items()}
     fired, rb_inputs = _explain(model, columns, args.core)
     if args.plot:
         from ..atomic import save_figure
@@ -210,8 +222,8 @@ def _run_csv(model: Model, args) -> int:
                 raise _fail(f"{args.csv}:{line_no}:{col + 1}: `{shown}` is not a number "
                             f"(column {name})") from None
     warn_out_of_range(model, columns, args.core)
-    outputs = (evaluate_series(model, columns) if args.series
-               else evaluate_batch(model, columns, args.core))
+    outputs = (evaluate_series(model, columns, args.semantics) if args.series
+               else evaluate_batch(model, columns, args.core, args.semantics))
     out = io.StringIO()
     writer = csv.writer(out, lineterminator="\n")
     writer.writerow(names + list(outputs))

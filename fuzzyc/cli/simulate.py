@@ -14,7 +14,8 @@ import sys
 from pathlib import Path
 
 from ..atomic import write_text
-from .common import RULE_FILE_HELP, add_campaign_arguments, check_output, cluster_from
+from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, check_output,
+                     cluster_from)
 from ..errors import Diagnostic, FuzzycError
 from fuzzyc.runtime.trace import SHOWN_LOOPS
 
@@ -34,6 +35,7 @@ def add_parser(subparsers) -> None:
                    help="run the scenario's baseline too (same batch and seed): trace.png "
                         "draws both, summary.txt and .json hold both")
     p.add_argument("--backend", choices=("numpy", "c"), default="numpy")
+    add_semantics(p)
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--pace", choices=("sim", "wall"), default="sim")
     p.add_argument("--progress", action="store_true", help="show progress even without a tty")
@@ -124,7 +126,7 @@ def run(args) -> int:
                         settings=parse_sets(args.sets), baseline=baseline,
                         randomize=args.randomize, backend=args.backend, seed=args.seed,
                         pace=args.pace, progress=True if args.progress else None,
-                        cluster=cluster)
+                        cluster=cluster, semantics=args.semantics)
 
     run = run_loop(args.baseline)
     scenario, trace, summary = run.scenario, run.trace, run.metrics

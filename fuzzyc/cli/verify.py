@@ -13,7 +13,9 @@ from __future__ import annotations
 import contextlib
 import sys
 
-from .common import RULE_FILE_HELP, add_campaign_arguments, check_output, cluster_from
+from ..formats.tool_semantics import with_tool_semantics
+from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, check_output,
+                     cluster_from)
 from ..errors import FuzzycError
 
 
@@ -30,6 +32,7 @@ def add_parser(subparsers) -> None:
                    help="write verify.json, verify.junit.xml and counterexample plots here")
     p.add_argument("--only", metavar="TEXT", help="only properties whose text contains TEXT")
     add_campaign_arguments(p)
+    add_semantics(p)
     p.set_defaults(run=run)
 
 
@@ -76,7 +79,7 @@ def run(args) -> int:
     with cluster or contextlib.nullcontext():     # one Dask cluster for every property
         for path in args.files:
             try:
-                model = load(path)
+                model = with_tool_semantics(load(path), args.semantics, "verify")
                 notes.append(defaults_note(path, model))
                 report.results += verify(model, max_examples=args.max_examples,
                                          seed=args.seed, backend=args.backend, only=args.only,

@@ -10,8 +10,10 @@ from dataclasses import dataclass, field
 import numpy as np
 import sympy
 
+from ..builder import PLAIN_SHAPES as BUILDER_SHAPES
 from ..builder import RuleSpec, assemble_rulebase, merge_rules
 from ..errors import Reporter, suggest
+from ..membership import monotonic
 from ..model import (Aggregation, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
                      SourceLoc, TermKind, Variable)
 
@@ -64,21 +66,25 @@ class VarSpec:
         return (min(points), max(points)) if points and min(points) < max(points) else None
 
 
+def nan_default(var: VarSpec, notes: list[str]) -> float:
+    """fuzzylite's `default: nan` (NaN when no rule fires) as a number the model can carry: 0,
+    or the range's low end when 0 is outside the range; said in `notes`.  The fuzzylite
+    semantics (tool_semantics) give NaN there again."""
+    lo, hi = var.lo, var.hi
+    value = 0.0 if lo is None or lo <= 0.0 <= hi else lo
+    notes.append(f"`{var.name}` default nan (NaN when no rule fires): the model needs a "
+                 f"number, took {value:g}")
+    return value
+
+
 def shape(kind: TermKind, *params: float) -> tuple[TermKind, tuple[float, float, float, float]]:
     padded = tuple(float(p) for p in params) + (0.0,) * (4 - len(params))
     return kind, padded
 
 
 # The shapes every format writes as NAME p1 p2 ... in the model's own parameter order, with
-# the condition that keeps them well defined.
-PLAIN_SHAPES = {
-    TermKind.SSHAPE: (2, lambda v: v[0] < v[1]),
-    TermKind.ZSHAPE: (2, lambda v: v[0] < v[1]),
-    TermKind.PISHAPE: (4, lambda v: v[0] < v[1] and v[2] < v[3]),
-    TermKind.SPIKE: (2, lambda v: v[1] > 0),
-    TermKind.COSINE: (2, lambda v: v[1] > 0),
-    TermKind.CONCAVE: (2, lambda v: v[0] != v[1]),
-}
+# the condition that keeps them well defined (the .fz language's table).
+PLAIN_SHAPES = {kind: (arity, valid) for kind, arity, valid, _ in BUILDER_SHAPES.values()}
 
 
 def plain_shape_or_none(kind: TermKind, values: list[float]):
@@ -103,6 +109,14 @@ def trapezoid_or_none(a: float, b: float, c: float, d: float):
     if a <= b <= c <= d and a < d:
         return shape(TermKind.TRAPEZOID, a, b, c, d)
     return None
+
+
+def tsukamoto_terms(variables) -> bool:
+    """Whether every term of these output variables is monotonic (and some is more than a
+    singleton): what fuzzylite's weighted average then computes is Tsukamoto's method."""
+    terms = [t for var in variables for t in var.terms]
+    return any(t.kind != TermKind.SINGLETON for t in terms) and \
+        all(monotonic(t.kind, t.params) for t in terms)
 
 
 @dataclass
@@ -139,11 +153,18 @@ class Collected:
                 var.lo, var.hi = span
                 self.notes.append(f"`{var.name}` had no range: took [{span[0]:g}, {span[1]:g}] "
                                   "from its terms' break points")
+            elif var.lo == var.hi and var.terms and all(
+                    t.kind in (TermKind.LINEAR, TermKind.SINGLETON) for t in var.terms) \
+                    and var.name in self.outputs and math.isfinite(var.lo):
+                # MATLAB's Sugeno outputs may say [0 0]: their range is never used there
+                self.notes.append(f"`{var.name}` has the empty range [{var.lo:g}, {var.hi:g}]: "
+                                  "its Takagi-Sugeno values are not clamped to it by the rule "
+                                  "base, but the controller output saturates to it")
             elif not (math.isfinite(var.lo) and math.isfinite(var.hi) and var.lo < var.hi):
                 self.rep.error(var.loc, f"`{var.name}` needs a finite range lo < hi, got "
                                         f"[{var.lo:g}, {var.hi:g}]")
-            if not var.terms:
-                self.rep.error(var.loc, f"`{var.name}` has no terms")
+            if not var.terms:   # legal in fuzzylite and MATLAB: read by linear consequents
+                self.notes.append(f"`{var.name}` has no terms")
 
     def model(self, path: str, text: str) -> Model:
         self.check_ranges()

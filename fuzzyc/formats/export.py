@@ -101,27 +101,27 @@ def all_singletons(var: Variable) -> bool:
 
 
 def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str,
-                  problems: list[str], upper: bool = False) -> str:
+                  problems: list[str]) -> str:
     """Rule r as `if x is not very A and ... then y is B<also>z is C with w` (FLL, FCL, .fz
-    share this shape; `also` joins conclusions, `upper` writes FCL's upper-case keywords)."""
+    share this shape; `also` joins conclusions).  Lower-case keywords: FCL's are
+    case-insensitive, and fuzzylite 6 reads FCL rules only in lower case (measured)."""
     rb = model.rulebase
-    kw = str.upper if upper else str
 
     def clause(i: int, t: int, negated: bool, hedge: Hedge) -> str:
         v = rb.inputs[i]
-        words = [kw("not")] if negated else []
+        words = ["not"] if negated else []
         if hedge != Hedge.NONE:
             words.append(hedge_words.get(hedge, hedge.name.lower()))  # else refused already
-        return " ".join([v.name, kw("is"), *words, v.names[t] if t >= 0 else "any"])
+        return " ".join([v.name, "is", *words, v.names[t] if t >= 0 else "any"])
 
-    condition = rb.describe_condition(r, clause, (kw("and"), kw("or"), kw("not")))
+    condition = rb.describe_condition(r, clause, ("and", "or", "not"))
     if not condition:
         problems.append(f"rule {r + 1} has no clause, which the format cannot say")
-    conclusions = [f"{v.name} {kw('is')} {v.names[int(rb.consequents[r, o])]}"
+    conclusions = [f"{v.name} is {v.names[int(rb.consequents[r, o])]}"
                    for o, v in enumerate(rb.outputs) if rb.consequents[r, o] >= 0]
-    text = f"{kw('if')} {condition} {kw('then')} {also.join(conclusions)}"
+    text = f"if {condition} then {also.join(conclusions)}"
     if rb.weights[r] != 1.0:
-        text += f" {kw('with')} {num(rb.weights[r])}"
+        text += f" with {num(rb.weights[r])}"
     return text
 
 

@@ -11,7 +11,15 @@ real grammar.  Mapping (exact unless said):
   METHOD COG -> CENTROID, COGS -> CENTER_OF_AREA (the centre of gravity of singletons, which the
   model computes over the terms' peaks), COA -> BISECTOR (IEC's "centre of area" halves the
   area), MM -> MEAN_OF_MAXIMUM.
-Not carried, reported: other point lists, ACCU NSUM, LM, RM, DEFAULT NC, hedges.
+fuzzylite's FCL: terms written as in FLL (`TERM low := Triangle 0 0.25 0.5;`, see
+  fll.fuzzylite_shape), `DEFAULT := nan` (as FLL's `default: nan`), the norms EPROD, DPROD,
+  HPROD, NMIN, ESUM, DSUM, HSUM, NMAX, NSUM, as ACT and ACCU too; METHOD COGS without ACCU is
+  fuzzylite's WeightedAverage over the rules (WEIGHTED_AVERAGE; Linear terms allowed; over
+  monotonic terms TSUKAMOTO), with an ACCU the centre of the singletons grouped by that
+  accumulation (CENTER_OF_AREA).
+  Hedges in rules: fuzzylite's (very, somewhat, seldom, extremely; see fll.HEDGES).
+Not carried, reported: other point lists, LM, RM, DEFAULT NC (fuzzylite's lock-previous),
+  COGS over terms other than singletons (fuzzylite's Tsukamoto).
 Several RULEBLOCKs are merged when their operators agree.  Of several FUNCTION_BLOCKs one is
 read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_fcl`).
 """
@@ -23,22 +31,37 @@ from lark import Token, Tree
 from lark.exceptions import UnexpectedInput
 
 from ..errors import Reporter
+from ..escape import one_line
 from ..model import (Aggregation, Connective, Defuzzifier, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
-from .common import Collected, TermSpec, VarSpec, shape, trapezoid_or_none
+from .common import (Collected, TermSpec, VarSpec, nan_default, shape, trapezoid_or_none,
+                     tsukamoto_terms)
 from .export import (all_singletons, finish, left_out, model_identifier, num, own_output_choices,
                      peaks_instead, rule_sentence, unsayable_hedges, unsayable_names)
+from .fll import HEDGES, fll_term, fuzzylite_shape
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
 OPERATORS = {
     "and_op": ("AND", "and_", {"MIN": TNorm.MIN, "PROD": TNorm.PRODUCT,
-                               "BDIF": TNorm.BOUNDED_DIFFERENCE}),
-    "or_op": ("OR", "or_", {"MAX": SNorm.MAX, "ASUM": SNorm.PROBSUM, "BSUM": SNorm.BOUNDED_SUM}),
-    "act": ("ACT", "implication", {"MIN": Implication.MIN, "PROD": Implication.PRODUCT}),
+                               "BDIF": TNorm.BOUNDED_DIFFERENCE, "DPROD": TNorm.DRASTIC_PRODUCT,
+                               "EPROD": TNorm.EINSTEIN_PRODUCT, "HPROD": TNorm.HAMACHER_PRODUCT,
+                               "NMIN": TNorm.NILPOTENT_MIN}),
+    "or_op": ("OR", "or_", {"MAX": SNorm.MAX, "ASUM": SNorm.PROBSUM, "BSUM": SNorm.BOUNDED_SUM,
+                            "DSUM": SNorm.DRASTIC_SUM, "ESUM": SNorm.EINSTEIN_SUM,
+                            "HSUM": SNorm.HAMACHER_SUM, "NMAX": SNorm.NILPOTENT_MAX}),
     "accu": ("ACCU", "aggregation", {"MAX": Aggregation.MAX, "SUM": Aggregation.SUM,
                                      "PROBOR": Aggregation.PROBSUM,
-                                     "BSUM": Aggregation.BOUNDED_SUM}),
+                                     "BSUM": Aggregation.BOUNDED_SUM,
+                                     "DSUM": Aggregation.DRASTIC_SUM,
+                                     "ESUM": Aggregation.EINSTEIN_SUM,
+                                     "HSUM": Aggregation.HAMACHER_SUM,
+                                     "NMAX": Aggregation.NILPOTENT_MAX}),
 }
+# ACT takes the AND words (fuzzylite writes EPROD, ...): implications are t-norms
+OPERATORS["act"] = ("ACT", "implication", {word: Implication(int(t))
+                                           for word, t in OPERATORS["and_op"][2].items()})
+# fuzzylite's other words for what the model has (read only; export writes the IEC words)
+ALIASES = {"OR": {"NSUM": "BSUM"}, "ACCU": {"ASUM": "PROBOR", "NSUM": "BSUM"}}
 METHODS = {"COG": Defuzzifier.CENTROID, "COGS": Defuzzifier.CENTER_OF_AREA,
            "COA": Defuzzifier.BISECTOR, "MM": Defuzzifier.MEAN_OF_MAXIMUM}
 
@@ -149,9 +172,12 @@ class _FclReader:
                 self._choose("METHOD", word)
             elif item.data == "default":
                 value = item.children[0]
-                if isinstance(value, Token):  # NC: keep the last output
-                    self.rep.error(self.loc(value), "DEFAULT := NC (keep the last output when "
-                                                    "no rule fires) is not supported: give a value")
+                if isinstance(value, Token) and (value.type == "NC" or len(item.children) > 1):
+                    where = self.loc(item.children[-1])   # NC, or `nan | NC`: keep the last output
+                    self.rep.error(where, "DEFAULT := NC (keep the last output when no rule "
+                                          "fires) is not supported: give a value")
+                elif isinstance(value, Token):
+                    var.default = nan_default(var, self.got.notes)
                 else:
                     var.default = float(value.children[0])
             elif item.data == "accu":
@@ -167,7 +193,9 @@ class _FclReader:
                 term_name, body = item.children
                 made = self._shape(body)
                 if made is not None:
-                    var.add(TermSpec(term_name.value, *made, loc=self.loc(term_name)), self.rep)
+                    kind, params, *coefficients = made
+                    var.add(TermSpec(term_name.value, kind, params, self.loc(term_name),
+                                     *coefficients), self.rep)
             elif item.data == "range_item":
                 var.lo, var.hi = self._interval(item.children[0])
         return var
@@ -179,6 +207,10 @@ class _FclReader:
         loc = self._where(body)
         if body.data == "singleton":
             return shape(TermKind.SINGLETON, float(body.children[0].children[0]))
+        if body.data == "named_shape":
+            word, *numbers = body.children
+            return fuzzylite_shape(word.value, [float(n.children[0]) for n in numbers], loc,
+                                   self.rep)
         if body.data == "function":
             word, *numbers = body.children
             v = [float(n.children[0]) for n in numbers]
@@ -214,8 +246,8 @@ class _FclReader:
             if item.data == "rule":
                 number, text = item.children
                 loc = self.loc(number)
-                rule = rule_from_tree(text, self.got, self.loc, {}, f"{self.path} RULE {number}",
-                                      loc)
+                rule = rule_from_tree(text, self.got, self.loc, HEDGES,
+                                      f"{self.path} RULE {number}", loc)
                 if rule is not None:
                     self.got.rules.append(rule)
             else:
@@ -224,6 +256,7 @@ class _FclReader:
     def _choose(self, key: str, word: Token) -> None:
         """One operator per kind for the whole rule base (blocks must agree)."""
         value = word.value.upper()
+        value = ALIASES.get(key, {}).get(value, value)
         if key in self.chosen and self.chosen[key][0] != value:
             first, where = self.chosen[key]
             self.rep.error(self.loc(word), f"{key} {value} differs from {first} at line "
@@ -235,8 +268,9 @@ class _FclReader:
     def _inference(self) -> None:
         inf = Inference()
         used = set().union(*(r.connectives() for r in self.got.rules))
+        weighted = self.chosen.get("METHOD", ("",))[0] == "COGS"    # no aggregation there
         needed = {"AND": Connective.AND in used, "OR": Connective.OR in used, "ACT": True,
-                  "ACCU": True, "METHOD": True}
+                  "ACCU": not weighted, "METHOD": True}
         for key, field, table in (*OPERATORS.values(), ("METHOD", "defuzzifier", METHODS)):
             if key not in self.chosen and needed[key]:
                 default = next(k for k, v in table.items() if v == getattr(inf, field))
@@ -256,16 +290,25 @@ class _FclReader:
                                     "COA (bisector), MM (mean of maximum)")
             else:
                 inf.defuzzifier = METHODS[value]
-                if value == "COGS":
+                tsukamoto = tsukamoto_terms(self.got.outputs.values())
+                if value == "COGS" and "ACCU" not in self.chosen and tsukamoto:
+                    inf.defuzzifier = Defuzzifier.TSUKAMOTO    # fuzzylite's, over Ramp, ...
+                elif value == "COGS" and "ACCU" not in self.chosen:
+                    inf.defuzzifier = Defuzzifier.WEIGHTED_AVERAGE   # over the rules
+                    self._require_singletons(TermKind.LINEAR)
+                elif value == "COGS":
                     self._require_singletons()
         self.got.inference = inf
 
-    def _require_singletons(self) -> None:
+    def _require_singletons(self, *also: TermKind) -> None:
+        """COGS over anything but singletons (and Linear terms, where allowed) is Tsukamoto's
+        method in fuzzylite, which the model does not carry."""
         for var in self.got.outputs.values():
             for term in var.terms:
-                if term.kind != TermKind.SINGLETON:
-                    self.rep.error(term.loc, f"COGS needs singleton terms; `{term.name}` "
-                                             "is not one")
+                if term.kind != TermKind.SINGLETON and term.kind not in also:
+                    self.rep.error(term.loc, f"COGS needs singleton{' or Linear' if also else ''}"
+                                             f" terms or monotonic ones (Tsukamoto); "
+                                             f"`{term.name}` is neither")
 
 
 def _block_name(block: Tree) -> Token | None:
@@ -304,17 +347,17 @@ def read_fcl(text: str, path: str = "<string>", block: str | None = None) -> Mod
     block name and, in a file with several blocks, a nameless one.  The semantic checks
     (declarations, terms, rules, operators) run on the chosen block only: a block that is not
     chosen may hold what the model cannot carry."""
-    return _FclReader(text, path).read(text, block)
+    return _FclReader(text, path).read(text.lstrip("\ufeff"), block)
 
 
 # ---------------------------------------------------------------------- export
 FCL_OPERATOR_WORDS = {field: (key, {v: k for k, v in words.items()})
                       for key, field, words in OPERATORS.values()}
-JFUZZYLOGIC = "a jFuzzyLogic extension, not IEC 61131-7"
-JFUZZYLOGIC_ACCU = {Aggregation.SUM: "SUM (unbounded)", Aggregation.PROBSUM: "PROBOR (a+b-ab)"}
-JFUZZYLOGIC_SHAPES = {TermKind.GAUSSIAN: lambda a, b, c: ("GAUSS", (a, b)),
-                      TermKind.BELL: lambda a, b, c: ("GBELL", (b, c, a)),
-                      TermKind.SIGMOID: lambda a, b, c: ("SIGM", (b, a))}
+# Where IEC 61131-7 has no word, export writes fuzzylite's (its CLI reads them back; it rejects
+# jFuzzyLogic's GAUSS/GBELL/SIGM and PROBOR, measured), which fuzzyc reads as well
+FUZZYLITE = "fuzzylite's FCL, not IEC 61131-7 (jFuzzyLogic writes it otherwise)"
+FUZZYLITE_ACCU = {Aggregation.SUM: "SUM (unbounded)", Aggregation.PROBSUM: "ASUM (a+b-ab)"}
+FCL_OPERATOR_WORDS["aggregation"][1][Aggregation.PROBSUM] = "ASUM"
 
 
 def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
@@ -327,34 +370,44 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     problems = (unsayable_hedges(model, {}, "FCL") + unsayable_names(model, "FCL")
                 + own_output_choices(model, "FCL"))
     outputs, method = _fcl_method(model, problems, notes)
-    # A weighted average is COGS over the per-rule activations summed per term.
-    accu = Aggregation.SUM if inf.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE else inf.aggregation
-    if accu in JFUZZYLOGIC_ACCU:
-        notes.append(f"ACCU {JFUZZYLOGIC_ACCU[accu]} is {JFUZZYLOGIC}")
+    # A weighted average is COGS without ACCU (fuzzylite's reading, and fuzzyc's: see the
+    # module docstring); the center of area is COGS with the ACCU that groups each term's rules.
+    weighted = inf.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE
+    accu = None if weighted else inf.aggregation
+    if accu in FUZZYLITE_ACCU:
+        notes.append(f"ACCU {FUZZYLITE_ACCU[accu]} is {FUZZYLITE}")
     if method == "MM":
-        notes.append(f"METHOD MM is {JFUZZYLOGIC}")
-    comments = [f"(* {text.replace('*)', '* )')} *)"
-                for text in (model.title, *model.notes) if text]
+        notes.append(f"METHOD MM is {FUZZYLITE}")
+    # `//` comments, not IEC's (* *): the fuzzylite 6 CLI rejects (* *) (measured), and
+    # fuzzylite and jFuzzyLogic both read `//`; each text on its one line.
+    comments = [f"// {one_line(text)}" for text in (model.title, *model.notes) if text]
     lines = [*comments, f"FUNCTION_BLOCK {model_identifier(model)}", ""]
     for section, variables in (("VAR_INPUT", rb.inputs), ("VAR_OUTPUT", outputs)):
         lines += [section, *(f"  {v.name} : REAL;" for v in variables), "END_VAR", ""]
     for var in rb.inputs:
         lines += [f"FUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
                   f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_FUZZIFY", ""]
-    for var in outputs:
-        lines += [f"DEFUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
-                  f"  METHOD : {method};", f"  DEFAULT := {num(var.default)};",
-                  f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_DEFUZZIFY", ""]
-    lines.append("RULEBLOCK rules")
+    operators = {}
     for field, (key, words) in FCL_OPERATOR_WORDS.items():
         value = accu if field == "aggregation" else getattr(inf, field)
+        if value is None:
+            continue
         if value not in words:
             problems.append(f"{key} {value.name.lower()} has no FCL word (FCL has "
                             f"{', '.join(words.values())})")
             continue
-        lines.append(f"  {key} : {words[value]};")
+        operators[key] = f"  {key} : {words[value]};"
+    # ACCU in each DEFUZZIFY block, where fuzzylite 6 reads it (it rejects ACCU in a RULEBLOCK,
+    # measured); IEC 61131-7 and jFuzzyLogic put it in the RULEBLOCK; fuzzyc reads both.
+    accu_line = operators.pop("ACCU", None)
+    for var in outputs:
+        lines += [f"DEFUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
+                  f"  METHOD : {method};", *([accu_line] if accu_line else []),
+                  f"  DEFAULT := {num(var.default)};",
+                  f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_DEFUZZIFY", ""]
+    lines += ["RULEBLOCK rules", *operators.values()]
     for r in range(rb.n_rules):
-        lines.append(f"  RULE {r + 1} : {rule_sentence(model, r, {}, ', ', problems, upper=True)};")
+        lines.append(f"  RULE {r + 1} : {rule_sentence(model, r, {}, ' and ', problems)};")
     lines += ["END_RULEBLOCK", "", "END_FUNCTION_BLOCK"]
     return finish(model, "FCL", lines, problems, notes, warnings)
 
@@ -365,6 +418,9 @@ def _fcl_method(model: Model, problems: list[str], notes: list[str]):
     singletons = all(all_singletons(v) for v in rb.outputs)
     if method == Defuzzifier.WEIGHTED_SUM:
         problems.append("FCL has no weighted-sum defuzzifier")
+    if method == Defuzzifier.TSUKAMOTO:
+        problems.append("FCL has no Tsukamoto defuzzifier (fuzzylite's dialect reads COGS over "
+                        "ramps so, jFuzzyLogic does not): write FLL")
     if method in (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE) or (
             method == Defuzzifier.CENTROID and singletons):
         outputs, changed = peaks_instead(model, "FCL")
@@ -389,13 +445,13 @@ def _fcl_terms(var, problems: list[str], notes: list[str]) -> list[str]:
                 problems.append(f"term `{name}` of `{var.name}` has no FCL point list")
         elif kind == TermKind.SINGLETON:
             body = num(a)
-        elif kind not in JFUZZYLOGIC_SHAPES:
+        elif kind == TermKind.LINEAR or fll_term(kind, p, True) is None:
             problems.append(f"term `{name}` of `{var.name}` ({kind.name.lower()}) has no FCL "
                             "shape")
             continue
         else:
-            word, args = JFUZZYLOGIC_SHAPES[kind](a, b, c)
-            body = " ".join([word, *map(num, args)])
-            notes.append(f"term `{name}` of `{var.name}` uses {word}, {JFUZZYLOGIC}")
+            body = fll_term(kind, p, True)
+            notes.append(f"term `{name}` of `{var.name}` is written `{body.split()[0]}`, "
+                         f"{FUZZYLITE}")
         lines.append(f"  TERM {name} := {body};")
     return lines

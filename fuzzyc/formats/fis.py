@@ -8,8 +8,15 @@ ZSHAPE, PISHAPE; constant -> SINGLETON; linear [c1 .. cn c0] -> LINEAR (sugeno o
 min/prod, max/probor, implication min/prod, aggregation max/sum/probor; centroid, bisector, mom,
 wtaver, wtsum.  MATLAB evaluates Mamdani outputs on 101 points of the range; the model
 integrates exactly.  Rules: `i1 i2, o1 (w) : c` with 0 = any, a negative index = NOT,
-c = 1 (and) or 2 (or).  Not carried, reported: other MF types (dsigmf, psigmf, gauss2mf),
-som/lom, custom functions, negated consequents.
+c = 1 (and) or 2 (or); a fraction on an input index is the Octave toolkit's hedge
+(`t.05` somewhat, `t.2` very, `t.3` extremely: membership^0.5, ^2, ^3).  The Octave toolkit's
+and fuzzylite's further norms (einstein_product, hamacher_sum, ...) and fuzzylite's
+membership functions (rampmf, rectmf, concavemf, cosinemf, spikemf; dsigmf, psigmf, gauss2mf
+as fuzzylite's SigmoidDifference, SigmoidProduct, GaussianProduct) are read too.
+Comments: `%` to the end of the line, and lines starting with `#`.
+Not carried, reported: other MF types (discretemf, custom functions), som/lom, negated or
+hedged consequents, type hybrid (fuzzylite: a defuzzifier per output); type tsukamoto
+(fuzzylite's: wtaver over monotonic terms) is the model's Tsukamoto defuzzifier.
 When no rule fires, MATLAB's evalfis sets an output to the middle of its range (with a
 warning): the imported output's default is that middle, so both give the same number.
 
@@ -48,9 +55,11 @@ from ..escape import name_problems
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, SNorm,
                      SourceLoc, TermKind, TNorm, Variable)
 from ..membership import linear_coefficients
-from .common import Collected, TermSpec, VarSpec, plain_shape_or_none, shape, trapezoid_or_none
+from .common import (Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
+                     trapezoid_or_none, tsukamoto_terms)
 from .export import (finish, left_out, num, own_output_choices, peaks_instead,
                      unsayable_hedges)
+from .fll import fuzzylite_shape
 
 SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")
 KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$")
@@ -69,6 +78,31 @@ SETTINGS = {
                                      "wtaver": Defuzzifier.WEIGHTED_AVERAGE,
                                      "wtsum": Defuzzifier.WEIGHTED_SUM}),
 }
+# The Octave toolkit's and fuzzylite's words for further norms (read only: export writes the
+# MATLAB words above, which every reader knows).
+T_NORM_WORDS = {"algebraic_product": TNorm.PRODUCT, "bounded_difference": TNorm.BOUNDED_DIFFERENCE,
+                "drastic_product": TNorm.DRASTIC_PRODUCT,
+                "einstein_product": TNorm.EINSTEIN_PRODUCT,
+                "hamacher_product": TNorm.HAMACHER_PRODUCT,
+                "nilpotent_minimum": TNorm.NILPOTENT_MIN}
+S_NORM_WORDS = {"algebraic_sum": SNorm.PROBSUM, "bounded_sum": SNorm.BOUNDED_SUM,
+                "drastic_sum": SNorm.DRASTIC_SUM, "einstein_sum": SNorm.EINSTEIN_SUM,
+                "hamacher_sum": SNorm.HAMACHER_SUM, "nilpotent_maximum": SNorm.NILPOTENT_MAX}
+READ_ALSO = {"AndMethod": T_NORM_WORDS, "OrMethod": S_NORM_WORDS,
+             "ImpMethod": {word: Implication(int(t)) for word, t in T_NORM_WORDS.items()},
+             "AggMethod": {word: Aggregation[s.name] for word, s in S_NORM_WORDS.items()
+                           if s.name in Aggregation.__members__} |
+             {"algebraic_sum": Aggregation.PROBSUM}}
+# The Octave toolkit's hedges: a rule index `t.h` is term t with its membership raised to the
+# power round(100 h) / 10 (`1.05` somewhat, `1.2` very, `1.3` extremely).
+FIS_HEDGES = {0.0: Hedge.NONE, 0.5: Hedge.SOMEWHAT, 2.0: Hedge.VERY, 3.0: Hedge.EXTREMELY}
+# fuzzylite's membership functions in FIS -> (its FLL word, FIS parameters -> FLL's order)
+FUZZYLITE_MFS = {"rampmf": ("Ramp", lambda v: v), "rectmf": ("Rectangle", lambda v: v),
+                 "concavemf": ("Concave", lambda v: v), "cosinemf": ("Cosine", lambda v: v),
+                 "spikemf": ("Spike", lambda v: v),
+                 "dsigmf": ("SigmoidDifference", lambda v: [v[1], v[0], v[2], v[3]][:len(v)]),
+                 "psigmf": ("SigmoidProduct", lambda v: [v[1], v[0], v[2], v[3]][:len(v)]),
+                 "gauss2mf": ("GaussianProduct", lambda v: [v[1], v[0], v[3], v[2]][:len(v)])}
 SYSTEM_KEYS = {"Name", "Type", "Version", "NumInputs", "NumOutputs", "NumRules", *SETTINGS}
 VARIABLE_KEYS = {"Name", "Range", "NumMFs"}
 
@@ -85,8 +119,10 @@ class _FisReader:
         self.pending_rules: list[tuple[int, str]] = []
 
     def read(self, text: str) -> Model:
-        for number, line in enumerate(source_lines(text), start=1):
-            body = line.split("%", 1)[0]
+        for number, line in enumerate(source_lines(text.lstrip("\ufeff")), start=1):
+            # `%` starts a comment (MATLAB); a line starting with `#` is one too (fuzzylite and
+            # the Octave toolkit write their headers so); `#` inside a line stays text.
+            body = "" if line.lstrip().startswith("#") else line.split("%", 1)[0]
             if body.strip():
                 self._line(number, body)
         for is_input, var in self.variables:
@@ -101,6 +137,13 @@ class _FisReader:
     def _check_sugeno(self) -> None:
         weighted = self.got.inference.defuzzifier in (Defuzzifier.WEIGHTED_AVERAGE,
                                                       Defuzzifier.WEIGHTED_SUM)
+        if self.type == "tsukamoto":      # fuzzylite's: wtaver over monotonic terms
+            if self.got.inference.defuzzifier != Defuzzifier.WEIGHTED_AVERAGE or \
+                    not tsukamoto_terms(self.got.outputs.values()):
+                self.rep.error(self.rep.loc(1, 1), "a tsukamoto system needs wtaver and "
+                                                   "monotonic output terms")
+            self.got.inference.defuzzifier = Defuzzifier.TSUKAMOTO
+            return
         if weighted != (self.type == "sugeno"):
             self.rep.error(self.rep.loc(1, 1), f"a {self.type} system cannot use "
                                                f"{self.got.inference.defuzzifier.name.lower()}")
@@ -146,10 +189,16 @@ class _FisReader:
             self.got.name = re.sub(r"\W", "_", _unquote(value))
         elif key == "Type":
             self.type = _unquote(value).lower()
-            if self.type not in ("mamdani", "sugeno"):
-                self.rep.error(loc, f"type `{self.type}` is not supported: mamdani or sugeno")
+            if self.type == "hybrid":
+                self.rep.error(loc, "type `hybrid` (fuzzylite: a defuzzifier per output) is not "
+                                    "supported: the model has one defuzzifier for the whole "
+                                    "rule base")
+            elif self.type not in ("mamdani", "sugeno", "tsukamoto"):
+                self.rep.error(loc, f"type `{self.type}` is not supported: mamdani, sugeno or "
+                                    "tsukamoto (fuzzylite's)")
         elif key in SETTINGS:
             field, table = SETTINGS[key]
+            table = {**table, **READ_ALSO.get(key, {})}
             word = _unquote(value)
             if word not in table:
                 self.rep.error(loc, f"{key} `{word}` is not supported: the model has "
@@ -182,9 +231,15 @@ class _FisReader:
         n_inputs = sum(is_input for is_input, _ in self.variables)   # inputs come first
         arity = {"trimf": 3, "trapmf": 4, "gaussmf": 2, "gbellmf": 3, "sigmf": 2, "constant": 1,
                  "smf": 2, "zmf": 2, "pimf": 4, "linear": n_inputs + 1}
+        if kind in FUZZYLITE_MFS:
+            word, order = FUZZYLITE_MFS[kind]
+            made = fuzzylite_shape(word, order(numbers), loc, self.rep)
+            if made is not None:
+                self.var.add(TermSpec(name, *made, loc=loc), self.rep)
+            return
         if kind not in arity:
             self.rep.error(loc, f"membership function `{kind}` is not supported: the model "
-                                "carries " + ", ".join(arity))
+                                "carries " + ", ".join([*arity, *FUZZYLITE_MFS]))
             return
         v = numbers
         if kind == "linear":     # [c1 .. cn c0], as MATLAB writes it
@@ -227,18 +282,23 @@ class _FisReader:
                                 f"indices, got {len(ins)} and {len(outs)}")
             return
         try:
-            codes = [int(t) for t in ins + outs]
-        except ValueError:
-            self.rep.error(loc, "fractional indices (hedges) are not supported: whole numbers only")
+            split = [_index_and_hedge(t) for t in ins + outs]
+        except ValueError as exc:
+            self.rep.error(loc, str(exc))
             return
+        codes = [code for code, _ in split]
         clauses, conclusions = {}, {}
-        for var, code in zip(inputs, codes[:len(ins)]):
+        for var, (code, hedge) in zip(inputs, split[:len(ins)]):
             if code != 0:
-                clauses[var.name] = (abs(code) - 1, code < 0, Hedge.NONE)
-        for var, code in zip(outputs, codes[len(ins):]):
+                clauses[var.name] = (abs(code) - 1, code < 0, hedge)
+        for var, (code, hedge) in zip(outputs, split[len(ins):]):
             if code < 0:
                 self.rep.error(loc, f"a negated consequent (`{code}` for {var.name}) is not "
                                     "supported")
+                return
+            if hedge != Hedge.NONE:
+                self.rep.error(loc, f"a hedge on a consequent (for {var.name}) is not "
+                                    "supported: the model's consequents are plain terms")
                 return
             if code != 0:
                 conclusions[var.name] = code - 1
@@ -261,6 +321,17 @@ class _FisReader:
             self.rep.error(loc, f"`{var.name}` has {len(var.terms)} terms, no term {index}")
             return False
         return True
+
+
+def _index_and_hedge(text: str) -> tuple[int, Hedge]:
+    """A rule index as the Octave toolkit reads it: `-2.2` -> (-2, VERY) (see FIS_HEDGES)."""
+    value = float(text)
+    index = int(abs(value))
+    exponent = round(100 * (abs(value) - index)) / 10 if index else 0.0
+    if exponent not in FIS_HEDGES:
+        raise ValueError(f"rule index `{text}`: a hedge exponent of {exponent:g} is not "
+                         "supported: the model carries .05 (somewhat), .2 (very), .3 (extremely)")
+    return (-index if value < 0 else index), FIS_HEDGES[exponent]
 
 
 def _unquote(value: str) -> str:
@@ -336,6 +407,9 @@ def _fis_system(model: Model, problems: list[str], notes: list[str]):
     singletons = [bool(np.all(v.kinds == TermKind.SINGLETON)) for v in rb.outputs]
     operators = [("AndMethod", _fis_operator(rb, "and_", Connective.AND, "min", problems, notes)),
                  ("OrMethod", _fis_operator(rb, "or_", Connective.OR, "max", problems, notes))]
+    if method == Defuzzifier.TSUKAMOTO:
+        problems.append("MATLAB's FIS has no Tsukamoto system (fuzzylite's `tsukamoto` type is "
+                        "read, not written): write FLL")
     if method in AREA_METHODS and not any(singletons):
         for v in rb.outputs:
             for name in np.asarray(v.names)[v.kinds == TermKind.SINGLETON]:
@@ -346,8 +420,8 @@ def _fis_system(model: Model, problems: list[str], notes: list[str]):
                      f"({FIS_WORDS['defuzzifier'][method]} of the sampled aggregate); fuzzyc "
                      "integrates exactly: MATLAB's numbers differ by that sampling error")
         return "mamdani", rb.outputs, [
-            *operators, ("ImpMethod", FIS_WORDS["implication"][inf.implication]),
-            ("AggMethod", _fis_aggregation(inf.aggregation, problems)),
+            *operators, ("ImpMethod", _fis_method("implication", inf.implication, problems)),
+            ("AggMethod", _fis_method("aggregation", inf.aggregation, problems)),
             ("DefuzzMethod", FIS_WORDS["defuzzifier"][method])]
     if method in AREA_METHODS and not all(singletons):
         problems.append(f"{method.name.lower()} over outputs of which some are all singletons "
@@ -369,14 +443,15 @@ def _fis_system(model: Model, problems: list[str], notes: list[str]):
                                ("DefuzzMethod", word)]
 
 
-def _fis_aggregation(aggregation: Aggregation, problems: list[str]) -> str:
-    """MATLAB's AggMethod word; one MATLAB lacks (the bounded sum) is refused."""
-    words = FIS_WORDS["aggregation"]
-    if aggregation not in words:
-        problems.append(f"aggregation {aggregation.name.lower()} has no FIS word (AggMethod is "
+def _fis_method(field: str, value, problems: list[str]) -> str:
+    """MATLAB's ImpMethod/AggMethod word; one MATLAB lacks (the bounded sum, the Einstein
+    norms...) is refused."""
+    words = FIS_WORDS[field]
+    if value not in words:
+        problems.append(f"{field} {value.name.lower()} has no FIS word (MATLAB has "
                         f"{', '.join(words.values())} or a custom function): FIS cannot say it")
-        return "max"
-    return words[aggregation]
+        return next(iter(words.values()))
+    return words[value]
 
 
 def _check_peak_ratio(model: Model, problems: list[str], notes: list[str]) -> None:
@@ -461,14 +536,21 @@ def _fis_trapezoid(var: Variable, name: str, p: tuple, problems: list[str],
         a = b = min(var.lo, c)
     if c == d == math.inf:
         c = d = max(var.hi, b)
+    # A vertical edge at or beyond the range's end leans outward by the range's width: the same
+    # membership on the range, and the Octave toolkit refuses vertical edges (a = b, c = d).
+    if a == b <= var.lo:
+        a = b - (var.hi - var.lo)
+    if c == d >= var.hi:
+        d = c + (var.hi - var.lo)
     word, values = ("trimf", (a, b, d)) if b == c else ("trapmf", (a, b, c, d))
     if not all(map(math.isfinite, (a, b, c, d))):
         problems.append(f"term `{name}` of `{var.name}` ({', '.join(map(num, p))}) has no FIS "
                         "membership function")
     elif (a, b, c, d) != p:
-        notes.append(f"shoulder `{name}` of `{var.name}` is written as {word} "
-                     f"[{' '.join(map(num, values))}] (FIS has no infinite break points): "
-                     f"the same on [{num(var.lo)}, {num(var.hi)}], 0 instead of 1 beyond it")
+        notes.append(f"`{name}` of `{var.name}` is written as {word} "
+                     f"[{' '.join(map(num, values))}] (FIS has no infinite break points, the "
+                     "Octave toolkit no vertical edges): the same on "
+                     f"[{num(var.lo)}, {num(var.hi)}], not beyond it")
     return word, values
 
 

@@ -19,14 +19,16 @@ Mapping (exact unless said):
   term with the output's aggregation: `none`/UnboundedSum -> WEIGHTED_AVERAGE,
   Maximum/AlgebraicSum/BoundedSum -> CENTER_OF_AREA with that aggregation (fuzzylite's
   grouped_terms fold each term's degrees with the aggregation's s-norm).  WeightedSum with
-  `none` -> WEIGHTED_SUM.
+  `none` -> WEIGHTED_SUM; WeightedAverage over monotonic terms (Ramp, Sigmoid, SShape,
+  ZShape, Concave) -> TSUKAMOTO.  Every fuzzylite t-norm as implication, every s-norm as
+  aggregation (DrasticSum, EinsteinSum, HamacherSum, NilpotentMaximum integrate on the
+  engine's grid).
 Each output keeps its own aggregation and defuzzifier (RuleBase.output_choices where it differs
 from the first output's).  Rule blocks whose operators agree make one rule base; blocks with
 their own operators become rule blocks of the model, each concluding its own outputs (an output
 concluded in two blocks whose operators differ is reported).
-Anything else (Function, Discrete, Binary, the products/differences of sigmoids, term heights,
-implications and aggregations other than the above, activation methods other than General,
-lock-previous) is reported with its place.
+Anything else (Function, Discrete, term heights, activation methods other than General,
+lock-previous, hedges on conclusions) is reported with its place.
 """
 from __future__ import annotations
 
@@ -42,8 +44,8 @@ from ..escape import one_line
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
 from ..membership import linear_coefficients
-from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
-                     trapezoid_or_none)
+from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, nan_default,
+                     plain_shape_or_none, shape, trapezoid_or_none, tsukamoto_terms)
 from .export import (all_singletons, compound_negations, finish, left_out, model_identifier, num,
                      own_output_choices, peaks_instead, rule_sentence, unsayable_hedges,
                      unsayable_names)
@@ -60,16 +62,22 @@ SNORMS = {"Maximum": SNorm.MAX, "AlgebraicSum": SNorm.PROBSUM, "BoundedSum": SNo
           "HamacherSum": SNorm.HAMACHER_SUM, "NilpotentMaximum": SNorm.NILPOTENT_MAX,
           "NormalizedSum": SNorm.BOUNDED_SUM}
 FLL_SHAPES = {"SShape": TermKind.SSHAPE, "ZShape": TermKind.ZSHAPE, "PiShape": TermKind.PISHAPE,
-              "Spike": TermKind.SPIKE, "Cosine": TermKind.COSINE, "Concave": TermKind.CONCAVE}
-IMPLICATIONS = {"Minimum": Implication.MIN, "AlgebraicProduct": Implication.PRODUCT}
+              "Spike": TermKind.SPIKE, "Cosine": TermKind.COSINE, "Concave": TermKind.CONCAVE,
+              "SigmoidDifference": TermKind.SIGMOID_DIFFERENCE,
+              "SigmoidProduct": TermKind.SIGMOID_PRODUCT,
+              "GaussianProduct": TermKind.GAUSSIAN_PRODUCT, "Binary": TermKind.BINARY,
+              "SemiEllipse": TermKind.SEMI_ELLIPSE, "Arc": TermKind.ARC}
+IMPLICATIONS = {word: Implication(int(t)) for word, t in TNORMS.items()}
 AGGREGATIONS = {"Maximum": Aggregation.MAX, "UnboundedSum": Aggregation.SUM,
-                "AlgebraicSum": Aggregation.PROBSUM, "BoundedSum": Aggregation.BOUNDED_SUM}
+                "AlgebraicSum": Aggregation.PROBSUM, "BoundedSum": Aggregation.BOUNDED_SUM,
+                "DrasticSum": Aggregation.DRASTIC_SUM, "EinsteinSum": Aggregation.EINSTEIN_SUM,
+                "HamacherSum": Aggregation.HAMACHER_SUM,
+                "NilpotentMaximum": Aggregation.NILPOTENT_MAX}
 # WeightedAverage grouped by these is the center of area with that aggregation
 GROUPING = {k: v for k, v in AGGREGATIONS.items() if v != Aggregation.SUM}
 INTEGRAL = {"Centroid": Defuzzifier.CENTROID, "Bisector": Defuzzifier.BISECTOR,
             "MeanOfMaximum": Defuzzifier.MEAN_OF_MAXIMUM}
-KNOWN_UNSUPPORTED_TERMS = ("Function", "Discrete", "Binary", "GaussianProduct",
-                           "SigmoidDifference", "SigmoidProduct", "Activated", "Aggregated")
+KNOWN_UNSUPPORTED_TERMS = ("Function", "Discrete", "Activated", "Aggregated")
 SECTIONS = ("Engine", "InputVariable", "OutputVariable", "RuleBlock")
 KEYS = {
     "Engine": {"description"},
@@ -184,12 +192,7 @@ class _FllReader:
         if values is None:
             return
         value = values[0]
-        if math.isnan(value):
-            lo, hi = self.var.lo, self.var.hi
-            value = 0.0 if lo is None or lo <= 0.0 <= hi else lo
-            self.got.notes.append(f"`{self.var.name}` default nan (NaN when no rule fires): the "
-                                  f"model needs a number, took {value:g}")
-        self.var.default = value
+        self.var.default = nan_default(self.var, self.got.notes) if math.isnan(value) else value
 
     def _term(self, line: _Line) -> None:
         if len(line.tokens) < 2:
@@ -203,55 +206,18 @@ class _FllReader:
             except ValueError:
                 self.rep.error(self.loc(line, col), f"`{text}` is not a number")
                 return
-        made = self._shape(kind, values, self.loc(line, kind_col))
-        if made is not None:
+        made = fuzzylite_shape(kind, values, self.loc(line, kind_col), self.rep)
+        if made is not None and name in self.var.term_names():
+            # measured on pyfuzzylite's juggler.fll: the fuzzylite 6 CLI takes the first term of
+            # a name, pyfuzzylite 8 the last; a rule base that means two things is refused
+            self.rep.error(self.loc(line, name_col), f"term `{name}` is already defined for "
+                                                     f"`{self.var.name}`: fuzzylite 6 would use "
+                                                     "the first, pyfuzzylite 8 the last; rename "
+                                                     "one")
+        elif made is not None:
             term_kind, params, *coefficients = made
             self.var.add(TermSpec(name, term_kind, params, self.loc(line, name_col),
                                   *coefficients), self.rep)
-
-    def _shape(self, kind: str, v: list[float], loc: SourceLoc):
-        if kind == "Linear":
-            if not v or not all(map(math.isfinite, v)):
-                self.rep.error(loc, "`Linear` takes finite coefficients, one per input and "
-                                    "optionally a constant")
-                return None
-            return TermKind.LINEAR, (0.0,) * 4, tuple(v)
-        arity = {"Triangle": 3, "Trapezoid": 4, "Rectangle": 2, "Ramp": 2, "Gaussian": 2,
-                 "Bell": 3, "Sigmoid": 2, "Constant": 1,
-                 **{name: PLAIN_SHAPES[k][0] for name, k in FLL_SHAPES.items()}}.get(kind)
-        if arity is None:
-            what = "is not supported" if kind in KNOWN_UNSUPPORTED_TERMS else "is unknown"
-            self.rep.error(loc, f"term shape `{kind}` {what}: the model carries Triangle, "
-                                "Trapezoid, Rectangle, Ramp, Gaussian, Bell, Sigmoid, "
-                                + ", ".join(FLL_SHAPES) + ", Constant, Linear")
-            return None
-        height_allowed = kind != "Constant"
-        if len(v) not in (arity, arity + height_allowed) or len(v) == 0:
-            self.rep.error(loc, f"`{kind}` takes {arity} parameters"
-                                + (" and an optional height" if height_allowed else "")
-                                + f", got {len(v)}")
-            return None
-        if len(v) > arity and v[arity] != 1.0:
-            self.rep.error(loc, f"a term height of {v[arity]:g} is not supported: the model's "
-                                "terms reach 1")
-            return None
-        v = v[:arity]
-        made = {
-            "Triangle": lambda: trapezoid_or_none(v[0], v[1], v[1], v[2]),
-            "Trapezoid": lambda: trapezoid_or_none(*v),
-            "Rectangle": lambda: trapezoid_or_none(v[0], v[0], v[1], v[1]),
-            "Ramp": lambda: (trapezoid_or_none(v[0], v[1], math.inf, math.inf) if v[0] < v[1]
-                             else trapezoid_or_none(-math.inf, -math.inf, v[1], v[0])
-                             if v[0] > v[1] else None),
-            "Gaussian": lambda: shape(TermKind.GAUSSIAN, *v) if v[1] > 0 else None,
-            "Bell": lambda: shape(TermKind.BELL, *v) if v[1] > 0 and v[2] > 0 else None,
-            "Sigmoid": lambda: shape(TermKind.SIGMOID, *v) if v[1] != 0 else None,
-            "Constant": lambda: shape(TermKind.SINGLETON, *v) if math.isfinite(v[0]) else None,
-            **{name: (lambda k=k: plain_shape_or_none(k, v)) for name, k in FLL_SHAPES.items()},
-        }[kind]()
-        if made is None:
-            self.rep.error(loc, f"degenerate {kind} ({' '.join(f'{p:g}' for p in v)})")
-        return made
 
     # ------------------------------------------------------------------ operators
     def _aggregation(self, line: _Line) -> None:
@@ -268,10 +234,14 @@ class _FllReader:
                                   "sampling)")
             words = words[:1]
         if words[0] in ("WeightedAverage", "WeightedSum") and len(words) > 1:
-            if words[1] not in ("TakagiSugeno", "Automatic"):
+            # the type follows from the terms (Tsukamoto: monotonic ones), as fuzzylite's
+            # Automatic: a stated type is taken as that
+            allowed = ["TakagiSugeno", "Automatic"] + (["Tsukamoto"] if words[0] ==
+                                                       "WeightedAverage" else [])
+            if words[1] not in allowed:
                 self.rep.error(self.loc(line, line.tokens[1][1]),
                                f"{words[0]} {words[1]} is not supported: the model's weighted "
-                               "defuzzifiers are Takagi-Sugeno (constant consequents)")
+                               f"defuzzifiers are {', '.join(allowed)}")
                 return
             words = words[:1]
         self._setting("defuzzifier", line, " ".join(words))
@@ -365,7 +335,10 @@ class _FllReader:
             inf.defuzzifier = (Defuzzifier.CENTER_OF_AREA if aggregation in GROUPING
                                else Defuzzifier.WEIGHTED_AVERAGE)
             inf.aggregation = GROUPING.get(aggregation, inf.aggregation)
-            self._require_constants(var, defuzz)
+            if aggregation not in GROUPING and tsukamoto_terms([var]):
+                inf.defuzzifier = Defuzzifier.TSUKAMOTO      # Ramp, Sigmoid, ... terms
+            else:
+                self._require_constants(var, defuzz)
         elif defuzz == "WeightedSum" and aggregation in ("none", "UnboundedSum"):
             inf.defuzzifier = Defuzzifier.WEIGHTED_SUM
             self._require_constants(var, defuzz)
@@ -410,8 +383,8 @@ class _FllReader:
         for term in var.terms:
             if term.kind not in (TermKind.SINGLETON, TermKind.LINEAR):
                 self.rep.error(term.loc, f"{defuzz} needs Constant or Linear terms "
-                                         "(Takagi-Sugeno); "
-                                         f"`{term.name}` is not one")
+                                         "(Takagi-Sugeno) or monotonic ones (Tsukamoto); "
+                                         f"`{term.name}` is neither")
 
     # ------------------------------------------------------------------ rules
     def _rule(self, line: _Line) -> None:
@@ -453,6 +426,54 @@ class _FllReader:
             return None
         return values
 
+def fuzzylite_shape(kind: str, v: list[float], loc: SourceLoc, rep: Reporter):
+    """A term written `Shape p1 p2 ...` as fuzzylite writes it (in FLL, and in its FCL) ->
+    (TermKind, params[, linear coefficients]), or None after reporting why not."""
+    if kind == "Linear":
+        if not v or not all(map(math.isfinite, v)):
+            rep.error(loc, "`Linear` takes finite coefficients, one per input and "
+                           "optionally a constant")
+            return None
+        return TermKind.LINEAR, (0.0,) * 4, tuple(v)
+    arity = {"Triangle": 3, "Trapezoid": 4, "Rectangle": 2, "Ramp": 2, "Gaussian": 2,
+             "Bell": 3, "Sigmoid": 2, "Constant": 1,
+             **{name: PLAIN_SHAPES[k][0] for name, k in FLL_SHAPES.items()}}.get(kind)
+    if arity is None:
+        what = "is not supported" if kind in KNOWN_UNSUPPORTED_TERMS else "is unknown"
+        rep.error(loc, f"term shape `{kind}` {what}: the model carries Triangle, "
+                       "Trapezoid, Rectangle, Ramp, Gaussian, Bell, Sigmoid, "
+                       + ", ".join(FLL_SHAPES) + ", Constant, Linear")
+        return None
+    height_allowed = kind != "Constant"
+    if len(v) not in (arity, arity + height_allowed) or len(v) == 0:
+        rep.error(loc, f"`{kind}` takes {arity} parameters"
+                       + (" and an optional height" if height_allowed else "")
+                       + f", got {len(v)}")
+        return None
+    if len(v) > arity and v[arity] != 1.0:
+        rep.error(loc, f"a term height of {v[arity]:g} is not supported: the model's "
+                       "terms reach 1")
+        return None
+    v = v[:arity]
+    if kind == "Binary" and math.isinf(v[1]):   # only the direction's side of start matters
+        v = [v[0], v[0] + math.copysign(1.0, v[1])]
+    made = {
+        "Triangle": lambda: trapezoid_or_none(v[0], v[1], v[1], v[2]),
+        "Trapezoid": lambda: trapezoid_or_none(*v),
+        "Rectangle": lambda: trapezoid_or_none(v[0], v[0], v[1], v[1]),
+        "Ramp": lambda: (trapezoid_or_none(v[0], v[1], math.inf, math.inf) if v[0] < v[1]
+                         else trapezoid_or_none(-math.inf, -math.inf, v[1], v[0])
+                         if v[0] > v[1] else None),
+        "Gaussian": lambda: shape(TermKind.GAUSSIAN, *v) if v[1] > 0 else None,
+        "Bell": lambda: shape(TermKind.BELL, *v) if v[1] > 0 and v[2] > 0 else None,
+        "Sigmoid": lambda: shape(TermKind.SIGMOID, *v) if v[1] != 0 else None,
+        "Constant": lambda: shape(TermKind.SINGLETON, *v) if math.isfinite(v[0]) else None,
+        **{name: (lambda k=k: plain_shape_or_none(k, v)) for name, k in FLL_SHAPES.items()},
+    }[kind]()
+    if made is None:
+        rep.error(loc, f"degenerate {kind} ({' '.join(f'{p:g}' for p in v)})")
+    return made
+
 
 def read_fll(text: str, path: str = "<string>") -> Model:
     """An FLL engine as a Model; raises FuzzycError listing everything it cannot carry."""
@@ -464,7 +485,7 @@ FLL_HEDGES = {v: k for k, v in HEDGES.items()}
 FLL_NAMES = {
     "and_": {v: k for k, v in TNORMS.items()},
     "or_": {v: k for k, v in SNORMS.items() if k != "NormalizedSum"},
-    "implication": {Implication.MIN: "Minimum", Implication.PRODUCT: "AlgebraicProduct"},
+    "implication": {v: k for k, v in IMPLICATIONS.items()},
 }
 FLL_INTEGRAL = {v: k for k, v in INTEGRAL.items()}
 FLL_AGGREGATIONS = {v: k for k, v in AGGREGATIONS.items()}
@@ -514,6 +535,10 @@ def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):
                      "(pyfuzzylite 8: 1000 midpoints, fuzzylite 6 C++: 100); fuzzyc integrates "
                      "exactly (see fuzzylite_compat.evaluate_sampled)")
         return rb.outputs, aggregation, FLL_INTEGRAL[method]
+    if method == Defuzzifier.TSUKAMOTO:
+        notes.append("Tsukamoto: fuzzylite 6 and pyfuzzylite 8 invert some terms differently "
+                     "(see tool_semantics)")
+        return rb.outputs, "none", "WeightedAverage Tsukamoto"
     outputs, changed = peaks_instead(model, "FLL")
     notes.extend(changed)
     if method == Defuzzifier.WEIGHTED_SUM:
@@ -534,7 +559,7 @@ def _fll_variable(section: str, var, problems: list[str], is_input: bool,
             row = linear[t]   # fuzzylite writes the constant last
             lines.append(f"  term: {name} Linear " + " ".join(num(c) for c in (*row[1:], row[0])))
             continue
-        term = _fll_term(TermKind(int(kind)), p, is_input)
+        term = fll_term(TermKind(int(kind)), p, is_input)
         if term is None:
             problems.append(f"term `{name}` of `{var.name}` ({TermKind(int(kind)).name.lower()} "
                             f"{', '.join(num(x) for x in p)}) has no FLL shape")
@@ -543,7 +568,7 @@ def _fll_variable(section: str, var, problems: list[str], is_input: bool,
     return lines
 
 
-def _fll_term(kind: TermKind, p, is_input: bool) -> str | None:
+def fll_term(kind: TermKind, p, is_input: bool) -> str | None:
     a, b, c, d = (float(x) for x in p)
     if kind == TermKind.TRAPEZOID:
         if a == b == -math.inf and math.isfinite(c) and c < d < math.inf:

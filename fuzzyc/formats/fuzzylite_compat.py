@@ -34,12 +34,14 @@ tools and are taken from the engine unchanged.
 """
 from __future__ import annotations
 
+from enum import Enum
+
 import numpy as np
 
 from ..engine import activations, evaluate
 from ..membership import term_values
-from ..model import Aggregation, Defuzzifier, Implication, RuleBase, SNorm, TermKind
-from ..norms import combine
+from ..model import Aggregation, Defuzzifier, RuleBase, SNorm, TermKind, aggregation_snorm
+from ..norms import combine, implied
 
 SAMPLED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
 CHUNK_FLOATS = 1 << 22
@@ -50,40 +52,63 @@ AGGREGATE = {Aggregation.MAX: lambda g: g.max(axis=1), Aggregation.SUM: lambda g
              Aggregation.BOUNDED_SUM: lambda g: _fold(g, SNorm.BOUNDED_SUM)}
 
 
-def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int = 100) -> np.ndarray:
+class Sampling(Enum):
+    """Where a tool samples the output range, and how it sums the samples."""
+    MIDPOINT = "midpoint"     # fuzzylite: u_k = lo + (k + 1/2) step, plain sums
+    TRAPEZOID = "trapezoid"   # Octave/MATLAB: linspace(lo, hi, n), trapz (end samples halved)
+
+
+def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int = 100,
+                     sampling: Sampling = Sampling.MIDPOINT,
+                     methods: tuple[Defuzzifier, ...] = SAMPLED) -> np.ndarray:
     """x (N, I) -> y (N, O) as fuzzylite computes it with integral defuzzifiers sampled at
-    `resolution` midpoints; other defuzzifiers as the engine (both tools are exact there)."""
+    `resolution` midpoints (or as Octave does, `sampling`); `methods` are the defuzzifiers
+    sampled, the others as the engine (every tool is exact there)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     y = evaluate(rb, x)
-    sampled = [o for o in range(len(rb.outputs)) if _is_sampled(rb, o)]
+    sampled = [o for o in range(len(rb.outputs)) if _is_sampled(rb, o, methods)]
     if not sampled:
         return y
     rows = max(1, CHUNK_FLOATS // max(1, rb.n_rules * resolution))
     for start in range(0, x.shape[0], rows):
         act = activations(rb, x[start:start + rows])
         for o in sampled:
-            y[start:start + rows, o] = _defuzzify(rb, o, act, resolution)
+            y[start:start + rows, o] = _defuzzify(rb, o, act, resolution, sampling)
     return y
 
 
-def _is_sampled(rb: RuleBase, o: int) -> bool:
+def _is_sampled(rb: RuleBase, o: int, methods) -> bool:
     singletons = bool(np.all(rb.outputs[o].kinds == TermKind.SINGLETON))
-    return rb.inference_of(o).defuzzifier in SAMPLED and not singletons
+    return rb.inference_of(o).defuzzifier in methods and not singletons
 
 
-def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int) -> np.ndarray:
+def _samples(var, resolution: int, sampling: Sampling) -> tuple[np.ndarray, np.ndarray | None]:
+    """(u (K,), trapz weights (K,) or None for plain sums)."""
+    if sampling == Sampling.TRAPEZOID:
+        u = np.linspace(var.lo, var.hi, resolution)
+        w = np.full(resolution, (var.hi - var.lo) / (resolution - 1))
+        w[[0, -1]] *= 0.5
+        return u, w
+    # The midpoints computed with fuzzylite's own operation order, so that ties match bit for bit.
+    return var.lo + (np.arange(resolution) + 0.5) * ((var.hi - var.lo) / resolution), None
+
+
+def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
+               sampling: Sampling) -> np.ndarray:
     var, inf = rb.outputs[o], rb.inference_of(o)
     rules = np.flatnonzero(rb.consequents[:, o] >= 0)
-    # The midpoints computed with fuzzylite's own operation order, so that ties match bit for bit.
-    u = var.lo + (np.arange(resolution) + 0.5) * ((var.hi - var.lo) / resolution)  # (K,)
+    u, w = _samples(var, resolution, sampling)                                       # (K,)
     mu = term_values(var.kinds, var.params, u)[:, rb.consequents[rules, o]].T       # (R, K)
     a = act[:, rules, None]                                                          # (N, R, 1)
-    clipped = np.minimum(a, mu) if inf.implication == Implication.MIN else a * mu
-    m = AGGREGATE[inf.aggregation](clipped)
+    clipped = implied(a, mu, inf.implication)
+    m = AGGREGATE[inf.aggregation](clipped) if inf.aggregation in AGGREGATE else \
+        _fold(clipped, aggregation_snorm(inf.aggregation))
     total = m.sum(axis=1)
     fired = total > 0
     safe_total = np.where(fired, total, 1.0)
-    if inf.defuzzifier == Defuzzifier.CENTROID:
+    if inf.defuzzifier == Defuzzifier.CENTROID and w is not None:
+        value = (m @ (w * u)) / np.where(fired, m @ w, 1.0)
+    elif inf.defuzzifier == Defuzzifier.CENTROID:
         value = (m @ u) / safe_total
     elif inf.defuzzifier == Defuzzifier.BISECTOR:
         # Normalised by the cumsum's last element as fuzzylite does, not by m.sum (pairwise

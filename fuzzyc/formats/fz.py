@@ -13,7 +13,7 @@ import numpy as np
 
 from ..model import (Aggregation, Defuzzifier, Hedge, Implication, Model, SNorm,
                      TermKind, TNorm, Variable)
-from ..builder import PLAIN_SHAPES
+from ..builder.terms import PLAIN_SHAPES, term_core
 from ..escape import one_line
 from ..membership import linear_coefficients
 from .common import OUTPUT_SUFFIX
@@ -23,7 +23,7 @@ FZ_HEDGES = {h: h.name.lower() for h in Hedge if h != Hedge.NONE}
 FZ_INFERENCE = (
     ("and", "and_", {t: t.name.lower() for t in TNorm}),
     ("or", "or_", {s: s.name.lower() for s in SNorm}),
-    ("implication", "implication", {Implication.MIN: "min", Implication.PRODUCT: "product"}),
+    ("implication", "implication", {i: i.name.lower() for i in Implication}),
     ("aggregation", "aggregation", {a: a.name.lower() for a in Aggregation}),
     ("defuzzify", "defuzzifier", {d: d.name.lower() for d in Defuzzifier}),
 )
@@ -34,11 +34,16 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     problems = unsayable_names(model, ".fz")
     lines = [f"controller {model_identifier(model)} {_string(model.title)} {{"
              .replace("  ", " ")]
-    lines += [f"  note {_string(n)}" for n in model.notes]
+    ranges = [_holding_peaks(var) for var in rb.inputs]
+    notes = [*model.notes, *(f"`{var.name}` range [{num(var.lo)}, {num(var.hi)}] widened to "
+                             f"[{num(lo)}, {num(hi)}]: a .fz term must peak inside its range"
+                             for var, (lo, hi) in zip(rb.inputs, ranges)
+                             if (lo, hi) != (var.lo, var.hi))]
+    lines += [f"  note {_string(n)}" for n in notes]
+    for var, (lo, hi) in zip(rb.inputs, ranges):
+        lines.append(f"  input {var.name}{_unit(var)} in [{num(lo)}, {num(hi)}]")
     for var in rb.inputs:
-        lines.append(f"  input {var.name}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}]")
-    for var in rb.inputs:
-        lines.append(f"  terms {var.name} : {_terms(var, problems)}")
+        lines.append(f"  terms {var.name} : {_terms(var, problems)}".rstrip())
     for var in rb.outputs:
         lines.append(f"  var {var.name}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}] "
                      f"default {num(var.default)}")
@@ -68,6 +73,14 @@ def _string(text: str) -> str:
     """A .fz string literal on one line (the language has no escapes: quotes and backslashes
     are replaced)."""
     return '"' + one_line(text).replace("\\", "/").replace('"', "'") + '"'
+
+
+def _holding_peaks(var: Variable) -> tuple[float, float]:
+    """An input's range, widened where a term peaks outside it (legal in FLL and FIS, where
+    MATLAB's invkine and membrn examples have such terms; the inputs' numbers are unchanged)."""
+    cores = [term_core(TermKind(int(k)), p) for k, p in zip(var.kinds, var.params)]
+    return (min([float(var.lo), *(c[1] for c in cores)]),
+            max([float(var.hi), *(c[0] for c in cores)]))
 
 
 def _unit(var: Variable) -> str:

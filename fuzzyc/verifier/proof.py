@@ -20,7 +20,8 @@ from __future__ import annotations
 import numpy as np
 
 from .. import engine
-from ..model import (Aggregation, Connective, Defuzzifier, Hedge, RuleBase, SNorm, TNorm,
+from ..defuzz import FOLDED
+from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, RuleBase, SNorm, TNorm,
                      TermKind)
 from .result import Evidence, Status
 from .space import break_points, hedge_free, restrict, tensor_points
@@ -38,6 +39,13 @@ def beyond_proofs(rb: RuleBase) -> str | None:
     inf = rb.inference
     if rb.conditions:
         return f"no proof method for nested conditions ({rb.nested_rules()})"
+    chosen = [rb.inference_of(o) for o in range(len(rb.outputs))] or [inf]
+    if any(c.defuzzifier == Defuzzifier.TSUKAMOTO for c in chosen):
+        return "no proof method for the tsukamoto defuzzifier"
+    if inf.implication not in (Implication.MIN, Implication.PRODUCT) or \
+            any(c.aggregation in FOLDED for c in chosen):
+        return (f"no proof method for implication = {inf.implication.name.lower()}, "
+                f"aggregation = {', '.join(sorted({c.aggregation.name.lower() for c in chosen}))}")
     if inf.and_ not in (TNorm.MIN, TNorm.PRODUCT) or inf.or_ not in (SNorm.MAX, SNorm.PROBSUM):
         return f"no proof method for and={inf.and_.name.lower()} or={inf.or_.name.lower()}"
     if rb.hedges.size and int(rb.hedges.max()) > Hedge.EXTREMELY:

@@ -1,0 +1,223 @@
+"""Other tools' arithmetic, for users checking a migration: `evaluate_as(rb, x, semantics)`.
+
+fuzzyc's own semantics ("exact") integrate the integral defuzzifiers exactly.  The tools sample:
+- "fuzzylite" (the fuzzylite 6 C++ library and CLI) and "pyfuzzylite" (pyfuzzylite 8): the
+  midpoint rule at the output's resolution (fuzzylite_compat; default 100 in fuzzylite 6, 1000
+  in pyfuzzylite 8), and NaN where no rule concluding an output fired (fuzzylite's
+  `default: nan`, which its examples use).  fuzzylite 6's WeightedAverage sums over the rules
+  whatever the aggregation (measured: the shipped WEDM rule bases exported as FLL, 0.28 apart
+  from the grouped value), pyfuzzylite 8 groups the rules of a term with it (CENTER_OF_AREA);
+- "matlab": MATLAB's evalfis as documented: Mamdani outputs as "octave" below, Sugeno outputs
+  summed over the rules (WEIGHTED_AVERAGE, exact); not checked against MATLAB (none here);
+- "octave" (the Octave fuzzy-logic-toolkit 0.4.6 evalfis, also MATLAB's num_points = 101):
+  the aggregated set sampled at linspace(lo, hi, 101) and integrated with trapz, so
+  Centroid = trapz(u, u M) / trapz(u, M); MeanOfMaximum = the mean of the samples where M equals
+  its maximum; the output's default (the middle of the range) where nothing fired.
+  Its bisector (which returns a sample index, not a value) is not reproduced: exact instead.
+  Sugeno outputs: the rules' values that are equal are merged with the AggMethod before the
+  weighted average (so `max` takes the strongest rule per term: CENTER_OF_AREA with that
+  aggregation), where MATLAB sums over every rule (fuzzyc's WEIGHTED_AVERAGE).
+Peak-based defuzzifiers (weighted average/sum, center of area) are exact in every tool.
+Tsukamoto (fuzzylite only): pyfuzzylite 8 inverts the terms exactly without clipping (a sigmoid
+at activation 1 gives an infinite output); fuzzylite 6 (measured against its CLI on
+tsukamoto.fll, and read off as these rules) takes a Sigmoid's range end within 1e-6 of
+activation 0 or 1, picks for S/Z shapes the closer of two candidates of which one lies beyond
+the term's end, and inverts a Concave at its own membership of the activation.
+
+A semantics is written NAME or NAME:RESOLUTION (`fuzzylite:200`, the file's `Centroid 200`).
+`ToolEngine` evaluates so inside the controller (eval, simulate); the C back end and the
+verifier compute exactly, so `exact_equivalent` gives them the rule base whose exact numbers are
+the tool's (fuzzylite 6's weighted average over the rules) or says why there is none (a sampled
+integral, Octave's merging of equal Sugeno values).
+"""
+from __future__ import annotations
+
+from dataclasses import replace
+
+import numpy as np
+
+from ..engine import activations, evaluate
+from ..errors import Diagnostic, FuzzycError
+from ..membership import linear_coefficients, pointwise, term_inverse
+from ..model import (Aggregation, Defuzzifier, Hedge, Model, RuleBase, TermKind,
+                     aggregation_snorm)
+from ..norms import combine
+from .fuzzylite_compat import SAMPLED, Sampling, evaluate_sampled
+
+SEMANTICS = ("exact", "fuzzylite", "pyfuzzylite", "matlab", "octave")
+RESOLUTION = {"fuzzylite": 100, "pyfuzzylite": 1000}
+OCTAVE_POINTS = 101
+
+
+def parse_semantics(text: str) -> tuple[str, int | None]:
+    """`NAME` or `NAME:RESOLUTION` -> (name, resolution or None); FuzzycError when unknown."""
+    name, _, points = text.partition(":")
+    if name not in SEMANTICS or (points and not (points.isdigit() and int(points) > 1)):
+        raise FuzzycError([Diagnostic(None, f"--semantics `{text}`: one of "
+                                            f"{', '.join(SEMANTICS)}, optionally :RESOLUTION "
+                                            "(an integer > 1, e.g. fuzzylite:200)")])
+    return name, int(points) if points else None
+
+
+def _over_rules(rb: RuleBase) -> RuleBase:
+    """fuzzylite 6's WeightedAverage: every rule's value weighted, whatever the aggregation."""
+    return replace(rb, inference=replace(rb.inference, defuzzifier=Defuzzifier.WEIGHTED_AVERAGE))
+
+
+def exact_equivalent(rb: RuleBase, semantics: str) -> tuple[RuleBase, str | None]:
+    """(a rule base whose exact numbers are the tool's, None), or (rb, why there is none)."""
+    name, _ = parse_semantics(semantics)
+    if name == "exact":
+        return rb, None
+    for inf in [rb.inference_of(o) for o in range(len(rb.outputs))] or [rb.inference]:
+        if inf.defuzzifier in SAMPLED:
+            return rb, (f"{name} samples the {inf.defuzzifier.name.lower()} "
+                        f"({RESOLUTION.get(name, OCTAVE_POINTS)} points by default) where "
+                        "fuzzyc integrates exactly")
+        if name == "octave" and inf.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE \
+                and inf.aggregation != Aggregation.SUM:
+            return rb, ("the Octave toolkit merges the Sugeno rules of equal value with "
+                        f"AggMethod {inf.aggregation.name.lower()} where fuzzyc sums over the "
+                        "rules")
+    if name == "fuzzylite" and rb.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA:
+        if rb.output_choices:
+            return rb, "fuzzylite 6 sums over the rules of outputs with their own defuzzifier"
+        return _over_rules(rb), None
+    return rb, None
+
+
+def with_tool_semantics(model: Model, semantics: str, command: str) -> Model:
+    """The model whose exact numbers are the tool's, for what computes exactly (compile,
+    verify, the C controller), or FuzzycError saying why the tool's numbers cannot be had so."""
+    done = [exact_equivalent(rb, semantics) for rb in model.blocks]
+    for _, reason in done:
+        if reason:
+            raise FuzzycError([Diagnostic(None, f"{command} --semantics {semantics}: {reason}; "
+                                                f"{command} computes exactly (eval and simulate "
+                                                "follow the tool)")])
+    model.blocks = [rb for rb, _ in done]
+    return model
+
+
+class ToolEngine:
+    """The controller's engine under a tool's semantics (eval, simulate): rows in, rows out."""
+
+    def __init__(self, rb: RuleBase, semantics: str):
+        self.rb = rb
+        self.name, self.resolution = parse_semantics(semantics)
+
+    def evaluate_rows(self, xt: np.ndarray) -> np.ndarray:
+        return evaluate_as(self.rb, np.asarray(xt).T, self.name, self.resolution).T
+
+
+def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
+                resolution: int | None = None) -> np.ndarray:
+    """x (N, I) -> y (N, O) as `semantics` computes it; `resolution` is fuzzylite's (the file's
+    `Centroid 200`), by default the tool's own."""
+    if semantics == "exact":
+        return evaluate(rb, x)
+    if semantics in ("fuzzylite", "pyfuzzylite"):
+        # fuzzylite's `extremely` is the S-curve (SHARPLY): a FIS `.3` (x^3 in the Octave
+        # toolkit, EXTREMELY) read by fuzzylite is that
+        rb = replace(rb, hedges=np.where(rb.hedges == Hedge.EXTREMELY, Hedge.SHARPLY, rb.hedges))
+        if rb.inference.defuzzifier == Defuzzifier.TSUKAMOTO:
+            return _tsukamoto(rb, np.atleast_2d(np.asarray(x, dtype=float)),
+                              _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse)
+        if semantics == "fuzzylite" and rb.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA:
+            rb = _over_rules(rb)
+        y = evaluate_sampled(rb, x, resolution or RESOLUTION[semantics])
+        return np.where(fired(rb, x), y, np.nan)
+    if semantics in ("octave", "matlab"):
+        if semantics == "octave" and rb.inference.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE \
+                and rb.inference.aggregation != Aggregation.SUM:
+            return _grouped_average(rb, x)
+        return evaluate_sampled(rb, x, resolution or OCTAVE_POINTS, Sampling.TRAPEZOID,
+                                methods=(Defuzzifier.CENTROID, Defuzzifier.MEAN_OF_MAXIMUM))
+    raise ValueError(f"unknown semantics `{semantics}`: one of {', '.join(SEMANTICS)}")
+
+
+def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse) -> np.ndarray:
+    """sum act_r z_r / sum act_r over the firing rules, z_r = inverse(kinds, params, act_r)
+    (fuzzylite's, unclipped); NaN where none fires."""
+    act = activations(rb, x)
+    y = np.full((x.shape[0], len(rb.outputs)), np.nan)
+    for o, var in enumerate(rb.outputs):
+        J = rb.consequents[:, o]
+        firing = (J >= 0) & (act > 0)
+        t = J.clip(0)
+        params = np.broadcast_to(np.asarray(var.params, dtype=float)[t], act.shape + (4,))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            z = inverse(np.broadcast_to(var.kinds[t], act.shape), params,
+                        np.where(firing, act, 0.5), var.lo, var.hi)
+            num = np.where(firing, act * z, 0.0).sum(axis=1)
+            den = np.where(firing, act, 0.0).sum(axis=1)
+            y[:, o] = np.where(den > 0, num / np.where(den > 0, den, 1.0), np.nan)
+    return y
+
+
+FL_EPSILON = 1e-6      # fuzzylite's Op::isEq tolerance
+
+
+def _exact_inverse(kinds, params, w, lo, hi) -> np.ndarray:
+    """pyfuzzylite 8: the exact inverse, not clipped to the range [lo, hi]."""
+    return term_inverse(kinds, params, w)
+
+
+def _fuzzylite6_inverse(kinds, params, w, lo, hi) -> np.ndarray:
+    a, b = params[..., 0], params[..., 1]
+    z = term_inverse(kinds, params, w)
+    up = b >= 0
+    sigmoid = kinds == TermKind.SIGMOID
+    z = np.where(sigmoid & (np.abs(w - 1) < FL_EPSILON), np.where(up, hi, lo),
+                 np.where(sigmoid & (np.abs(w) < FL_EPSILON),
+                          np.where(up, lo, hi), z))
+    d = b - a
+    for kind, first, second in ((TermKind.SSHAPE, a + np.sqrt(0.5 * w) * np.abs(d),
+                                 b + np.sqrt(0.5 * (1 - w)) * np.abs(d)),
+                                (TermKind.ZSHAPE, a + np.sqrt(0.5 * (1 - w)) * np.abs(d),
+                                 b + np.sqrt(0.5 * w) * np.abs(d))):
+        mu = [pointwise(kind, params, c) for c in (first, second)]
+        pick = np.where(np.abs(w - mu[0]) < np.abs(w - mu[1]), first, second)
+        z = np.where(kinds == kind, pick, z)
+    # Concave: inverted at its own membership of w, reaching 1 within 1e-6 of its end
+    at_end = np.abs(w - b) < FL_EPSILON
+    mu = np.where(at_end, 1.0, pointwise(TermKind.CONCAVE, params, w))
+    return np.where(kinds == TermKind.CONCAVE, term_inverse(kinds, params, mu), z)
+
+
+def _grouped_average(rb: RuleBase, x: np.ndarray) -> np.ndarray:
+    """The Octave toolkit's Sugeno output: per term, the rules' strengths merged with the
+    aggregation; then sum alpha_j z_j / sum alpha_j (the output's default when all are 0)."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    act = activations(rb, x)
+    y = np.empty((x.shape[0], len(rb.outputs)))
+    for o, var in enumerate(rb.outputs):
+        z = _term_values(var, x)
+        alpha = np.zeros_like(z)
+        for t in range(var.n_terms):
+            rules = np.flatnonzero(rb.consequents[:, o] == t)
+            if rules.size:
+                alpha[:, t] = combine([act[:, r] for r in rules],
+                                      aggregation_snorm(rb.inference.aggregation), False)
+        total = alpha.sum(axis=1)
+        y[:, o] = np.where(total > 0, (alpha * z).sum(axis=1) / np.where(total > 0, total, 1.0),
+                           var.default)
+    return y
+
+
+def _term_values(var, x: np.ndarray) -> np.ndarray:
+    """(N, T): each term's value z at the inputs (singletons: their value; linear: c0 + c.x)."""
+    coefficients = linear_coefficients(var, x.shape[1])
+    linear = coefficients[:, 0] + x @ coefficients[:, 1:].T
+    return np.where(var.kinds == TermKind.LINEAR, linear, var.peaks())
+
+
+def fired(rb: RuleBase, x: np.ndarray) -> np.ndarray:
+    """(N, O) bool: some rule concluding the output has a positive activation."""
+    act = activations(rb, np.atleast_2d(np.asarray(x, dtype=float)))
+    concludes = rb.consequents >= 0                       # (R, O)
+    return (act > 0).astype(float) @ concludes.astype(float) > 0
+
+
+__all__ = ["SEMANTICS", "ToolEngine", "evaluate_as", "exact_equivalent", "fired",
+           "with_tool_semantics", "parse_semantics", "SAMPLED"]

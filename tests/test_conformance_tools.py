@@ -1,0 +1,63 @@
+"""The reference tools run live, both directions (`make conformance`; marker `conformance`, out
+of `make test` because it runs fuzzylite/Octave once per file: about a minute on 2 cores).
+
+Import direction: every example file of fuzzylite 6 (.fll/.fcl/.fis), pyfuzzylite 8 and the
+Octave toolkit that fuzzyc imports must give the tool's numbers (within 1e-6 of the output's
+range) under the tool's semantics; a file fuzzyc refuses must be refused with file:line:col.
+Export direction: the shipped rule bases written as FLL/FCL/FIS are read back by the fuzzylite
+CLI and by Octave's readfis/evalfis with fuzzyc's numbers.  A missing tool skips with its reason.
+"""
+from __future__ import annotations
+
+import re
+from importlib import resources
+from pathlib import Path
+
+import pytest
+
+from fuzzyc.conformance import oracles
+from fuzzyc.conformance.check import TOLERANCE, check
+from fuzzyc.conformance.roundtrip import EXPORTS, round_trip
+from fuzzyc.conformance.suites import suites
+from fuzzyc.formats import load_any
+
+pytestmark = pytest.mark.conformance
+LOCATED = re.compile(r":\d+:\d+: error: ")
+RULEBASES = sorted(Path(str(resources.files("fuzzyc.rulebases"))).glob("*.fz"))
+
+
+def _cases():
+    for suite in suites():
+        if suite.missing:
+            yield pytest.param(suite, None, id=suite.name,
+                               marks=pytest.mark.skip(reason=suite.missing))
+        for path in suite.files:
+            yield pytest.param(suite, path, id=f"{suite.oracle}-{path.parent.name}-{path.name}")
+
+
+@pytest.mark.parametrize("suite, path", list(_cases()))
+def test_example_imports_and_agrees_or_is_refused_at_its_place(suite, path):
+    result = check(path, suite)
+    if not result.imported:
+        assert LOCATED.search(result.message), result.message
+        pytest.skip(f"refused: {result.message}")
+    if not result.compared:
+        pytest.skip(f"no tool numbers: {result.message}")
+    assert result.worst_tool <= TOLERANCE, (result.worst_tool, result.worst_exact)
+
+
+def _exports():
+    tools = {"fuzzylite": oracles.have_fuzzylite(), "octave": oracles.have_octave()}
+    for tool, formats in EXPORTS.items():
+        for fmt in formats:
+            for path in RULEBASES:
+                marks = [] if tools[tool] else [pytest.mark.skip(reason=f"{tool} not installed")]
+                yield pytest.param(path, fmt, tool, id=f"{path.stem}.{fmt}-{tool}", marks=marks)
+
+
+@pytest.mark.parametrize("path, fmt, tool", list(_exports()))
+def test_shipped_rule_base_exported_is_read_back_by_the_tool(path, fmt, tool):
+    done = round_trip(load_any(path), str(path), fmt, tool)
+    if not done.written:       # the format cannot say the model: refused by name, not written
+        pytest.skip(f"not exported as .{fmt}: {done.message}")
+    assert done.agrees, (done.message, done.worst)

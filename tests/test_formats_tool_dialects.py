@@ -1,0 +1,400 @@
+"""What the other tools' files say that fuzzyc reads since issue 14, each with hand-computed
+values: fuzzylite's further term shapes, fuzzylite's FCL dialect, the Octave toolkit's FIS (rule
+hedges, comment lines, norm names), and the tools' arithmetic (`tool_semantics`)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from fuzzyc.backends.c import check_supported
+from fuzzyc.engine import evaluate
+from fuzzyc.errors import FuzzycError
+from fuzzyc.formats import read_fcl, read_fis, read_fll
+from fuzzyc.formats.fcl import write_fcl
+from fuzzyc.formats.fll import write_fll
+from fuzzyc.formats.fuzzylite_compat import Sampling, evaluate_sampled
+from fuzzyc.formats.fz import write_fz
+from fuzzyc.formats.tool_semantics import evaluate_as
+from fuzzyc.membership import term_values
+from fuzzyc.model import Defuzzifier, Hedge, TermKind, TNorm
+from fuzzyc.parser import parse
+
+S1 = 1.0 / (1.0 + math.exp(-1.0))     # the logistic at 1: 0.7310585786...
+
+
+def mu(kind: TermKind, params, x) -> np.ndarray:
+    p = np.array([tuple(params) + (0.0,) * (4 - len(params))])
+    return term_values(np.array([int(kind)]), p, np.asarray(x, dtype=float))[:, 0]
+
+
+@pytest.mark.parametrize("kind, params, x, expected", [
+    # |sig(0, 1)(1) - sig(2, 1)(1)| = |1/(1+e^-1) - 1/(1+e^1)| = S1 - (1 - S1) = 2 S1 - 1
+    (TermKind.SIGMOID_DIFFERENCE, (0, 1, 1, 2), [1], [2 * S1 - 1]),
+    # sig(0, 1)(1) * sig(2, -1)(1) = 1/(1+e^-1) * 1/(1+e^(1*(1-2))) = S1^2
+    (TermKind.SIGMOID_PRODUCT, (0, 1, -1, 2), [1], [S1 * S1]),
+    # x = 0 < 1: exp(-(0-1)^2 / (2 * 0.25)) = e^-2; x = 2 between the means: 1;
+    # x = 5 > 3: exp(-(5-3)^2 / 2) = e^-2
+    (TermKind.GAUSSIAN_PRODUCT, (1, 0.5, 3, 1), [0, 2, 5], [math.exp(-2), 1, math.exp(-2)]),
+    # binary(0.5, 1): 1 from 0.5 on; binary(0.5, -1): 1 up to 0.5
+    (TermKind.BINARY, (0.5, 1), [0.4, 0.5, 0.6], [0, 1, 1]),
+    (TermKind.BINARY, (0.5, -1), [0.4, 0.5, 0.6], [1, 1, 0]),
+    # semi_ellipse(0, 2): centre 1, radius 1: sqrt(1 - 0.5^2) = sqrt(0.75) at 0.5 and 1.5
+    (TermKind.SEMI_ELLIPSE, (0, 2), [-1, 0.5, 1, 1.5, 3], [0, math.sqrt(0.75), 1,
+                                                           math.sqrt(0.75), 0]),
+    # arc(0, 2): circle of radius 2 about (2, 0): sqrt(4 - (1-2)^2) / 2 = sqrt(3)/2 at 1, 0 at 0
+    (TermKind.ARC, (0, 2), [-1, 0, 1, 2, 3], [0, 0, math.sqrt(3) / 2, 1, 1]),
+    # arc(2, 0): the mirror, 1 below 0
+    (TermKind.ARC, (2, 0), [-1, 0, 1, 2, 3], [1, 1, math.sqrt(3) / 2, 0, 0]),
+])
+def test_fuzzylite_shapes_by_hand(kind, params, x, expected):
+    np.testing.assert_allclose(mu(kind, params, x), expected, rtol=0, atol=1e-15)
+
+
+def test_nan_input_gives_zero_for_the_fuzzylite_shapes():
+    for kind, params in [(TermKind.SIGMOID_DIFFERENCE, (0, 1, 1, 2)),
+                         (TermKind.SIGMOID_PRODUCT, (0, 1, -1, 2)),
+                         (TermKind.GAUSSIAN_PRODUCT, (1, 0.5, 3, 1)), (TermKind.BINARY, (0.5, 1)),
+                         (TermKind.SEMI_ELLIPSE, (0, 2)), (TermKind.ARC, (0, 2))]:
+        assert mu(kind, params, [np.nan])[0] == 0.0
+
+
+SHAPES_FLL = """Engine: shapes
+InputVariable: x
+  range: 0 2
+  term: sd SigmoidDifference 0 1 1 2
+  term: sp SigmoidProduct 0 1 -1 2
+  term: gp GaussianProduct 1 0.5 3 1
+  term: bi Binary 0.5 inf
+  term: se SemiEllipse 0 2
+  term: ar Arc 0 2
+OutputVariable: y
+  range: 0 1
+  default: nan
+  defuzzifier: WeightedAverage
+  term: one Constant 1
+  term: zero Constant 0
+RuleBlock: r
+  implication: Minimum
+  rule: if x is ar then y is one
+  rule: if x is se then y is zero
+"""
+
+
+def test_fll_shapes_import_and_carry_through_fz_and_fll():
+    model = read_fll(SHAPES_FLL, "shapes.fll")
+    x = model.rulebase.inputs[0]
+    assert [TermKind(int(k)).name for k in x.kinds] == [
+        "SIGMOID_DIFFERENCE", "SIGMOID_PRODUCT", "GAUSSIAN_PRODUCT", "BINARY", "SEMI_ELLIPSE",
+        "ARC"]
+    assert x.params[3, :2].tolist() == [0.5, 1.5]   # Binary's `inf` direction: start + 1
+    # at x = 1: arc 0 2 gives sqrt(3)/2, semi ellipse 0 2 gives 1:
+    # (sqrt(3)/2 * 1 + 1 * 0) / (sqrt(3)/2 + 1) = 0.4641016151...
+    expected = (math.sqrt(3) / 2) / (math.sqrt(3) / 2 + 1)
+    assert evaluate(model.rulebase, [[1.0]])[0, 0] == pytest.approx(expected, abs=1e-15)
+    for back in (parse(write_fz(model), "back.fz"), read_fll(write_fll(model), "back.fll")):
+        np.testing.assert_array_equal(back.rulebase.inputs[0].params, x.params)
+        assert evaluate(back.rulebase, [[1.0]])[0, 0] == pytest.approx(expected, abs=1e-15)
+    with pytest.raises(FuzzycError) as err:     # the C back ends say what they do not emit
+        check_supported(model.rulebase)
+    assert "sigmoid_difference" in str(err.value)
+
+
+# fuzzylite 6 writes FCL so: a BOM, `//` and `/* */` comments, shapes by name, `nan` defaults,
+# rules without `;`, COGS without ACCU (its WeightedAverage).
+FUZZYLITE_FCL = """\ufeff//Code automatically generated with fuzzylite 6.0.
+/* a block
+   comment */
+FUNCTION_BLOCK SimpleDimmer
+VAR_INPUT
+  Ambient: REAL;
+END_VAR
+VAR_OUTPUT
+  Power: REAL;
+END_VAR
+FUZZIFY Ambient
+  RANGE := (0.000 .. 1.000);
+  TERM DARK := Triangle 0.000 0.250 0.500;
+  TERM MEDIUM := Triangle 0.250 0.500 0.750;
+  TERM BRIGHT := Ramp 0.500 0.750;
+END_FUZZIFY
+DEFUZZIFY Power
+  RANGE := (0.000 .. 1.000);
+  TERM LOW := 0.250;
+  TERM MEDIUM := 0.500;
+  TERM HIGH := Linear 0.000 0.750;
+  METHOD : COGS;
+  DEFAULT := nan;
+END_DEFUZZIFY
+RULEBLOCK
+  AND : EPROD;
+  ACT : MIN;
+  RULE 1 : if Ambient is DARK then Power is HIGH
+  RULE 2 : if Ambient is very MEDIUM then Power is MEDIUM
+  RULE 3 : if Ambient is BRIGHT then Power is LOW
+END_RULEBLOCK
+END_FUNCTION_BLOCK
+"""
+
+
+def test_fuzzylite_fcl_dialect_by_hand():
+    model = read_fcl(FUZZYLITE_FCL, "dimmer.fcl")
+    rb = model.rulebase
+    assert rb.inference.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE
+    assert rb.inference.and_ == TNorm.EINSTEIN_PRODUCT
+    assert rb.hedges[1, 0] == Hedge.VERY
+    assert any("default nan" in note for note in model.notes)
+    # Ambient = 0.3: DARK (0.5-0.3)/0.25 = 0.8, MEDIUM (0.3-0.25)/0.25 = 0.2, very: 0.04;
+    # HIGH = Linear 0 * Ambient + 0.75 = 0.75: (0.8*0.75 + 0.04*0.5) / (0.8 + 0.04) = 0.62/0.84
+    assert evaluate(rb, [[0.3]])[0, 0] == pytest.approx(0.62 / 0.84, abs=1e-15)
+
+
+def test_fcl_tsukamoto_and_lock_previous_are_refused_with_their_place():
+    tsukamoto = FUZZYLITE_FCL.replace("TERM LOW := 0.250;", "TERM LOW := Ramp 0.6 0.4;")
+    with pytest.raises(FuzzycError) as err:
+        read_fcl(tsukamoto, "t.fcl")
+    assert "t.fcl:19:8" in str(err.value) and "Tsukamoto" in str(err.value)
+    with pytest.raises(FuzzycError) as err:
+        read_fcl(FUZZYLITE_FCL.replace("DEFAULT := nan;", "DEFAULT := nan | NC;"), "l.fcl")
+    assert "l.fcl:23:20" in str(err.value) and "NC" in str(err.value)
+
+
+def test_fcl_export_is_the_dialect_fuzzylite_reads():
+    plain = FUZZYLITE_FCL.replace("is very MEDIUM", "is MEDIUM").replace("Linear 0.000 0.750",
+                                                                           "0.750")
+    text = write_fcl(read_fcl(plain, "dimmer.fcl"), [])
+    assert "(*" not in text and "// " in text
+    assert "RULE 1 : if Ambient is DARK then Power is HIGH;" in text
+    assert "ACCU" not in text          # COGS without ACCU: the weighted average, read back so
+    assert read_fcl(text, "back.fcl").rulebase.inference.defuzzifier == \
+        Defuzzifier.WEIGHTED_AVERAGE
+
+
+OCTAVE_FIS = """## Octave's header comment
+# fuzzylite's
+[System]
+Name='hedged'
+Type='sugeno'
+NumInputs=1
+NumOutputs=1
+NumRules=3
+AndMethod='einstein_product'
+OrMethod='algebraic_sum'
+ImpMethod='prod'
+AggMethod='max'
+DefuzzMethod='wtaver'
+
+[Input1]
+Name='x'
+Range=[0 1]
+NumMFs=2
+MF1='low':'trimf',[-1 0 1]
+MF2='high':'rampmf',[0 1]
+
+[Output1]
+Name='y'
+Range=[0 10]
+NumMFs=2
+MF1='a':'constant',[0]
+MF2='b':'constant',[10]
+
+[Rules]
+1.200 , 1.000 (1.000) : 1
+2.05, 2 (1) : 1
+1, 2 (0.4) : 1
+"""
+
+
+def test_octave_fis_hedges_comments_and_norms_by_hand():
+    rb = read_fis(OCTAVE_FIS, "hedged.fis").rulebase
+    assert rb.hedges[:, 0].tolist() == [Hedge.VERY, Hedge.SOMEWHAT, Hedge.NONE]
+    assert rb.inference.and_ == TNorm.EINSTEIN_PRODUCT
+    # x = 0.25: low = 0.75, high (rampmf 0 1) = 0.25.  Rules: very low -> a: 0.75^2 = 0.5625;
+    # somewhat high -> b: sqrt(0.25) = 0.5; low -> b with weight 0.4: 0.3.
+    # MATLAB (and fuzzyc): the sum over rules, (0.5625*0 + 0.5*10 + 0.3*10) / 1.3625
+    assert evaluate(rb, [[0.25]])[0, 0] == pytest.approx(8 / 1.3625, abs=1e-14)
+    # the Octave toolkit merges rules of equal value with AggMethod max: b gets max(0.5, 0.3):
+    # (0.5625*0 + 0.5*10) / (0.5625 + 0.5) = 5 / 1.0625
+    assert evaluate_as(rb, [[0.25]], "octave")[0, 0] == pytest.approx(5 / 1.0625, abs=1e-14)
+    assert evaluate_as(rb, [[0.25]], "matlab")[0, 0] == pytest.approx(8 / 1.3625, abs=1e-14)
+
+
+def test_fis_refuses_hedges_it_cannot_carry_with_the_row():
+    with pytest.raises(FuzzycError) as err:
+        read_fis(OCTAVE_FIS.replace("2.05, 2 (1) : 1", "2.07, 2 (1) : 1"), "h.fis")
+    assert "h.fis:31:1" in str(err.value) and "exponent of 0.7" in str(err.value)
+    with pytest.raises(FuzzycError) as err:
+        read_fis(OCTAVE_FIS.replace("2.05, 2 (1) : 1", "2, 2.2 (1) : 1"), "c.fis")
+    assert "c.fis:31:1" in str(err.value) and "hedge on a consequent" in str(err.value)
+
+
+RAMP_FLL = """Engine: ramp
+InputVariable: x
+  range: 0 1
+  term: on Ramp 0 1
+OutputVariable: y
+  range: 0 1
+  default: nan
+  aggregation: Maximum
+  defuzzifier: Centroid 3
+  term: up Triangle 0 1 1
+RuleBlock: r
+  implication: Minimum
+  rule: if x is on then y is up
+"""
+
+
+def test_sampled_centroids_by_hand():
+    rb = read_fll(RAMP_FLL, "ramp.fll").rulebase
+    # x = 1 fires `up` fully: M(u) = u on [0, 1].  Exact: int u^2 / int u = (1/3)/(1/2) = 2/3.
+    assert evaluate(rb, [[1.0]])[0, 0] == pytest.approx(2 / 3, abs=1e-15)
+    # fuzzylite, 3 midpoints 1/6, 1/2, 5/6: sum u^2 / sum u = (35/36) / (3/2) = 35/54
+    assert evaluate_as(rb, [[1.0]], "fuzzylite", 3)[0, 0] == pytest.approx(35 / 54, abs=1e-15)
+    # Octave, trapz on 0, 1/2, 1 (weights 1/4, 1/2, 1/4): (0 + 1/8 + 1/4) / (0 + 1/4 + 1/4)
+    # = 0.75
+    got = evaluate_sampled(rb, [[1.0]], 3, Sampling.TRAPEZOID)[0, 0]
+    assert got == pytest.approx(0.75, abs=1e-15)
+    # x = 0: no rule fires: fuzzylite's default nan, fuzzyc's number (0, said in a note)
+    assert math.isnan(evaluate_as(rb, [[0.0]], "fuzzylite")[0, 0])
+    assert evaluate(rb, [[0.0]])[0, 0] == 0.0
+
+
+def test_empty_sugeno_range_and_terms_less_variables_import():
+    text = ("Engine: e\nInputVariable: a\n  range: 0 1\nInputVariable: b\n  range: 0 1\n"
+            "  term: t Triangle 0 0.5 1\nOutputVariable: y\n  range: 0 0\n"
+            "  defuzzifier: WeightedAverage\n  term: l Linear 2 3 1\n"
+            "RuleBlock: r\n  rule: if b is t then y is l\n")
+    model = read_fll(text, "e.fll")
+    # a = 0.5, b = 0.5: t = 1, y = 2*0.5 + 3*0.5 + 1 = 3.5 (a has no terms yet is read)
+    assert evaluate(model.rulebase, [[0.5, 0.5]])[0, 0] == pytest.approx(3.5, abs=1e-15)
+    assert any("no terms" in note for note in model.notes)
+    assert any("empty range" in note for note in model.notes)
+
+
+def test_fz_written_from_an_import_reads_back_terms_less_inputs_and_peaks_past_the_range():
+    # MATLAB's slcp1 (inputs read only by linear consequents) and invkine1 (a term peaking
+    # past its input's range): convert used to write a .fz that eval refused
+    text = ("Engine: e\nInputVariable: a\n  range: 0 1\nInputVariable: b\n  range: 0 1\n"
+            "  term: t Triangle 0 0.5 1\n  term: past Triangle 1 1.5 2\n"
+            "OutputVariable: y\n  range: 0 10\n  defuzzifier: WeightedAverage\n"
+            "  term: l Linear 2 3 1\nRuleBlock: r\n  rule: if b is t then y is l\n")
+    model = read_fll(text, "e.fll")
+    fz = write_fz(model)
+    assert "  terms a :\n" in fz
+    assert "`b` range [0, 1] widened to [0, 1.5]" in fz
+    back = parse(fz, "e.fz").rulebase
+    assert [v.n_terms for v in back.inputs] == [0, 2]
+    # a = 0.5, b = 0.25: t = 0.5, y = 2*0.5 + 3*0.25 + 1 = 2.75 (one rule: the weight cancels)
+    assert evaluate(back, [[0.5, 0.25]])[0, 0] == pytest.approx(2.75, abs=1e-15)
+
+
+TSUKAMOTO_FLL = """Engine: tsukamoto
+InputVariable: x
+  range: 0 1
+  term: on Ramp 0 1
+  term: off Ramp 1 0
+OutputVariable: y
+  range: 0 1
+  default: nan
+  aggregation: none
+  defuzzifier: WeightedAverage Tsukamoto
+  term: up Ramp 0.2 0.6
+  term: lo Sigmoid 0.5 -10
+RuleBlock: r
+  implication: none
+  activation: General
+  rule: if x is on then y is up
+  rule: if x is off then y is lo
+"""
+
+
+def test_tsukamoto_by_hand_in_each_tool():
+    model = read_fll(TSUKAMOTO_FLL, "t.fll")
+    rb = model.rulebase
+    assert rb.inference.defuzzifier == Defuzzifier.TSUKAMOTO
+    # x = 0.75: on = 0.75, off = 0.25.  up^-1(0.75) = 0.2 + 0.4 * 0.75 = 0.5;
+    # lo^-1(0.25): 1 / (1 + e^(10 (z - 0.5))) = 0.25 -> z = 0.5 + ln(3)/10;
+    # y = (0.75 * 0.5 + 0.25 * (0.5 + ln(3)/10)) / 1 = 0.5 + 0.025 ln 3
+    expected = 0.5 + 0.025 * math.log(3)
+    for semantics in ("exact", "fuzzylite", "pyfuzzylite"):
+        assert evaluate_as(rb, [[0.75]], semantics)[0, 0] == pytest.approx(expected, abs=1e-15)
+    # x = 0: off = 1, where the sigmoid is 1 only at -infinity: fuzzyc clips to the range's
+    # end (0), fuzzylite 6 takes the range's end too, pyfuzzylite 8 gives -inf
+    assert evaluate(rb, [[0.0]])[0, 0] == 0.0
+    assert evaluate_as(rb, [[0.0]], "fuzzylite")[0, 0] == 0.0
+    assert evaluate_as(rb, [[0.0]], "pyfuzzylite")[0, 0] == -math.inf
+    back = parse(write_fz(model), "t.fz").rulebase            # `defuzzify = tsukamoto`
+    assert evaluate(back, [[0.75]])[0, 0] == pytest.approx(expected, abs=1e-15)
+    assert "WeightedAverage Tsukamoto" in write_fll(model)
+    with pytest.raises(FuzzycError) as err:
+        check_supported(rb)
+    assert "tsukamoto" in str(err.value)
+    with pytest.raises(FuzzycError) as err:
+        write_fcl(model, [])
+    assert "Tsukamoto" in str(err.value)
+
+
+def test_tsukamoto_refuses_a_term_with_no_inverse_at_its_place():
+    text = TSUKAMOTO_FLL.replace("term: up Ramp 0.2 0.6", "term: up Triangle 0.2 0.4 0.6")
+    with pytest.raises(FuzzycError) as err:
+        read_fll(text, "t.fll")
+    assert "t.fll:11:9" in str(err.value) and "monotonic" in str(err.value)
+    fz = write_fz(read_fll(TSUKAMOTO_FLL, "t.fll")).replace("rshoulder(0.2, 0.6)",
+                                                             "tri(0.2, 0.4, 0.6)")
+    with pytest.raises(FuzzycError) as err:
+        parse(fz, "t.fz")
+    assert "tsukamoto needs monotonic output terms" in str(err.value)
+
+
+EINSTEIN_FLL = """Engine: einstein
+InputVariable: x
+  range: 0 1
+  term: on Ramp 0 1
+OutputVariable: y
+  range: 0 1
+  default: nan
+  aggregation: EinsteinSum
+  defuzzifier: Centroid 1000
+  term: up Triangle 0 1 1
+RuleBlock: r
+  implication: EinsteinProduct
+  rule: if x is on then y is up
+  rule: if x is on then y is up with 0.5
+"""
+
+
+def test_einstein_implication_and_aggregation_by_hand():
+    rb = read_fll(EINSTEIN_FLL.replace("  rule: if x is on then y is up with 0.5\n", ""),
+                  "e.fll").rulebase
+    # x = 0.5: one rule, level 0.5; E(0.5, u) = 0.5u / (2 - (0.5 + u - 0.5u)) = u / (3 - u).
+    # int_0^1 u/(3-u) = 3 ln 1.5 - 1; int_0^1 u^2/(3-u) = 9 ln 1.5 - 3.5 (u^2/(3-u) =
+    # -u - 3 + 9/(3-u)): the centroid is their ratio, 0.68941...; the engine integrates on
+    # its 2001-point grid (not closed form), so within 1e-6
+    ln = math.log(1.5)
+    assert evaluate(rb, [[0.5]])[0, 0] == pytest.approx((9 * ln - 3.5) / (3 * ln - 1), abs=1e-6)
+    two = read_fll(EINSTEIN_FLL, "e.fll")
+    # x = 1: levels 1 and 0.5: E(1, u) = u, E(0.5, u) = u/(3-u); folded with the Einstein sum
+    # (a + b) / (1 + ab).  At u = 1: (1 + 0.5) / 1.5 = 1, at u = 0.5: (0.5 + 0.2) / 1.1
+    y = evaluate(two.rulebase, [[1.0]])[0, 0]
+    sampled = evaluate_as(two.rulebase, [[1.0]], "fuzzylite", 100000)[0, 0]
+    assert y == pytest.approx(sampled, abs=1e-6)
+    assert "aggregation = einstein_sum" in write_fz(two)
+    assert "implication = einstein_product" in write_fz(two)
+    back = parse(write_fz(two), "e.fz").rulebase
+    assert evaluate(back, [[1.0]])[0, 0] == y
+    with pytest.raises(FuzzycError) as err:
+        check_supported(two.rulebase)
+    assert "einstein_sum" in str(err.value)
+
+
+def test_einstein_sum_grouping_by_hand():
+    # WeightedAverage grouped by EinsteinSum is the center of area: x = 1 fires `up` at 1 and
+    # at 0.5 -> (1 + 0.5) / (1 + 0.5) = 1; `zero` (value 0) at 0.5: y = 1*1 / (1 + 0.5) = 2/3
+    text = EINSTEIN_FLL.replace("defuzzifier: Centroid 1000", "defuzzifier: WeightedAverage") \
+        .replace("term: up Triangle 0 1 1", "term: up Constant 1\n  term: zero Constant 0") \
+        .replace("then y is up with 0.5", "then y is zero with 0.5") + \
+        "  rule: if x is on then y is up with 0.5\n"
+    rb = read_fll(text, "g.fll").rulebase
+    assert rb.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA
+    assert evaluate(rb, [[1.0]])[0, 0] == pytest.approx(2 / 3, abs=1e-15)
