@@ -9,10 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..engine import evaluate
 from ..errors import FuzzycError
 from ..formats import load_any
-from ..formats.tool_semantics import evaluate_as
+from ..formats.tool_semantics import Chain
 from . import oracles
 from .suites import Suite
 
@@ -47,15 +46,15 @@ def check(path: Path, suite: Suite, live: bool = True) -> FileResult:
     except FuzzycError as exc:
         first = str(exc).splitlines()[0]
         return FileResult(path, False, first, any(k in first for k in NEEDS_BLOCKS))
-    rb = model.rulebase
+    rb = Chain(model)
     result = FileResult(path, True)
     try:
         x, reference = _reference(path, suite, rb, live)
     except (oracles.OracleError, OSError, ValueError) as exc:
         result.message = f"tool: {exc}"
         return result
-    ours_tool = evaluate_as(rb, x, suite.semantics, _resolution(path))
-    ours_exact = evaluate(rb, x)
+    ours_tool = rb.evaluate(x, suite.semantics, _resolution(path))
+    ours_exact = rb.evaluate(x)
     # relative to the output's range; absolute for an empty range (a Sugeno output's [0, 0])
     span = np.array([v.hi - v.lo or 1.0 for v in rb.outputs])
     tool_nan = np.isnan(reference)

@@ -35,8 +35,8 @@ class RoundTrip:
 
 def round_trip(model: Model, name: str, fmt: str, tool: str) -> RoundTrip:
     """Write `model` as `fmt`, let `tool` evaluate the file on random inputs, compare."""
-    rb = model.rulebase
     try:
+        rb = model.rulebase
         text = WRITERS[f".{fmt}"](model, [])
     except FuzzycError as exc:
         return RoundTrip(name, fmt, tool, False, str(exc).splitlines()[0])

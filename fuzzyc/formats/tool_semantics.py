@@ -110,6 +110,27 @@ class ToolEngine:
         return evaluate_as(self.rb, np.asarray(xt).T, self.name, self.resolution).T
 
 
+class Chain:
+    """A model's rule blocks in order as one function of its inputs (the signals an imported
+    model reads) to every block's outputs: `inputs`, `outputs` and `evaluate` under a
+    semantics (a chained fuzzylite engine: one block reads another's output)."""
+
+    def __init__(self, model: Model):
+        self.blocks = model.blocks
+        self.inputs = model.blocks[0].inputs if len(model.blocks) == 1 else model.signals
+        self.outputs = [v for rb in model.blocks for v in rb.outputs]
+
+    def evaluate(self, x: np.ndarray, semantics: str = "exact",
+                 resolution: int | None = None) -> np.ndarray:
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        env = {v.name: x[:, i] for i, v in enumerate(self.inputs)}
+        for rb in self.blocks:
+            y = evaluate_as(rb, np.column_stack([env[v.name] for v in rb.inputs]), semantics,
+                            resolution)
+            env.update({v.name: y[:, o] for o, v in enumerate(rb.outputs)})
+        return np.column_stack([env[v.name] for v in self.outputs])
+
+
 def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
                 resolution: int | None = None) -> np.ndarray:
     """x (N, I) -> y (N, O) as `semantics` computes it; `resolution` is fuzzylite's (the file's
