@@ -18,10 +18,11 @@ from .suites import Suite
 TOLERANCE = 1e-6          # of the output's range
 RANDOM_ROWS = 200
 MAX_REFERENCE_ROWS = 1024
-NEEDS_BLOCKS = ("rule block", "RuleBlock", "an output: rules read inputs", "differs from",
+NEEDS_BLOCKS = ("rule block", "RuleBlock", "differs from",
                 "mixes `and` and `or`", "`not` applies to one clause",
                 "a defuzzifier per output")
-RESOLUTION = re.compile(r"defuzzifier:\s*(?:Centroid|Bisector|MeanOfMaximum)\s+(\d+)")
+RESOLUTION = re.compile(r"^OutputVariable:\s*(\S+)|defuzzifier:\s*(?:Centroid|Bisector|"
+                        r"MeanOfMaximum|SmallestOfMaximum|LargestOfMaximum)\s+(\d+)", re.M)
 
 
 @dataclass
@@ -75,10 +76,16 @@ def _worst(ours: np.ndarray, reference: np.ndarray, span: np.ndarray) -> float:
     return float(np.max(np.where(np.isnan(diff), np.inf, diff), initial=0.0))
 
 
-def _resolution(path: Path) -> int | None:
-    """The file's own sampling resolution (FLL `Centroid 200`), else the tool's default."""
-    found = RESOLUTION.findall(path.read_text(errors="replace")) if path.suffix == ".fll" else []
-    return int(found[0]) if found else None
+def _resolution(path: Path) -> dict[str, int]:
+    """Each output's own sampling resolution (FLL `Centroid 200`); the tool's default for the
+    others."""
+    text = path.read_text(errors="replace") if path.suffix == ".fll" else ""
+    found, output = {}, ""
+    for name, points in RESOLUTION.findall(text):
+        output = name or output
+        if points:
+            found[output] = int(points)
+    return found
 
 
 def random_inputs(path: Path, rb) -> np.ndarray:

@@ -5,7 +5,7 @@ DIRECT output per rule-base output, rules with the same premise merged as the bu
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import sympy
@@ -14,7 +14,7 @@ from ..builder import PLAIN_SHAPES as BUILDER_SHAPES
 from ..builder import RuleSpec, assemble_rulebase, merge_rules
 from ..errors import Reporter, suggest
 from ..membership import monotonic
-from ..model import (Aggregation, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
+from ..model import (Aggregation, CondOp, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
                      SourceLoc, TermKind, Variable)
 
 INF = math.inf
@@ -173,14 +173,18 @@ class Collected:
         n_inputs = len(self.inputs)
         inputs = [_variable(v, True, n_inputs) for v in self.inputs.values()]
         outputs = [_variable(v, False, n_inputs) for v in self.outputs.values()]
-        blocks, parts = [], self.blocks or [("", self.inference, self.rules)]
+        blocks, parts = [], self._chained(self.blocks or [("", self.inference, self.rules)])
+        self.rep.raise_if_any()
         owner = {}      # an output no rule concludes stays with the first block (its default)
         for k, (_, _, rules) in enumerate(parts):
             owner.update({out: k for r in rules for out in r.conclusions if out not in owner})
+        by_name = {v.name: v for v in outputs}
         for k, (name, inference, rules) in enumerate(parts):
             mine = [v for v in outputs if owner.get(v.name, 0) == k]
-            # every block reads every input (a linear term's coefficients run over them all)
-            rb = assemble_rulebase(inputs, mine, merge_rules(rules), inference)
+            # every block reads every input (a linear term's coefficients run over them all),
+            # then the outputs of earlier blocks its rules read
+            read = [replace(by_name[n], learnable=None) for n in by_name if n in _reads(rules)]
+            rb = assemble_rulebase(inputs + read, mine, merge_rules(rules), inference)
             rb.name = name
             rb.output_choices = {v.name: self.output_choices[v.name] for v in mine
                                  if v.name in self.output_choices}
@@ -193,6 +197,44 @@ class Collected:
                      for v in outputs],
             source_path=path, source_text=text, notes=list(self.notes))
 
+
+    def _chained(self, parts: list) -> list:
+        """The rule blocks with the rules that read outputs moved to blocks after those
+        concluding them (fuzzylite's chained engines: one block, rules in order): a rule's stage
+        is one past the stages of the outputs it reads, and an output's stage that of its
+        latest rule, so every output is written by one block, read by later ones only."""
+        rules = [(k, r) for k, (_, _, rs) in enumerate(parts) for r in rs]
+        if not any(_reads([r]) & set(self.outputs) for _, r in rules):
+            return parts
+        for n, (_, rule) in enumerate(rules):
+            early = [r for _, r in rules[:n] if _reads([r]) & set(rule.conclusions)]
+            if early:
+                read = sorted(_reads(early[:1]) & set(rule.conclusions))[0]
+                self.rep.error(early[0].loc, f"this rule reads `{read}` before the rule at "
+                                             f"{rule.loc} concludes it: the model reads an "
+                                             "output once every rule concluding it has fired "
+                                             "(fuzzylite would read it half aggregated)")
+                return parts
+        stage: dict[int, int] = {}
+        output_stage: dict[str, int] = {}
+        for n, (_, rule) in enumerate(rules):
+            stage[n] = max([output_stage.get(o, 0) for o in rule.conclusions] +
+                           [output_stage[o] + 1 for o in _reads([rule]) if o in output_stage],
+                           default=0)
+            for o in rule.conclusions:
+                if output_stage.get(o, stage[n]) < stage[n]:
+                    self.rep.error(rule.loc, f"`{o}` is concluded by rules of different stages "
+                                             "of a chain (this one reads outputs): conclude it "
+                                             "in one block")
+                output_stage[o] = stage[n]
+        out = []
+        for s in range(max(stage.values()) + 1):
+            for k, (name, inference, _) in enumerate(parts):
+                mine = [r for n, (b, r) in enumerate(rules) if b == k and stage[n] == s]
+                if mine or s == 0:
+                    out.append((f"{name or 'rules'}{'_' + str(s + 1) if s else ''}", inference,
+                                mine))
+        return out
 
     def _check_linear_terms(self) -> None:
         n_inputs = len(self.inputs)
@@ -208,6 +250,13 @@ class Collected:
                     self.rep.error(term.loc, f"Linear `{term.name}` has "
                                              f"{len(term.coefficients)} coefficients: give one "
                                              f"per input ({n_inputs}) and optionally a constant")
+
+
+def _reads(rules: list[RuleSpec]) -> set[str]:
+    """The variables these rules' conditions read."""
+    return {name for r in rules
+            for name in (r.clauses if r.program is None else
+                         [step[1] for step in r.program if step[0] == CondOp.CLAUSE])}
 
 
 def _variable(v: VarSpec, is_input: bool, n_inputs: int) -> Variable:

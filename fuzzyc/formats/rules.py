@@ -121,11 +121,11 @@ def _condition(node: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, Hedg
 def _clause(name: Token, words: list[Token], negated: bool, got: Collected, loc_of: LocOf,
             hedges: dict[str, Hedge]):
     rep = got.rep
-    var = got.inputs.get(name.value)
+    # an output read by a rule chains the blocks (Collected.model puts the rule after them)
+    var = got.inputs.get(name.value) or got.outputs.get(name.value)
     if var is None:
-        where = ("an output: rules read inputs" if name.value in got.outputs
-                 else suggest(name.value, list(got.inputs)))
-        rep.error(loc_of(name), f"no input variable `{name}`: {where}")
+        rep.error(loc_of(name), f"no variable `{name}`: "
+                                f"{suggest(name.value, [*got.inputs, *got.outputs])}")
         return None
     *hedge_words, term = words
     if not hedge_words and term.value.lower() == "any" and "any" not in var.term_names():

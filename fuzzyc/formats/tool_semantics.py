@@ -39,8 +39,8 @@ import numpy as np
 from ..engine import activations, evaluate
 from ..errors import Diagnostic, FuzzycError
 from ..membership import linear_coefficients, pointwise, term_inverse
-from ..model import (Aggregation, Defuzzifier, Hedge, Model, RuleBase, TermKind,
-                     aggregation_snorm)
+from ..model import (Aggregation, CondOp, Defuzzifier, Hedge, Model, RuleBase, TermKind,
+                     Variable, aggregation_snorm)
 from ..norms import combine
 from .fuzzylite_compat import SAMPLED, Sampling, evaluate_sampled
 
@@ -121,14 +121,78 @@ class Chain:
         self.outputs = [v for rb in model.blocks for v in rb.outputs]
 
     def evaluate(self, x: np.ndarray, semantics: str = "exact",
-                 resolution: int | None = None) -> np.ndarray:
+                 resolution: dict[str, int] | None = None) -> np.ndarray:
+        """x (N, I) -> (N, O) under `semantics`; `resolution`: an output's own sampling
+        resolution (a block takes its first output's), else the tool's default."""
         x = np.atleast_2d(np.asarray(x, dtype=float))
         env = {v.name: x[:, i] for i, v in enumerate(self.inputs)}
+        written: set[str] = set()
         for rb in self.blocks:
-            y = evaluate_as(rb, np.column_stack([env[v.name] for v in rb.inputs]), semantics,
-                            resolution)
+            if semantics in ("fuzzylite", "pyfuzzylite"):
+                rb = reading_activations(rb, written)
+            xb = np.column_stack([env[v.name] for v in rb.inputs])
+            points = [resolution[v.name] for v in rb.outputs if v.name in (resolution or {})]
+            y = evaluate_as(rb, xb, semantics, points[0] if points else None)
             env.update({v.name: y[:, o] for o, v in enumerate(rb.outputs)})
+            env.update(term_activations(rb, xb))
+            written.update(v.name for v in rb.outputs)
         return np.column_stack([env[v.name] for v in self.outputs])
+
+
+IDENTITY = (0.0, 1.0, np.inf, np.inf)     # a trapezoid whose membership is x on [0, 1]
+
+
+def term_activations(rb: RuleBase, x: np.ndarray) -> dict[str, np.ndarray]:
+    """`OUTPUT.TERM` -> (N,): the term's activation in the output's fuzzy set, the rules
+    concluding it aggregated (fuzzylite's Aggregated::activationDegree: the s-norm of the
+    aggregation, the plain sum without one)."""
+    act = activations(rb, x)
+    out = {}
+    for o, var in enumerate(rb.outputs):
+        snorm = aggregation_snorm(rb.inference_of(o).aggregation)
+        for t, name in enumerate(var.names):
+            rules = [act[:, r] for r in np.flatnonzero(rb.consequents[:, o] == t)]
+            out[f"{var.name}.{name}"] = (np.zeros(x.shape[0]) if not rules else
+                                         np.sum(rules, axis=0) if snorm is None else
+                                         combine(rules, snorm, False))
+    return out
+
+
+def reading_activations(rb: RuleBase, outputs: set[str]) -> RuleBase:
+    """fuzzylite's chained engines read `V is t` of an output V as t's activation in V's fuzzy
+    set (term_activations), not as t's membership of V's value: the rule base with each such
+    clause on an input `V.t` (that activation) through the identity term on [0, 1]."""
+    columns, inputs = [], []       # per new input: the old column and the term it stands for
+    for i, var in enumerate(rb.inputs):
+        if var.name not in outputs:
+            columns.append((i, None))
+            inputs.append(var)
+            continue
+        for t, name in enumerate(var.names):
+            columns.append((i, t))
+            inputs.append(Variable(f"{var.name}.{name}", 0.0, 1.0, [name],
+                                   np.array([int(TermKind.TRAPEZOID)]), np.array([IDENTITY])))
+    if len(inputs) == len(rb.inputs):
+        return rb
+    new_of = {(i, t): k for k, (i, t) in enumerate(columns)}
+    keep = [np.ones(rb.n_rules, bool) if t is None else rb.antecedents[:, i] == t
+            for i, t in columns]
+    cols = [i for i, _ in columns]
+    ante = np.where(np.column_stack(keep), rb.antecedents[:, cols], -1)
+    ante = np.where((ante >= 0) & np.array([t is not None for _, t in columns]), 0, ante)
+    conditions = {}
+    for r, program in rb.conditions.items():
+        steps = program.copy()
+        for step in steps:
+            if step[0] == CondOp.CLAUSE and (int(step[1]), int(step[2])) in new_of:
+                step[1], step[2] = new_of[int(step[1]), int(step[2])], 0
+            elif step[0] == CondOp.CLAUSE:
+                step[1] = new_of.get((int(step[1]), None), new_of.get((int(step[1]), 0)))
+        conditions[r] = steps
+    keep = np.column_stack(keep)
+    return replace(rb, inputs=inputs, antecedents=ante, conditions=conditions,
+                   negated=rb.negated[:, cols] & keep,
+                   hedges=np.where(keep, rb.hedges[:, cols], Hedge.NONE))
 
 
 def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
