@@ -42,7 +42,7 @@ from itertools import product
 import numpy as np
 
 from .centroid import ClosedFormCentroid
-from .membership import linear_coefficients, term_inverse, term_values, trapezoid
+from .membership import linear_coefficients, memberships, term_inverse, trapezoid
 from .model import (Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable,
                     aggregation_snorm)
 from .norms import combine, implied
@@ -176,7 +176,7 @@ class OutputDefuzzifier:
         lo, hi = float(var.lo), float(var.hi)
         if self.sampled:
             self.grid = np.linspace(lo, hi, GRID_POINTS)
-            self.grid_mu = term_values(var.kinds, var.params, self.grid)   # (P, T)
+            self.grid_mu = memberships(var, self.grid)                       # (P, T)
             return
         p = np.asarray(var.params, dtype=float).copy()
         p[var.kinds == TermKind.SINGLETON] = np.inf    # no area: zero membership everywhere

@@ -203,6 +203,16 @@ def linear_coefficients(var: Variable, n_inputs: int) -> np.ndarray:
     return out
 
 
+def discrete_problem(values) -> str:
+    """'' when x1 y1 x2 y2 ... make a DISCRETE term, else what is wrong."""
+    if len(values) < 2 or len(values) % 2 or not all(map(np.isfinite, values)):
+        return "a discrete term is pairs of finite numbers x y (at least one)"
+    xs, ys = values[0::2], values[1::2]
+    if any(p >= q for p, q in zip(xs, xs[1:])) or any(not 0 <= y <= 1 for y in ys):
+        return "a discrete term's x values must ascend and its y values lie in [0, 1]"
+    return ""
+
+
 def monotonic(kind: TermKind, params) -> bool:
     """Whether the term has one inverse (Tsukamoto): a shoulder, sigmoid, S/Z shape, concave;
     a singleton counts (its value is its own)."""
@@ -236,8 +246,10 @@ def pointwise(kind: TermKind, params: np.ndarray, u: np.ndarray) -> np.ndarray:
         return _SHAPES[kind](np.ravel(u), p).reshape(np.shape(u))
 
 
-def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """Membership of terms given as (kinds (T,), params (T, 4)) at x (N,) -> (N, T).
+def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray,
+                points: dict[int, np.ndarray] | None = None) -> np.ndarray:
+    """Membership of terms given as (kinds (T,), params (T, 4)) at x (N,) -> (N, T); `points`
+    are the DISCRETE terms' (Variable.points).
 
     NaN x gives 0 for every term; infinities give the shapes' limits (never NaN).
     """
@@ -247,6 +259,12 @@ def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray) -> np.ndar
     for kind in np.unique(kinds):
         cols = np.flatnonzero(kinds == kind)
         with np.errstate(invalid="ignore"):
+            if kind == TermKind.DISCRETE:
+                # np.interp holds the first and last y beyond the points, as the model says
+                for t in cols:
+                    xy = (points or {})[int(t)]
+                    mu[:, t] = np.interp(x[:, 0], xy[:, 0], xy[:, 1])
+                continue
             mu[:, cols] = _SHAPES[TermKind(int(kind))](x, params[cols])
     mu[np.isnan(mu)] = 0.0  # NaN x, or an infinite x where a shape has no limit (0 * inf)
     mu[np.isnan(x[:, 0])] = 0.0   # edge shapes' comparisons would read NaN as "beyond the end"
@@ -255,7 +273,7 @@ def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray) -> np.ndar
 
 def memberships(var: Variable, x: np.ndarray) -> np.ndarray:
     """x (N,) -> mu (N, T) for the terms of `var`."""
-    return term_values(var.kinds, var.params, x)
+    return term_values(var.kinds, var.params, x, var.points)
 
 
 @dataclass

@@ -38,6 +38,9 @@ Membership of a term at x (params padded to 4 with 0):
   ARC       (start, end): a quarter circle centred at (end, 0) rising from start to end:
                      r = end - start; sqrt(r^2 - (x-end)^2) / |r| between start and end, 1 beyond
                      end, 0 before start   (fuzzylite 7+)
+  DISCRETE  points (x_1, y_1) .. (x_K, y_K), x ascending, in Variable.points[term] (params
+                     unused): linear between the points, y_1 before x_1, y_K after x_K (fuzzylite's
+                     Discrete, MATLAB discretemf, an IEC 61131-7 FCL point list).
   LINEAR    (c0, c1, c2, c3): an output term only, for WEIGHTED_AVERAGE / WEIGHTED_SUM
                      (first-order Takagi-Sugeno): z = c0 + sum_i c_{i+1} x_i over the rule base's
                      inputs in order; with more than 3 inputs the row is in
@@ -124,6 +127,7 @@ class TermKind(IntEnum):
     BINARY = 15
     SEMI_ELLIPSE = 16
     ARC = 17
+    DISCRETE = 18
 
 
 class Hedge(IntEnum):
@@ -234,7 +238,8 @@ class SourceLoc:
 class Variable:
     """A linguistic variable: a range and its terms, stored as arrays.
 
-    kinds: (T,) int TermKind; params: (T, 4) float; names: T term names.
+    kinds: (T,) int TermKind; params: (T, 4) float; names: T term names; `points` holds the
+    (K, 2) points of each DISCRETE term.
     `learnable` marks output terms (singletons) whose values a learning rule may change.
     """
     name: str
@@ -247,6 +252,7 @@ class Variable:
     default: float = 0.0
     learnable: np.ndarray | None = None  # (T,) bool, outputs only
     coefficients: dict[int, np.ndarray] | None = None  # LINEAR terms with > 3 inputs
+    points: dict[int, np.ndarray] | None = None        # DISCRETE terms: (K, 2) x, y rows
     loc: SourceLoc | None = None
     term_locs: list[SourceLoc | None] = field(default_factory=list)
 
@@ -256,6 +262,15 @@ class Variable:
 
     def index(self, term: str) -> int:
         return self.names.index(term)
+
+    def term_numbers(self, t: int) -> tuple[float, ...]:
+        """Term t's numbers as written: a DISCRETE term's x y pairs, a LINEAR term's long row,
+        else its params."""
+        if self.kinds[t] == TermKind.DISCRETE:
+            return tuple(self.points[t].ravel().tolist())
+        if self.kinds[t] == TermKind.LINEAR and (self.coefficients or {}).get(t) is not None:
+            return tuple(self.coefficients[t].tolist())
+        return tuple(np.asarray(self.params[t], dtype=float).tolist())
 
     def peaks(self) -> np.ndarray:
         """The representative value of each term (used by CENTER_OF_AREA and TSK outputs)."""
@@ -278,6 +293,9 @@ class Variable:
                 out[i] = b                       # where it reaches 1
             elif kind == TermKind.LINEAR:
                 out[i] = np.nan                  # no fixed value: depends on the inputs
+            elif kind == TermKind.DISCRETE:      # the mean of the highest points
+                xy = self.points[i]
+                out[i] = float(np.mean(xy[xy[:, 1] == xy[:, 1].max(), 0]))
             else:  # GAUSSIAN mean, BELL centre, SIGMOID centre, SINGLETON value, ZSHAPE start,
                 out[i] = a                       # SPIKE and COSINE centre
         return out

@@ -15,13 +15,13 @@ CORPUS = Path(__file__).parent / "format_corpus"
 # file -> the diagnostics expected, as (line:col, words of the message)
 EXPECTED = {
     "bad_syntax.fll": [("12:35", "ends too early")],
-    "bad_unsupported.fll": [("4:14", "term shape `Discrete` is not supported"),
+    "bad_unsupported.fll": [("4:14", "term shape `Function` is not supported"),
                             ("9:16", "defuzzifier `LargestOfMaximum` is not supported"),
                             ("12:15", "activation `Highest` is not supported"),
                             ("13:23", "hedge `very very` is not supported"),
                             ("14:23", "did you mean `good`?")],
     "bad_syntax.fcl": [("7:3", "unexpected `TERM`: expected `(`, `;`")],
-    "bad_unsupported.fcl": [("9:15", "not a triangle, trapezoid or shoulder"),
+    "bad_unsupported.fcl": [("9:15", "x values must ascend"),
                             ("15:12", "METHOD LM is not supported"),
                             ("19:9", "AND HAMACHER is not supported"),
                             ("20:41", "has no term `low`")],

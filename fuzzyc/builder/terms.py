@@ -9,13 +9,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import units
+from ..membership import discrete_problem
 from ..model import SourceLoc, TermKind, Variable
 from ..syntax import Name, Stmt, TermDef
 
 INF = math.inf
 
 SHAPE_ARITY = {"tri": 3, "trap": 4, "lshoulder": 2, "rshoulder": 2, "gauss": 2, "bell": 3,
-               "sigmoid": 2, "singleton": 1, "linear": None}
+               "sigmoid": 2, "singleton": 1, "linear": None, "discrete": None}
 
 # Shapes written with their parameters in the model's order: word -> (kind, arity, the condition
 # that keeps them well defined, what to say when it fails)
@@ -81,18 +82,24 @@ def term_core(kind: TermKind, params) -> tuple[float, float]:
         return (edge, INF) if rising else (-INF, edge)
     if kind == TermKind.LINEAR:
         return -INF, INF
+    if kind == TermKind.DISCRETE:     # x1 y1 x2 y2 ...: where y is highest
+        top = [x for x, y in zip(params[0::2], params[1::2]) if y == max(params[1::2])]
+        return top[0], top[-1]
     return params[0], params[0]
 
 
 def to_variable(v: LinguisticVar) -> Variable:
     kinds = np.array([int(t[1]) for t in v.terms], dtype=np.int64)
-    # Linear rows longer than the (T, 4) params live in `coefficients`.
+    # Linear rows longer than the (T, 4) params live in `coefficients`, discrete points in
+    # `points`.
+    discrete = {t: np.array(term[2], dtype=float).reshape(-1, 2) for t, term in enumerate(v.terms)
+                if term[1] == TermKind.DISCRETE}
     long_rows = {t: np.array(term[2], dtype=float) for t, term in enumerate(v.terms)
-                 if len(term[2]) > 4}
-    params = np.array([term[2] if len(term[2]) <= 4 else (0, 0, 0, 0) for term in v.terms],
-                      dtype=float).reshape(len(v.terms), 4)
+                 if len(term[2]) > 4 and t not in discrete}
+    params = np.array([(0, 0, 0, 0) if len(term[2]) > 4 or t in discrete else term[2]
+                       for t, term in enumerate(v.terms)], dtype=float).reshape(len(v.terms), 4)
     return Variable(
-        coefficients=long_rows or None,
+        coefficients=long_rows or None, points=discrete or None,
         name=v.name, lo=float(v.lo), hi=float(v.hi), names=[t[0] for t in v.terms], kinds=kinds,
         params=params, unit=units.format_unit(v.unit) if v.unit else None, default=v.default,
         learnable=None if v.is_input else np.array(v.learnable, dtype=bool), loc=v.loc,
@@ -241,6 +248,12 @@ class TermsBuilder:
                 self.error(where, f"degenerate {shape} `{term.name.text}`: write {usage}")
                 return
             self._append_term(var, term.name, kind, (*values, 0, 0, 0)[:max(4, arity)])
+        elif shape == "discrete":      # x1, y1, x2, y2, ...: the points stay as written
+            problem = discrete_problem(values)
+            if problem:
+                self.error(where, f"discrete `{term.name.text}`: {problem}")
+                return
+            self._append_term(var, term.name, TermKind.DISCRETE, tuple(values))
         elif shape == "linear":
             if var.is_input:
                 self.error(term.name.loc, f"a linear term is a Takagi-Sugeno consequent: input "

@@ -106,10 +106,14 @@ def _reference(path: Path, suite: Suite, rb, live: bool) -> tuple[np.ndarray, np
         x = random_inputs(path, rb)
         return x, oracles.octave_outputs(path, x)
     shipped = oracles.read_fld(fld) if fld.exists() else None
-    if suite.oracle == "fuzzylite" and live and oracles.have_fuzzylite():
+    tool = {"fuzzylite": oracles.have_fuzzylite,
+            "pyfuzzylite": lambda: oracles.pyfuzzylite_python() is not None}[suite.oracle]
+    if live and tool():
         x = random_inputs(path, rb)
         if shipped is not None:
             x = np.vstack([_columns(*shipped, inputs, fld)[:MAX_REFERENCE_ROWS], x])
+        if suite.oracle == "pyfuzzylite":
+            return x, oracles.pyfuzzylite_outputs(path, x, inputs, outputs)
         return x, _columns(*oracles.fuzzylite_outputs(path, x), outputs, path)
     if shipped is None:
         raise oracles.OracleError("no live tool and no .fld reference data")

@@ -52,6 +52,46 @@ def fuzzylite_outputs(path: Path, x: np.ndarray) -> tuple[list[str], np.ndarray]
         return read_fld(got)
 
 
+PYFUZZYLITE_RUN = """
+import sys
+import numpy as np
+import fuzzylite as fl
+engine = fl.FllImporter().from_file(sys.argv[1])
+x = np.loadtxt(sys.argv[2], ndmin=2)
+for i, name in enumerate(sys.argv[4].split(",")):
+    engine.input_variable(name).value = x[:, i]
+engine.process()
+y = [np.broadcast_to(engine.output_variable(name).value, x.shape[:1])
+     for name in sys.argv[5].split(",")]
+np.savetxt(sys.argv[3], np.column_stack(y), fmt="%.17g")
+"""
+
+
+def pyfuzzylite_python() -> Path | None:
+    """The python of the venv holding pyfuzzylite 8 (it pins numpy < 2: a venv of its own)."""
+    from .suites import PYFUZZYLITE_VENV
+    python = Path(PYFUZZYLITE_VENV) / "bin" / "python"
+    return python if python.exists() else None
+
+
+def pyfuzzylite_outputs(path: Path, x: np.ndarray, inputs: list[str],
+                        outputs: list[str]) -> np.ndarray:
+    """(N, O): pyfuzzylite 8 importing the FLL file and processing the rows of x at once."""
+    python = pyfuzzylite_python()
+    if python is None:
+        raise OracleError("no pyfuzzylite venv")
+    with tempfile.TemporaryDirectory() as tmp:
+        given, got = Path(tmp) / "x.txt", Path(tmp) / "y.txt"
+        np.savetxt(given, x, fmt="%.17g")
+        done = subprocess.run([str(python), "-c", PYFUZZYLITE_RUN, str(path), str(given),
+                               str(got), ",".join(inputs), ",".join(outputs)],
+                              capture_output=True, text=True, timeout=TIMEOUT)
+        if done.returncode != 0 or not got.exists():
+            lines = done.stderr.strip().splitlines()
+            raise OracleError(lines[-1] if lines else "pyfuzzylite failed")
+        return np.loadtxt(got, ndmin=2).reshape(x.shape[0], len(outputs))
+
+
 def _octave(code: str, cwd: str | None = None) -> subprocess.CompletedProcess:
     return subprocess.run(["octave", "--no-gui", "--quiet", "--no-window-system", "--eval", code],
                           capture_output=True, text=True, timeout=TIMEOUT, cwd=cwd)

@@ -13,7 +13,7 @@ import sympy
 from ..builder import PLAIN_SHAPES as BUILDER_SHAPES
 from ..builder import RuleSpec, assemble_rulebase, merge_rules
 from ..errors import Reporter, suggest
-from ..membership import monotonic
+from ..membership import discrete_problem, monotonic
 from ..model import (Aggregation, CondOp, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
                      SourceLoc, TermKind, Variable)
 
@@ -30,6 +30,7 @@ class TermSpec:
     # LINEAR only: as fuzzylite and MATLAB write them, one per input then the constant (which
     # fuzzylite lets out); resolved once the number of inputs is known.
     coefficients: tuple[float, ...] | None = None
+    points: tuple[tuple[float, float], ...] | None = None     # DISCRETE only
 
 
 @dataclass
@@ -61,6 +62,7 @@ class VarSpec:
         """The span of the terms' finite break points: for formats where a range is optional."""
         points = [p for t in self.terms
                   for p in (t.params if t.kind == TermKind.TRAPEZOID else
+                            [x for x, _ in t.points] if t.kind == TermKind.DISCRETE else
                             () if t.kind == TermKind.LINEAR else t.params[:1])
                   if math.isfinite(p)]
         return (min(points), max(points)) if points and min(points) < max(points) else None
@@ -109,6 +111,16 @@ def trapezoid_or_none(a: float, b: float, c: float, d: float):
     if a <= b <= c <= d and a < d:
         return shape(TermKind.TRAPEZOID, a, b, c, d)
     return None
+
+
+def discrete_or_none(values: list[float], loc: SourceLoc | None, rep: Reporter):
+    """A DISCRETE term from x1 y1 x2 y2 ..., as the importers' shape tuple, or None after
+    reporting why not."""
+    problem = discrete_problem(values)
+    if problem:
+        rep.error(loc, problem)
+        return None
+    return TermKind.DISCRETE, (0.0,) * 4, None, tuple(zip(values[0::2], values[1::2]))
 
 
 def tsukamoto_terms(variables) -> bool:
@@ -264,6 +276,8 @@ def _variable(v: VarSpec, is_input: bool, n_inputs: int) -> Variable:
     n = len(v.terms)
     params = np.array([t.params for t in v.terms], dtype=float).reshape(n, 4)
     coefficients = {}
+    points = {t: np.array(term.points, dtype=float) for t, term in enumerate(v.terms)
+              if term.kind == TermKind.DISCRETE}
     for t, term in enumerate(v.terms):
         if term.kind == TermKind.LINEAR:
             row = linear_row(term.coefficients, n_inputs)
@@ -275,4 +289,5 @@ def _variable(v: VarSpec, is_input: bool, n_inputs: int) -> Variable:
         name=v.name, lo=float(v.lo), hi=float(v.hi), names=v.term_names(),
         kinds=np.array([int(t.kind) for t in v.terms], dtype=np.int64), params=params,
         default=float(v.default), learnable=None if is_input else np.zeros(n, dtype=bool),
-        loc=v.loc, term_locs=[t.loc for t in v.terms], coefficients=coefficients or None)
+        loc=v.loc, term_locs=[t.loc for t in v.terms], coefficients=coefficients or None,
+        points=points or None)

@@ -34,8 +34,8 @@ from ..errors import Reporter
 from ..escape import one_line
 from ..model import (Aggregation, Connective, Defuzzifier, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
-from .common import (Collected, TermSpec, VarSpec, nan_default, shape, trapezoid_or_none,
-                     tsukamoto_terms)
+from .common import (Collected, TermSpec, VarSpec, discrete_or_none, nan_default, shape,
+                     trapezoid_or_none, tsukamoto_terms)
 from .export import (all_singletons, finish, left_out, model_identifier, num, own_output_choices,
                      peaks_instead, rule_sentence, unsayable_hedges, unsayable_names)
 from .fll import HEDGES, fll_term, fuzzylite_shape
@@ -216,11 +216,9 @@ class _FclReader:
             v = [float(n.children[0]) for n in numbers]
             return self._function(word.value.upper(), v, loc)
         points = [tuple(float(n.children[0]) for n in p.children) for p in body.children]
-        made = _points_to_trapezoid(points)
-        if made is None:
-            self.rep.error(loc, "this point list is not a triangle, trapezoid or shoulder (values "
-                                "0 and 1 only, rising then falling): the model cannot carry it")
-        return made
+        # a triangle, trapezoid or shoulder stays one (the engine integrates those exactly)
+        return _points_to_trapezoid(points) or discrete_or_none(
+            [v for point in points for v in point], loc, self.rep)
 
     def _function(self, word: str, v: list[float], loc: SourceLoc):
         arity = {"TRIAN": 3, "TRAPE": 4, "GAUSS": 2, "GBELL": 3, "SIGM": 2}[word]
@@ -432,10 +430,12 @@ def _fcl_method(model: Model, problems: list[str], notes: list[str]):
 
 def _fcl_terms(var, problems: list[str], notes: list[str]) -> list[str]:
     lines = []
-    for name, kind, p in zip(var.names, var.kinds, var.params):
+    for t, (name, kind, p) in enumerate(zip(var.names, var.kinds, var.params)):
         a, b, c, d = (float(x) for x in p)
         kind = TermKind(int(kind))
-        if kind == TermKind.TRAPEZOID:
+        if kind == TermKind.DISCRETE:
+            body = " ".join(f"({num(x)}, {num(y)})" for x, y in var.points[t])
+        elif kind == TermKind.TRAPEZOID:
             points = [(a, 0), (b, 1), (c, 1), (d, 0)]
             if b == c:
                 del points[2]

@@ -99,7 +99,7 @@ FIS_HEDGES = {0.0: Hedge.NONE, 0.5: Hedge.SOMEWHAT, 2.0: Hedge.VERY, 3.0: Hedge.
 # fuzzylite's membership functions in FIS -> (its FLL word, FIS parameters -> FLL's order)
 FUZZYLITE_MFS = {"rampmf": ("Ramp", lambda v: v), "rectmf": ("Rectangle", lambda v: v),
                  "concavemf": ("Concave", lambda v: v), "cosinemf": ("Cosine", lambda v: v),
-                 "spikemf": ("Spike", lambda v: v),
+                 "spikemf": ("Spike", lambda v: v), "discretemf": ("Discrete", lambda v: v),
                  "dsigmf": ("SigmoidDifference", lambda v: [v[1], v[0], v[2], v[3]][:len(v)]),
                  "psigmf": ("SigmoidProduct", lambda v: [v[1], v[0], v[2], v[3]][:len(v)]),
                  "gauss2mf": ("GaussianProduct", lambda v: [v[1], v[0], v[3], v[2]][:len(v)])}
@@ -235,7 +235,8 @@ class _FisReader:
             word, order = FUZZYLITE_MFS[kind]
             made = fuzzylite_shape(word, order(numbers), loc, self.rep)
             if made is not None:
-                self.var.add(TermSpec(name, *made, loc=loc), self.rep)
+                kind, params, *more = made
+                self.var.add(TermSpec(name, kind, params, loc, *more), self.rep)
             return
         if kind not in arity:
             self.rep.error(loc, f"membership function `{kind}` is not supported: the model "
@@ -517,6 +518,10 @@ def _fis_terms(var: Variable, is_input: bool, n_inputs: int, problems: list[str]
             word, values = "constant", (a,)
         elif kind == TermKind.LINEAR:   # MATLAB writes the constant last
             word, values = "linear", (*linear[t, 1:], linear[t, 0])
+        elif kind == TermKind.DISCRETE:
+            word, values = "discretemf", var.term_numbers(t)
+            notes.append(f"term `{name}` of `{var.name}` is written `discretemf`, fuzzylite's "
+                         "word: MATLAB and the Octave toolkit have no such function")
         elif kind in FIS_SHAPES:
             word, order = FIS_SHAPES[kind]
             values = order(a, b, c, d)

@@ -44,7 +44,7 @@ from ..escape import one_line
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
 from ..membership import linear_coefficients
-from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, nan_default,
+from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, discrete_or_none, nan_default,
                      plain_shape_or_none, shape, trapezoid_or_none, tsukamoto_terms)
 from .export import (all_singletons, compound_negations, finish, left_out, model_identifier, num,
                      own_output_choices, peaks_instead, rule_sentence, unsayable_hedges,
@@ -77,7 +77,7 @@ AGGREGATIONS = {"Maximum": Aggregation.MAX, "UnboundedSum": Aggregation.SUM,
 GROUPING = {k: v for k, v in AGGREGATIONS.items() if v != Aggregation.SUM}
 INTEGRAL = {"Centroid": Defuzzifier.CENTROID, "Bisector": Defuzzifier.BISECTOR,
             "MeanOfMaximum": Defuzzifier.MEAN_OF_MAXIMUM}
-KNOWN_UNSUPPORTED_TERMS = ("Function", "Discrete", "Activated", "Aggregated")
+KNOWN_UNSUPPORTED_TERMS = ("Function", "Activated", "Aggregated")
 SECTIONS = ("Engine", "InputVariable", "OutputVariable", "RuleBlock")
 KEYS = {
     "Engine": {"description"},
@@ -435,6 +435,8 @@ def fuzzylite_shape(kind: str, v: list[float], loc: SourceLoc, rep: Reporter):
                            "optionally a constant")
             return None
         return TermKind.LINEAR, (0.0,) * 4, tuple(v)
+    if kind == "Discrete":
+        return discrete_or_none(v, loc, rep)
     arity = {"Triangle": 3, "Trapezoid": 4, "Rectangle": 2, "Ramp": 2, "Gaussian": 2,
              "Bell": 3, "Sigmoid": 2, "Constant": 1,
              **{name: PLAIN_SHAPES[k][0] for name, k in FLL_SHAPES.items()}}.get(kind)
@@ -442,7 +444,7 @@ def fuzzylite_shape(kind: str, v: list[float], loc: SourceLoc, rep: Reporter):
         what = "is not supported" if kind in KNOWN_UNSUPPORTED_TERMS else "is unknown"
         rep.error(loc, f"term shape `{kind}` {what}: the model carries Triangle, "
                        "Trapezoid, Rectangle, Ramp, Gaussian, Bell, Sigmoid, "
-                       + ", ".join(FLL_SHAPES) + ", Constant, Linear")
+                       + ", ".join(FLL_SHAPES) + ", Discrete, Constant, Linear")
         return None
     height_allowed = kind != "Constant"
     if len(v) not in (arity, arity + height_allowed) or len(v) == 0:
@@ -558,6 +560,9 @@ def _fll_variable(section: str, var, problems: list[str], is_input: bool,
         if kind == TermKind.LINEAR:
             row = linear[t]   # fuzzylite writes the constant last
             lines.append(f"  term: {name} Linear " + " ".join(num(c) for c in (*row[1:], row[0])))
+            continue
+        if kind == TermKind.DISCRETE:
+            lines.append(f"  term: {name} Discrete " + " ".join(map(num, var.term_numbers(t))))
             continue
         term = fll_term(TermKind(int(kind)), p, is_input)
         if term is None:

@@ -39,7 +39,7 @@ from enum import Enum
 import numpy as np
 
 from ..engine import activations, evaluate
-from ..membership import term_values
+from ..membership import memberships
 from ..model import Aggregation, Defuzzifier, RuleBase, SNorm, TermKind, aggregation_snorm
 from ..norms import combine, implied
 
@@ -52,6 +52,9 @@ AGGREGATE = {Aggregation.MAX: lambda g: g.max(axis=1), Aggregation.SUM: lambda g
              Aggregation.BOUNDED_SUM: lambda g: _fold(g, SNorm.BOUNDED_SUM)}
 
 
+FL_EPSILON = 1e-6      # fuzzylite's Op::isEq tolerance
+
+
 class Sampling(Enum):
     """Where a tool samples the output range, and how it sums the samples."""
     MIDPOINT = "midpoint"     # fuzzylite: u_k = lo + (k + 1/2) step, plain sums
@@ -60,10 +63,12 @@ class Sampling(Enum):
 
 def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int = 100,
                      sampling: Sampling = Sampling.MIDPOINT,
-                     methods: tuple[Defuzzifier, ...] = SAMPLED) -> np.ndarray:
+                     methods: tuple[Defuzzifier, ...] = SAMPLED,
+                     first_plateau: bool = False) -> np.ndarray:
     """x (N, I) -> y (N, O) as fuzzylite computes it with integral defuzzifiers sampled at
     `resolution` midpoints (or as Octave does, `sampling`); `methods` are the defuzzifiers
-    sampled, the others as the engine (every tool is exact there)."""
+    sampled, the others as the engine (every tool is exact there).  `first_plateau`: the
+    mean of maximum over the first run of maximal samples only (fuzzylite 6)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     y = evaluate(rb, x)
     sampled = [o for o in range(len(rb.outputs)) if _is_sampled(rb, o, methods)]
@@ -73,7 +78,8 @@ def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int = 100,
     for start in range(0, x.shape[0], rows):
         act = activations(rb, x[start:start + rows])
         for o in sampled:
-            y[start:start + rows, o] = _defuzzify(rb, o, act, resolution, sampling)
+            y[start:start + rows, o] = _defuzzify(rb, o, act, resolution, sampling,
+                                                  first_plateau)
     return y
 
 
@@ -94,11 +100,11 @@ def _samples(var, resolution: int, sampling: Sampling) -> tuple[np.ndarray, np.n
 
 
 def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
-               sampling: Sampling) -> np.ndarray:
+               sampling: Sampling, first_plateau: bool) -> np.ndarray:
     var, inf = rb.outputs[o], rb.inference_of(o)
     rules = np.flatnonzero(rb.consequents[:, o] >= 0)
     u, w = _samples(var, resolution, sampling)                                       # (K,)
-    mu = term_values(var.kinds, var.params, u)[:, rb.consequents[rules, o]].T       # (R, K)
+    mu = memberships(var, u)[:, rb.consequents[rules, o]].T                          # (R, K)
     a = act[:, rules, None]                                                          # (N, R, 1)
     clipped = implied(a, mu, inf.implication)
     m = AGGREGATE[inf.aggregation](clipped) if inf.aggregation in AGGREGATE else \
@@ -117,6 +123,8 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
         last = np.where(fired, area[:, -1], 1.0)
         gap = np.abs(area / last[:, None] - 0.5)
         value = _mean_where(gap == gap.min(axis=1, keepdims=True), u)
+    elif first_plateau:
+        value = _first_plateau_mean(m, u)
     else:
         # Exact equality, as fuzzylite: which samples tie can hang on the last bit.
         value = _mean_where((m > 0) & (m == m.max(axis=1, keepdims=True)), u)
@@ -127,6 +135,24 @@ def _fold(g: np.ndarray, norm: SNorm) -> np.ndarray:
     """g (N, R, K) folded over the rules (axis 1) with the s-norm; 0 when there is no rule."""
     return combine([g[:, r] for r in range(g.shape[1])], norm, False) if g.shape[1] \
         else np.zeros((g.shape[0], g.shape[2]))
+
+
+def _first_plateau_mean(m: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """fuzzylite 6's MeanOfMaximum, scanning the samples from the left: a sample above the
+    maximum so far starts a plateau, one equal to it (within FL_EPSILON) extends the plateau
+    while no lower sample came between; the mean of the first and last x of that plateau."""
+    n = m.shape[0]
+    ymax, first, last = np.full(n, -1.0), np.full(n, u[0]), np.full(n, u[-1])
+    same = np.zeros(n, dtype=bool)
+    for k, uk in enumerate(u):
+        y = m[:, k]
+        equal = np.abs(y - ymax) < FL_EPSILON
+        above, below = ~equal & (y > ymax), ~equal & (y < ymax)
+        first = np.where(above, uk, first)
+        last = np.where(above | (equal & same), uk, last)
+        same = (same | above) & ~below
+        ymax = np.where(above, y, ymax)
+    return 0.5 * (first + last)
 
 
 def _mean_where(mask: np.ndarray, u: np.ndarray) -> np.ndarray:

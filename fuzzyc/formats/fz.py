@@ -78,7 +78,7 @@ def _string(text: str) -> str:
 def _holding_peaks(var: Variable) -> tuple[float, float]:
     """An input's range, widened where a term peaks outside it (legal in FLL and FIS, where
     MATLAB's invkine and membrn examples have such terms; the inputs' numbers are unchanged)."""
-    cores = [term_core(TermKind(int(k)), p) for k, p in zip(var.kinds, var.params)]
+    cores = [term_core(TermKind(int(k)), var.term_numbers(t)) for t, k in enumerate(var.kinds)]
     return (min([float(var.lo), *(c[1] for c in cores)]),
             max([float(var.hi), *(c[0] for c in cores)]))
 
@@ -91,6 +91,8 @@ def _terms(var: Variable, problems: list[str], n_inputs: int = 0) -> str:
     linear = linear_coefficients(var, n_inputs) if np.any(var.kinds == TermKind.LINEAR) else None
     return ", ".join(f"{name} = linear({', '.join(num(c) for c in linear[t])})"
                      if kind == TermKind.LINEAR else
+                     f"{name} = discrete({', '.join(map(num, var.term_numbers(t)))})"
+                     if kind == TermKind.DISCRETE else
                      f"{name} = {_shape(TermKind(int(kind)), p, var.name, name, problems)}"
                      for t, (name, kind, p) in enumerate(zip(var.names, var.kinds, var.params)))
 

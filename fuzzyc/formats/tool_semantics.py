@@ -42,7 +42,7 @@ from ..membership import linear_coefficients, pointwise, term_inverse
 from ..model import (Aggregation, CondOp, Defuzzifier, Hedge, Model, RuleBase, TermKind,
                      Variable, aggregation_snorm)
 from ..norms import combine
-from .fuzzylite_compat import SAMPLED, Sampling, evaluate_sampled
+from .fuzzylite_compat import FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
 
 SEMANTICS = ("exact", "fuzzylite", "pyfuzzylite", "matlab", "octave")
 RESOLUTION = {"fuzzylite": 100, "pyfuzzylite": 1000}
@@ -210,7 +210,8 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
                               _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse)
         if semantics == "fuzzylite" and rb.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA:
             rb = _over_rules(rb)
-        y = evaluate_sampled(rb, x, resolution or RESOLUTION[semantics])
+        y = evaluate_sampled(rb, x, resolution or RESOLUTION[semantics],
+                             first_plateau=semantics == "fuzzylite")
         return np.where(fired(rb, x), y, np.nan)
     if semantics in ("octave", "matlab"):
         if semantics == "octave" and rb.inference.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE \
@@ -238,9 +239,6 @@ def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse) -> np.ndarray:
             den = np.where(firing, act, 0.0).sum(axis=1)
             y[:, o] = np.where(den > 0, num / np.where(den > 0, den, 1.0), np.nan)
     return y
-
-
-FL_EPSILON = 1e-6      # fuzzylite's Op::isEq tolerance
 
 
 def _exact_inverse(kinds, params, w, lo, hi) -> np.ndarray:
