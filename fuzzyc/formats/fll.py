@@ -199,6 +199,9 @@ class _FllReader:
             self.rep.error(self._first(line), "a term reads `term: NAME Shape PARAMETERS...`")
             return
         (name, name_col), (kind, kind_col), *params = line.tokens
+        if kind in KNOWN_UNSUPPORTED_TERMS:     # said before its parameters (a formula)
+            fuzzylite_shape(kind, [], self.loc(line, kind_col), self.rep)
+            return
         values = []
         for text, col in params:
             try:
