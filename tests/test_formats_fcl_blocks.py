@@ -162,3 +162,61 @@ def test_cli_several_blocks_none_chosen_exits_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert "Traceback" not in err and not (tmp_path / "x.fz").exists()
     assert f"{TWO}:36:1: error: 2 FUNCTION_BLOCKs in this file and none chosen" in err
+
+
+# fuzzylite's hybrid FCL: a METHOD per DEFUZZIFY and a RULEBLOCK per output with its own AND.
+# x = 0.25: lo = 1 - x = 0.75, hi = 0.25.  m (COG, rectangles a = [0, 0.5], b = [0.5, 1]): M =
+# 0.75 on [0, 0.5], 0.25 after: centroid (0.75 * 0.125 + 0.25 * 0.375) / 0.5 = 0.375.
+# s (COGS without ACCU: the weighted average over the rules): (0.75 * 1 + 0.25 * 0) / 1 = 0.75.
+HYBRID_FCL = """FUNCTION_BLOCK hybrid
+VAR_INPUT x : REAL; END_VAR
+VAR_OUTPUT m : REAL; s : REAL; END_VAR
+FUZZIFY x
+  RANGE := (0 .. 1);
+  TERM lo := Ramp 1 0;
+  TERM hi := Ramp 0 1;
+END_FUZZIFY
+DEFUZZIFY m
+  RANGE := (0 .. 1);
+  TERM a := Rectangle 0 0.5;
+  TERM b := Rectangle 0.5 1;
+  METHOD : COG;
+  ACCU : MAX;
+END_DEFUZZIFY
+DEFUZZIFY s
+  RANGE := (0 .. 1);
+  TERM c := 0;
+  TERM d := 1;
+  METHOD : COGS;
+END_DEFUZZIFY
+RULEBLOCK mamdani
+  AND : MIN;
+  ACT : MIN;
+  RULE 1 : if x is lo then m is a;
+  RULE 2 : if x is hi then m is b;
+END_RULEBLOCK
+RULEBLOCK sugeno
+  AND : PROD;
+  RULE 1 : if x is lo then s is d;
+  RULE 2 : if x is hi then s is c;
+END_RULEBLOCK
+END_FUNCTION_BLOCK
+"""
+
+
+def test_hybrid_fcl_reads_a_method_per_output_and_a_block_per_ruleblock():
+    from fuzzyc.formats.tool_semantics import Chain
+    from fuzzyc.model import Defuzzifier
+    model = read_fcl(HYBRID_FCL, "hybrid.fcl")
+    assert [(rb.name, [v.name for v in rb.outputs]) for rb in model.blocks] == \
+        [("mamdani", ["m"]), ("sugeno", ["s"])]
+    assert model.blocks[1].inference_of(0).defuzzifier == Defuzzifier.WEIGHTED_AVERAGE
+    np.testing.assert_allclose(Chain(model).evaluate([[0.25]]), [[0.375, 0.75]], rtol=0,
+                               atol=1e-12)
+
+
+def test_two_methods_in_one_defuzzify_are_refused():
+    text = HYBRID_FCL.replace("  METHOD : COGS;\n", "  METHOD : COGS;\n  METHOD : COG;\n")
+    with pytest.raises(FuzzycError, match=r"hybrid.fcl:21:12: error: METHOD COG differs from "
+                                          r"COGS at line 20 in the same block"):
+        read_fcl(text, "hybrid.fcl")

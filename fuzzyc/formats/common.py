@@ -210,6 +210,29 @@ class Collected:
             source_path=path, source_text=text, notes=list(self.notes))
 
 
+    def set_inference(self, names: list[str], operators: list[Inference], rule_block: list[int],
+                      choices: dict[str, tuple[Aggregation, Defuzzifier]]) -> None:
+        """The rule blocks' operators (`rule_block`: each rule's block) and the outputs'
+        (aggregation, defuzzifier) as the model's inference: one rule base when the blocks
+        agree, else one per block, each concluding on its own outputs; an output whose choices
+        differ from the first output's gets its own (`output_choices`)."""
+        first = next(iter(choices.values()), (Inference().aggregation, Inference().defuzzifier))
+        self.output_choices = {name: c for name, c in choices.items() if c != first}
+        self.inference = replace(operators[0], aggregation=first[0], defuzzifier=first[1])
+        if all(op == operators[0] for op in operators):
+            return
+        owner: dict[str, int] = {}
+        for rule, k in zip(self.rules, rule_block):
+            for name in rule.conclusions:
+                if owner.setdefault(name, k) != k:
+                    self.rep.error(rule.loc, f"`{name}` is concluded in rule blocks "
+                                             f"`{names[owner[name]]}` and `{names[k]}`, whose "
+                                             "operators differ: the model aggregates an output "
+                                             "within one block")
+        self.blocks = [(name, replace(op, aggregation=first[0], defuzzifier=first[1]),
+                        [r for r, b in zip(self.rules, rule_block) if b == k])
+                       for k, (name, op) in enumerate(zip(names, operators))]
+
     def _chained(self, parts: list) -> list:
         """The rule blocks with the rules that read outputs moved to blocks after those
         concluding them (fuzzylite's chained engines: one block, rules in order): a rule's stage

@@ -72,7 +72,11 @@ class _FclReader:
         self.got = Collected(self.rep, "imported")
         self.path = path
         self.declared: dict[str, bool] = {}       # VAR_INPUT / VAR_OUTPUT name -> is input
-        self.chosen: dict[str, tuple[str, SourceLoc]] = {}
+        # per RULEBLOCK its name and AND/OR/ACT/ACCU, per output its METHOD/ACCU:
+        # key -> (word, first place)
+        self.block_settings: list[tuple[str, dict[str, tuple[str, SourceLoc]]]] = []
+        self.output_settings: dict[str, dict[str, tuple[str, SourceLoc]]] = {}
+        self.rule_block: list[int] = []           # the block of each rule read
 
     def loc(self, token: Token) -> SourceLoc:
         return self.rep.loc(token.line, token.column)
@@ -168,8 +172,8 @@ class _FclReader:
             return
         for item in tree.children[1:]:
             if item.data == "method":
-                word = item.children[0]
-                self._choose("METHOD", word)
+                self._choose(self.output_settings.setdefault(var.name, {}), "METHOD",
+                             item.children[0])
             elif item.data == "default":
                 value = item.children[0]
                 if isinstance(value, Token) and (value.type == "NC" or len(item.children) > 1):
@@ -181,7 +185,8 @@ class _FclReader:
                 else:
                     var.default = float(value.children[0])
             elif item.data == "accu":
-                self._choose("ACCU", item.children[0])
+                self._choose(self.output_settings.setdefault(var.name, {}), "ACCU",
+                             item.children[0])
 
     def _terms(self, tree: Tree, is_input: bool) -> VarSpec | None:
         name, *items = tree.children
@@ -238,6 +243,10 @@ class _FclReader:
 
     # ------------------------------------------------------------------ rules
     def _ruleblock(self, tree: Tree) -> None:
+        name = next((c.value for c in tree.children if isinstance(c, Token)),
+                    f"block{len(self.block_settings) + 1}")
+        settings: dict[str, tuple[str, SourceLoc]] = {}
+        self.block_settings.append((name, settings))
         for item in tree.children:
             if isinstance(item, Token):
                 continue
@@ -248,65 +257,98 @@ class _FclReader:
                                       f"{self.path} RULE {number}", loc)
                 if rule is not None:
                     self.got.rules.append(rule)
+                    self.rule_block.append(len(self.block_settings) - 1)
             else:
-                self._choose(OPERATORS[item.data][0], item.children[0])
+                self._choose(settings, OPERATORS[item.data][0], item.children[0])
 
-    def _choose(self, key: str, word: Token) -> None:
-        """One operator per kind for the whole rule base (blocks must agree)."""
+    def _choose(self, seen: dict, key: str, word: Token) -> None:
+        """One word per key in a RULEBLOCK or DEFUZZIFY (the first; another is an error)."""
         value = word.value.upper()
         value = ALIASES.get(key, {}).get(value, value)
-        if key in self.chosen and self.chosen[key][0] != value:
-            first, where = self.chosen[key]
+        if key in seen and seen[key][0] != value:
+            first, where = seen[key]
             self.rep.error(self.loc(word), f"{key} {value} differs from {first} at line "
-                                           f"{where.line}: the model has one {key} for the "
-                                           "whole rule base")
+                                           f"{where.line} in the same block")
             return
-        self.chosen.setdefault(key, (value, self.loc(word)))
+        seen.setdefault(key, (value, self.loc(word)))
 
     def _inference(self) -> None:
+        """Each RULEBLOCK's AND/OR/ACT, each output's METHOD and ACCU (ACCU in DEFUZZIFY, as
+        fuzzylite writes it, or in the RULEBLOCK concluding the output, as IEC 61131-7 does)."""
+        blocks = self.block_settings or [("rules", {})]
+        block_of = {out: k for rule, k in zip(self.got.rules, self.rule_block)
+                    for out in rule.conclusions}
+        choices = {name: self._output_choice(var, blocks[block_of.get(name, 0)][1])
+                   for name, var in self.got.outputs.items()}
+        operators = [self._operators(settings, [r for r, b in zip(self.got.rules,
+                                                                  self.rule_block) if b == k],
+                                     [choices[o] for o, b in block_of.items() if b == k])
+                     for k, (_, settings) in enumerate(blocks)]
+        self.got.set_inference([name for name, _ in blocks], operators, self.rule_block, choices)
+
+    def _operators(self, settings: dict, rules: list, outputs: list) -> Inference:
+        """A RULEBLOCK's AND, OR and ACT; a note for each it needs and lacks."""
         inf = Inference()
-        used = set().union(*(r.connectives() for r in self.got.rules))
-        weighted = self.chosen.get("METHOD", ("",))[0] == "COGS"    # no aggregation there
-        needed = {"AND": Connective.AND in used, "OR": Connective.OR in used, "ACT": True,
-                  "ACCU": not weighted, "METHOD": True}
-        for key, field, table in (*OPERATORS.values(), ("METHOD", "defuzzifier", METHODS)):
-            if key not in self.chosen and needed[key]:
-                default = next(k for k, v in table.items() if v == getattr(inf, field))
-                self.got.notes.append(f"{key} not given: {default} assumed")
-        for key, field, table in OPERATORS.values():
-            if key in self.chosen:
-                value, loc = self.chosen[key]
+        used = set().union(*(r.connectives() for r in rules))
+        integral = any(d not in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.TSUKAMOTO,
+                                 Defuzzifier.CENTER_OF_AREA) for _, d in outputs)
+        needed = {"AND": Connective.AND in used, "OR": Connective.OR in used, "ACT": integral}
+        for key, field, table in (OPERATORS["and_op"], OPERATORS["or_op"], OPERATORS["act"]):
+            if key in settings:
+                value, loc = settings[key]
                 if value not in table:
                     self.rep.error(loc, f"{key} {value} is not supported: the model has "
                                         + ", ".join(table))
                 else:
                     setattr(inf, field, table[value])
-        if "METHOD" in self.chosen:
-            value, loc = self.chosen["METHOD"]
-            if value not in METHODS:
-                self.rep.error(loc, f"METHOD {value} is not supported: the model has COG, COGS, "
-                                    "COA (bisector), MM (mean of maximum)")
-            else:
-                inf.defuzzifier = METHODS[value]
-                tsukamoto = tsukamoto_terms(self.got.outputs.values())
-                if value == "COGS" and "ACCU" not in self.chosen and tsukamoto:
-                    inf.defuzzifier = Defuzzifier.TSUKAMOTO    # fuzzylite's, over Ramp, ...
-                elif value == "COGS" and "ACCU" not in self.chosen:
-                    inf.defuzzifier = Defuzzifier.WEIGHTED_AVERAGE   # over the rules
-                    self._require_singletons(TermKind.LINEAR)
-                elif value == "COGS":
-                    self._require_singletons()
-        self.got.inference = inf
+            elif needed[key]:
+                default = next(k for k, v in table.items() if v == getattr(inf, field))
+                self.got.notes.append(f"{key} not given: {default} assumed")
+        return inf
 
-    def _require_singletons(self, *also: TermKind) -> None:
+    def _output_choice(self, var: VarSpec, block: dict) -> tuple[Aggregation, Defuzzifier]:
+        """An output's aggregation and defuzzifier: its METHOD, and its ACCU or its block's.
+        COGS without ACCU is fuzzylite's weighted average over the rules (Tsukamoto's method
+        over monotonic terms); with ACCU, the center of area over singletons."""
+        inf = Inference()
+        settings = self.output_settings.get(var.name, {})
+        accu = settings.get("ACCU") or block.get("ACCU")
+        if "ACCU" in settings and "ACCU" in block and settings["ACCU"][0] != block["ACCU"][0]:
+            self.rep.error(block["ACCU"][1], f"ACCU {block['ACCU'][0]} differs from "
+                                             f"{settings['ACCU'][0]} given for `{var.name}` at "
+                                             f"line {settings['ACCU'][1].line}")
+        method, loc = settings.get("METHOD", ("COG", var.loc))
+        if "METHOD" not in settings:
+            self.got.notes.append(f"METHOD not given for `{var.name}`: COG assumed")
+        if accu is not None and accu[0] not in OPERATORS["accu"][2]:
+            self.rep.error(accu[1], f"ACCU {accu[0]} is not supported: the model has "
+                                    + ", ".join(OPERATORS["accu"][2]))
+        elif accu is not None:
+            inf.aggregation = OPERATORS["accu"][2][accu[0]]
+        elif method != "COGS":
+            self.got.notes.append(f"ACCU not given for `{var.name}`: MAX assumed")
+        if method not in METHODS:
+            self.rep.error(loc, f"METHOD {method} is not supported: the model has COG, COGS, "
+                                "COA (bisector), MM (mean of maximum)")
+            return inf.aggregation, inf.defuzzifier
+        defuzzifier = METHODS[method]
+        if method == "COGS" and accu is None and tsukamoto_terms([var]):
+            defuzzifier = Defuzzifier.TSUKAMOTO        # fuzzylite's, over Ramp, ...
+        elif method == "COGS" and accu is None:
+            defuzzifier = Defuzzifier.WEIGHTED_AVERAGE        # over the rules
+            self._require_singletons(var, TermKind.LINEAR)
+        elif method == "COGS":
+            self._require_singletons(var)
+        return inf.aggregation, defuzzifier
+
+    def _require_singletons(self, var: VarSpec, *also: TermKind) -> None:
         """COGS over anything but singletons (and Linear terms, where allowed) is Tsukamoto's
         method in fuzzylite, which the model does not carry."""
-        for var in self.got.outputs.values():
-            for term in var.terms:
-                if term.kind != TermKind.SINGLETON and term.kind not in also:
-                    self.rep.error(term.loc, f"COGS needs singleton{' or Linear' if also else ''}"
-                                             f" terms or monotonic ones (Tsukamoto); "
-                                             f"`{term.name}` is neither")
+        for term in var.terms:
+            if term.kind != TermKind.SINGLETON and term.kind not in also:
+                self.rep.error(term.loc, f"COGS needs singleton{' or Linear' if also else ''}"
+                                         f" terms or monotonic ones (Tsukamoto); "
+                                         f"`{term.name}` is neither")
 
 
 def _block_name(block: Tree) -> Token | None:

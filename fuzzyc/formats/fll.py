@@ -34,7 +34,6 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import replace
 
 import numpy as np
 from lark.exceptions import UnexpectedInput
@@ -279,22 +278,7 @@ class _FllReader:
                                                                       self.rule_block) if b == k])
                      for k, (_, settings) in enumerate(blocks)]
         choices = {name: self._output_choice(var) for name, var in self.got.outputs.items()}
-        first = next(iter(choices.values()), (Inference().aggregation, Inference().defuzzifier))
-        self.got.output_choices = {name: c for name, c in choices.items() if c != first}
-        self.got.inference = replace(operators[0], aggregation=first[0], defuzzifier=first[1])
-        if all(op == operators[0] for op in operators):
-            return
-        owner: dict[str, int] = {}
-        for rule, k in zip(self.got.rules, self.rule_block):
-            for name in rule.conclusions:
-                if owner.setdefault(name, k) != k:
-                    self.rep.error(rule.loc, f"`{name}` is concluded in rule blocks "
-                                             f"`{blocks[owner[name]][0]}` and `{blocks[k][0]}`, "
-                                             "whose operators differ: the model aggregates an "
-                                             "output within one block")
-        self.got.blocks = [(name, replace(op, aggregation=first[0], defuzzifier=first[1]),
-                            [r for r, b in zip(self.got.rules, self.rule_block) if b == k])
-                           for k, ((name, _), op) in enumerate(zip(blocks, operators))]
+        self.got.set_inference([name for name, _ in blocks], operators, self.rule_block, choices)
 
     def _operators(self, settings: dict, rules: list) -> Inference:
         """A rule block's conjunction, disjunction and implication."""
