@@ -398,3 +398,34 @@ def test_einstein_sum_grouping_by_hand():
     rb = read_fll(text, "g.fll").rulebase
     assert rb.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA
     assert evaluate(rb, [[1.0]])[0, 0] == pytest.approx(2 / 3, abs=1e-15)
+
+
+# Two plateaus of equal height: x = 0.25 gives mid = 0.5, and both rules clip their rectangle
+# at 0.5: M = 0.5 on [0, 0.25] and on [0.75, 1].  fuzzylite 6's MeanOfMaximum keeps the first
+# plateau: its 100 midpoints 0.005 .. 0.245 give (0.005 + 0.245) / 2 = 0.125; pyfuzzylite 8
+# averages every maximal sample, symmetric about 0.5: 0.5; exact: the mean of the set where M
+# is largest, [0, 0.25] and [0.75, 1], 0.5.
+TWO_PLATEAUS_FLL = """Engine: plateaus
+InputVariable: x
+  range: 0 1
+  term: mid Triangle 0 0.5 1
+OutputVariable: y
+  range: 0 1
+  aggregation: Maximum
+  defuzzifier: MeanOfMaximum 100
+  default: nan
+  term: a Rectangle 0 0.25
+  term: b Rectangle 0.75 1
+RuleBlock:
+  implication: Minimum
+  rule: if x is mid then y is a
+  rule: if x is mid then y is b
+"""
+
+
+@pytest.mark.parametrize("semantics, expected", [("fuzzylite", 0.125), ("pyfuzzylite", 0.5),
+                                                 ("exact", 0.5)])
+def test_mean_of_maximum_over_two_plateaus(semantics, expected):
+    rb = read_fll(TWO_PLATEAUS_FLL, "plateaus.fll").rulebase
+    got = evaluate_as(rb, np.array([[0.25]]), semantics, 100 if semantics != "exact" else None)
+    np.testing.assert_allclose(got, [[expected]], rtol=0, atol=1e-12)

@@ -30,9 +30,9 @@ def main(argv: list[str] | None = None) -> int:
         details += [detail(suite.name, r) for r in results]
         agreeing += [r.path for r in results if r.agrees and suite.oracle == "fuzzylite"
                      and r.path.suffix == ".fll"]
-    print("| suite | files | import | needs blocks | refused | agree (tool semantics, "
+    print("| suite | files | import | refused | agree (tool semantics, "
           f"{TOLERANCE:g} of range) | worst difference, exact semantics |")
-    print("|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|")
     print("\n".join(rows))
     if not args.no_live:
         print()
@@ -67,19 +67,19 @@ def round_trip_table(corpus: list[Path]) -> str:
 
 def summary(name: str, results: list[FileResult], missing: str) -> str:
     if missing:
-        return f"| {name} | skipped: {missing} | | | | | |"
+        return f"| {name} | skipped: {missing} | | | | |"
     n = len(results)
     imported = sum(r.imported for r in results)
-    blocks = sum(r.needs_blocks for r in results)
     agree = sum(r.agrees for r in results)
-    worst = max((r.worst_exact for r in results if r.compared), default=float("nan"))
-    return (f"| {name} | {n} | {imported}/{n} | {blocks} | {n - imported - blocks} | "
-            f"{agree}/{n} | {worst:.3g} |")
+    compared = [r for r in results if r.compared]
+    worst = max(compared, key=lambda r: r.worst_exact, default=None)
+    shown = f"{worst.worst_exact:.3g} ({worst.path.name})" if worst else ""
+    return f"| {name} | {n} | {imported}/{n} | {n - imported} | {agree}/{n} | {shown} |"
 
 
 def detail(suite: str, r: FileResult) -> str:
     if not r.imported:
-        what = ("needs blocks: " if r.needs_blocks else "refused: ") + r.message
+        what = "refused: " + r.message
     elif not r.compared:
         what = "imported, not compared: " + r.message
     else:

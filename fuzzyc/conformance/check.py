@@ -18,9 +18,6 @@ from .suites import Suite
 TOLERANCE = 1e-6          # of the output's range
 RANDOM_ROWS = 200
 MAX_REFERENCE_ROWS = 1024
-NEEDS_BLOCKS = ("rule block", "RuleBlock", "differs from",
-                "mixes `and` and `or`", "`not` applies to one clause",
-                "a defuzzifier per output")
 RESOLUTION = re.compile(r"^OutputVariable:\s*(\S+)|defuzzifier:\s*(?:Centroid|Bisector|"
                         r"MeanOfMaximum|SmallestOfMaximum|LargestOfMaximum)\s+(\d+)", re.M)
 
@@ -30,7 +27,6 @@ class FileResult:
     path: Path
     imported: bool
     message: str = ""          # why it was refused, or why it could not be compared
-    needs_blocks: bool = False
     compared: bool = False
     rows: int = 0
     worst_tool: float = np.nan     # max |ours under the tool's semantics - tool| / range
@@ -46,7 +42,7 @@ def check(path: Path, suite: Suite, live: bool = True) -> FileResult:
         model = load_any(path)
     except FuzzycError as exc:
         first = str(exc).splitlines()[0]
-        return FileResult(path, False, first, any(k in first for k in NEEDS_BLOCKS))
+        return FileResult(path, False, first)
     rb = Chain(model)
     result = FileResult(path, True)
     try:

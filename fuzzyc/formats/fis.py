@@ -190,9 +190,11 @@ class _FisReader:
         elif key == "Type":
             self.type = _unquote(value).lower()
             if self.type == "hybrid":
-                self.rep.error(loc, "type `hybrid` (fuzzylite: a defuzzifier per output) is not "
-                                    "supported: the model has one defuzzifier for the whole "
-                                    "rule base")
+                # measured: the fuzzylite 6 CLI reads its own hybrid tipper.fis with the
+                # centroid for every output, its Constant terms flat (tsTip = 15 everywhere)
+                self.rep.error(loc, "type `hybrid` (fuzzylite's, a defuzzifier per output) is "
+                                    "not supported: FIS has one DefuzzMethod, which fuzzylite "
+                                    "itself reads back for every output; read the .fll or .fcl")
             elif self.type not in ("mamdani", "sugeno", "tsukamoto"):
                 self.rep.error(loc, f"type `{self.type}` is not supported: mamdani, sugeno or "
                                     "tsukamoto (fuzzylite's)")
@@ -311,8 +313,14 @@ class _FisReader:
         if not 0.0 <= weight <= 1.0 or connective not in (1, 2):
             self.rep.error(loc, "the weight lies in [0, 1] and the connective is 1 (and) or 2 (or)")
             return
-        if not clauses or not conclusions:
-            self.rep.error(loc, "a rule needs at least one input and one output index")
+        if not conclusions:
+            self.rep.error(loc, "a rule needs at least one output index")
+            return
+        if not clauses:     # fuzzylite writes a chained rule so: it reads an output
+            self.rep.error(loc, "a rule needs at least one input index (a rule reading an "
+                                "output, fuzzylite's chained engine, cannot be said in FIS; "
+                                "fuzzylite writes it without a condition and never fires it: "
+                                "read the .fll or .fcl)")
             return
         self.got.rules.append(RuleSpec(clauses, Connective.AND if connective == 1 else Connective.OR,
                                     conclusions, weight, loc, f"{self.path}:{number}"))
