@@ -20,16 +20,20 @@ Program = tuple[tuple[CondOp, str, int, Hedge], ...]   # postfix steps by input 
 
 @dataclass
 class Cond:
-    """A condition: op "is" (a clause, in `leaf`), "and"/"or" (over `parts`), "not" (one part)."""
+    """A condition: op "is" (a clause, in `leaf`), "and"/"or" (over `parts`), "not" (one part),
+    "hedge" (`hedge` on one part)."""
     op: str
     parts: list[Cond] = field(default_factory=list)
     leaf: Leaf | None = None
+    hedge: Hedge = Hedge.NONE
 
 
 def premise(cond: Cond) -> tuple[dict, Connective, Program | None]:
     """(clauses by input, connective, None) when the condition is flat: one connective, `not`
     only on single clauses, each input at most once; else ({}, AND, its clause program)."""
     cond = _simplified(cond)
+    if cond.op == "hedge":
+        return {}, Connective.AND, tuple(_postfix(cond))
     leaves = [cond] if cond.op == "is" else cond.parts
     names = [p.leaf[0] for p in leaves if p.op == "is"]
     if len(names) == len(leaves) and len(set(names)) == len(names):
@@ -43,6 +47,12 @@ def _simplified(cond: Cond) -> Cond:
     left to right), `not` moved onto a single clause and double `not` cancelled."""
     if cond.op == "is":
         return cond
+    if cond.op == "hedge":      # onto a plain clause, where it is the clause's own hedge
+        inner = _simplified(cond.parts[0])
+        if inner.op == "is" and inner.leaf[1][2] == Hedge.NONE and not inner.leaf[1][1]:
+            name, (term, _, _) = inner.leaf
+            return Cond("is", leaf=(name, (term, False, cond.hedge)))
+        return Cond("hedge", [inner], hedge=cond.hedge)
     if cond.op == "not":
         inner = _simplified(cond.parts[0])
         if inner.op == "is":
@@ -65,6 +75,9 @@ def _postfix(cond: Cond):
     elif cond.op == "not":
         yield from _postfix(cond.parts[0])
         yield CondOp.NOT, "", 0, Hedge.NONE
+    elif cond.op == "hedge":
+        yield from _postfix(cond.parts[0])
+        yield CondOp.HEDGE, "", 0, cond.hedge
     else:
         op = CondOp.AND if cond.op == "and" else CondOp.OR
         yield from _postfix(cond.parts[0])

@@ -83,6 +83,8 @@ def run_condition(rb: RuleBase, program: np.ndarray, x: np.ndarray) -> np.ndarra
             stack.append((apply_hedges(mu, np.array([h])) if h else mu)[:, 0])
         elif op == CondOp.NOT:
             stack.append(1.0 - stack.pop())
+        elif op == CondOp.HEDGE:
+            stack.append(apply_hedges(stack.pop()[:, None], np.array([h]))[:, 0])
         else:
             b, a = stack.pop(), stack.pop()
             norm = rb.inference.and_ if op == CondOp.AND else rb.inference.or_

@@ -64,8 +64,10 @@ Rule activation: the clauses that are not wildcards (-1) combined with the rule'
   A rule with a nested condition (RuleBase.conditions[r], a postfix clause program) fires the
   program's value instead, times the weight (the same MIN_FIRING threshold): CLAUSE pushes the
   hedged membership of one input's term (term -1: the truth 1 of `is any`); NOT replaces the top
-  v by 1 - v; AND pops b, a and pushes T(a, b); OR pushes S(a, b).  An n-ary and/or folds left
-  to right in written order.
+  v by 1 - v; AND pops b, a and pushes T(a, b); OR pushes S(a, b); HEDGE replaces the top v by
+  the hedge of v (a hedge on a compound condition, or on a clause already hedged: fuzzylite's
+  `very very x`, and its hedged conclusions, read as rules whose condition is hedged).  An
+  n-ary and/or folds left to right in written order.
 T-norms T(a, b): MIN min; PRODUCT ab; BOUNDED_DIFFERENCE max(0, a+b-1); DRASTIC_PRODUCT
   min(a, b) if max(a, b) = 1 else 0; EINSTEIN_PRODUCT ab / (2 - (a+b-ab)); HAMACHER_PRODUCT
   ab / (a+b-ab) (0 at a = b = 0); NILPOTENT_MIN min(a, b) if a+b > 1 else 0.
@@ -150,6 +152,7 @@ class CondOp(IntEnum):
     NOT = 1
     AND = 2
     OR = 3
+    HEDGE = 4     # the hedge (4th column) applied to the top value
 
 
 class TNorm(IntEnum):
@@ -391,6 +394,9 @@ class RuleBase:
                 text, top, leaf = stack.pop()
                 text = clause(*leaf[:2], True, leaf[2]) if leaf else f"{words[2]} ({text})"
                 stack.append((text, CondOp.CLAUSE, None))
+            elif op == CondOp.HEDGE:
+                text, top, leaf = stack.pop()
+                stack.append((f"{Hedge(h).name.lower()} ({text})", CondOp.CLAUSE, None))
             else:
                 (b, top_b, _), (a, top_a, _) = stack.pop(), stack.pop()
                 word = words[0] if op == CondOp.AND else words[1]

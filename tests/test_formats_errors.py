@@ -18,7 +18,7 @@ EXPECTED = {
     "bad_unsupported.fll": [("4:14", "term shape `Function` is not supported"),
                             ("9:16", "defuzzifier `LargestOfMaximum` is not supported"),
                             ("12:15", "activation `Highest` is not supported"),
-                            ("13:23", "hedge `very very` is not supported"),
+                            ("13:23", "hedge `rather` is not supported"),
                             ("14:23", "did you mean `good`?")],
     "bad_syntax.fcl": [("7:3", "unexpected `TERM`: expected `(`, `;`")],
     "bad_unsupported.fcl": [("9:15", "x values must ascend"),
@@ -54,7 +54,8 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
                "  term: a Triangle 0 0.5 1\n", "lock-previous: true"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "OutputVariable: y\n  range: 0 1\n  term: b Triangle 0 0.5 1\n"
-               "RuleBlock:\n  rule: if x is a then y is very b\n", "hedge on a conclusion"),
+               "RuleBlock:\n  rule: if x is a then y is very b with 0.5\n",
+     "a weight on a rule with a hedged conclusion"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "OutputVariable: y\n  range: 0 1\n  defuzzifier: WeightedAverage\n"
                "  term: b Triangle 0 0.5 1\nRuleBlock:\n  rule: if x is a then y is b\n",

@@ -115,6 +115,10 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
         return " ".join([v.name, "is", *words, v.names[t] if t >= 0 else "any"])
 
     condition = rb.describe_condition(r, clause, ("and", "or", "not"))
+    if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.HEDGE):
+        problems.append(f"rule {r + 1} hedges a compound condition or a hedged clause (read "
+                        "from fuzzylite's `very very x` or a hedged conclusion), which the "
+                        "format cannot say")
     if not condition:
         problems.append(f"rule {r + 1} has no clause, which the format cannot say")
     conclusions = [f"{v.name} is {v.names[int(rb.consequents[r, o])]}"

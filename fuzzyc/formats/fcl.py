@@ -253,9 +253,8 @@ class _FclReader:
             if item.data == "rule":
                 number, text = item.children
                 loc = self.loc(number)
-                rule = rule_from_tree(text, self.got, self.loc, HEDGES,
-                                      f"{self.path} RULE {number}", loc)
-                if rule is not None:
+                for rule in rule_from_tree(text, self.got, self.loc, HEDGES,
+                                           f"{self.path} RULE {number}", loc):
                     self.got.rules.append(rule)
                     self.rule_block.append(len(self.block_settings) - 1)
             else:

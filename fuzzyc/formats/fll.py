@@ -391,8 +391,8 @@ class _FllReader:
         except UnexpectedInput as exc:
             syntax_error(exc, self.rep, self.loc(line, offset + max(exc.column, 1) - 1))
             return
-        rule = rule_from_tree(tree, self.got, loc_of, HEDGES, f"{self.path}:{line.number}", loc)
-        if rule is not None:
+        for rule in rule_from_tree(tree, self.got, loc_of, HEDGES, f"{self.path}:{line.number}",
+                                   loc):
             self.got.rules.append(rule)
             self.rule_block.append(block)
 

@@ -55,24 +55,34 @@ def _expected(names) -> str:
 
 
 def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, Hedge],
-                   origin: str, loc: SourceLoc) -> RuleSpec | None:
-    """A `rule_text` tree as a rule of the model, or None after reporting why it cannot be."""
+                   origin: str, loc: SourceLoc) -> list[RuleSpec]:
+    """A `rule_text` tree as rules of the model (none after reporting why it cannot be).
+
+    Hedged conclusions as fuzzylite computes them (fuzzylite 6 and pyfuzzylite 8 alike): a
+    conclusion's hedges act on the rule's activation, and what they make of it carries on to
+    the conclusions after it; so each run of conclusions under the same hedges becomes a rule
+    of its own whose condition is hedged so."""
     rep = got.rep
     condition, *rest = tree.children
     weight_tree = rest.pop() if rest and rest[-1].data == "weight" else None
     cond = _condition(condition, got, loc_of, hedges)
     ok = cond is not None
     conclusions: dict[str, int] = {}
+    carried: list[Hedge] = []
+    chains: dict[str, tuple[Hedge, ...]] = {}     # output -> the hedges its activation takes
     for concl in rest:
         name, *words = concl.children
         term = _conclusion(name, words, got, loc_of)
-        if term is None:
+        said = _hedges(words[:-1], hedges, loc_of, rep)
+        if term is None or said is None:
             ok = False
         elif name.value in conclusions:
             rep.error(loc_of(name), f"`{name}` is concluded twice in one rule")
             ok = False
         else:
             conclusions[name.value] = term
+            carried += said
+            chains[name.value] = tuple(carried)
     weight = 1.0
     if weight_tree is not None:
         token = weight_tree.children[0].children[0]
@@ -80,14 +90,43 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
         if not 0.0 <= weight <= 1.0:
             rep.error(loc_of(token), f"a rule weight lies in [0, 1], got {weight:g}")
             ok = False
+        elif carried and weight != 1.0:
+            rep.error(loc_of(token), "a weight on a rule with a hedged conclusion is not "
+                                     "supported: fuzzylite hedges the weighted activation, the "
+                                     "model weighs the hedged condition")
+            ok = False
     if not ok:
-        return None
+        return []
+    rules = []
+    for chain in dict.fromkeys(chains.values()):
+        hedged = cond
+        for hedge in chain:
+            hedged = Cond("hedge", [hedged], hedge=hedge)
+        mine = {out: conclusions[out] for out, c in chains.items() if c == chain}
+        rules.append(_rule(hedged, mine, weight, loc, origin))
+    return rules
+
+
+def _rule(cond: Cond, conclusions: dict[str, int], weight: float, loc: SourceLoc,
+          origin: str) -> RuleSpec:
     rule_clauses, connective, program = premise(cond)
     if program is None:
         rule_clauses, weight = _resolve_any(rule_clauses, connective, weight)
         if sum(term != ANY for term, _, _ in rule_clauses.values()) < 2:
             connective = Connective.AND     # one clause or none: as every front end reads it
     return RuleSpec(rule_clauses, connective, conclusions, weight, loc, origin, program)
+
+
+def _hedges(words: list[Token], hedges: dict[str, Hedge], loc_of: LocOf,
+            rep: Reporter) -> list[Hedge] | None:
+    """Hedge words in the order they apply (the one nearest the term first), or None after
+    reporting one the model lacks."""
+    for word in words:
+        if word.value.lower() not in hedges:
+            rep.error(loc_of(word), f"hedge `{' '.join(w.value for w in words)}` is not "
+                                    f"supported: {hedge_message(word.value.lower(), hedges)}")
+            return None
+    return [hedges[w.value.lower()] for w in reversed(words)]
 
 
 ANY = -1   # the clause `x is any` (truth 1), a wildcard term index (in a program too)
@@ -109,8 +148,15 @@ def _condition(node: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, Hedg
     if node.data == "is_clause":
         name, *words = node.children
         negated = bool(words) and words[0].type == "NOT"
-        clause = _clause(name, words[negated:], negated, got, loc_of, hedges)
-        return None if clause is None else Cond("is", leaf=(name.value, clause))
+        said = _hedges(words[negated:-1], hedges, loc_of, got.rep)
+        clause = _clause(name, words[-1], said, got, loc_of)
+        if clause is None:
+            return None
+        # the hedge nearest the term is the clause's own, the others apply after it, then `not`
+        cond = Cond("is", leaf=(name.value, clause))
+        for hedge in said[1:]:
+            cond = Cond("hedge", [cond], hedge=hedge)
+        return Cond("not", [cond]) if negated else cond
     parts = [_condition(child, got, loc_of, hedges) for child in node.children]
     if None in parts:
         return None
@@ -118,8 +164,9 @@ def _condition(node: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, Hedg
     return Cond(op, parts)
 
 
-def _clause(name: Token, words: list[Token], negated: bool, got: Collected, loc_of: LocOf,
-            hedges: dict[str, Hedge]):
+def _clause(name: Token, term: Token, said: list[Hedge] | None, got: Collected,
+            loc_of: LocOf):
+    """(term index, not negated, the hedge nearest the term) of `name is ... term`."""
     rep = got.rep
     # an output read by a rule chains the blocks (Collected.model puts the rule after them)
     var = got.inputs.get(name.value) or got.outputs.get(name.value)
@@ -127,20 +174,12 @@ def _clause(name: Token, words: list[Token], negated: bool, got: Collected, loc_
         rep.error(loc_of(name), f"no variable `{name}`: "
                                 f"{suggest(name.value, [*got.inputs, *got.outputs])}")
         return None
-    *hedge_words, term = words
-    if not hedge_words and term.value.lower() == "any" and "any" not in var.term_names():
-        return ANY, negated, Hedge.NONE
-    hedge = Hedge.NONE
-    if hedge_words:
-        word = hedge_words[-1] if len(hedge_words) == 1 else None
-        if word is None or word.value.lower() not in hedges:
-            bad = hedge_words[0]
-            rep.error(loc_of(bad), f"hedge `{' '.join(h.value for h in hedge_words)}` is not "
-                                   f"supported: {hedge_message(bad.value.lower(), hedges)}")
-            return None
-        hedge = hedges[word.value.lower()]
+    if said is None:
+        return None
+    if not said and term.value.lower() == "any" and "any" not in var.term_names():
+        return ANY, False, Hedge.NONE
     index = var.term_index(term.value, loc_of(term), rep)
-    return None if index is None else (index, negated, hedge)
+    return None if index is None else (index, False, said[0] if said else Hedge.NONE)
 
 
 def hedge_message(word: str, hedges: dict[str, Hedge]) -> str:
@@ -149,14 +188,11 @@ def hedge_message(word: str, hedges: dict[str, Hedge]) -> str:
 
 
 def _conclusion(name: Token, words: list[Token], got: Collected, loc_of: LocOf) -> int | None:
+    """The term index of `name is [hedges] term` (the hedges are the caller's)."""
     rep = got.rep
     var = got.outputs.get(name.value)
     if var is None:
         rep.error(loc_of(name), f"no output variable `{name}`: "
                                 f"{suggest(name.value, list(got.outputs))}")
         return None
-    if len(words) > 1:
-        rep.error(loc_of(words[0]), "a hedge on a conclusion is not supported: the model's "
-                                    "consequents are plain terms")
-        return None
-    return var.term_index(words[0].value, loc_of(words[0]), rep)
+    return var.term_index(words[-1].value, loc_of(words[-1]), rep)

@@ -204,7 +204,11 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
     if semantics in ("fuzzylite", "pyfuzzylite"):
         # fuzzylite's `extremely` is the S-curve (SHARPLY): a FIS `.3` (x^3 in the Octave
         # toolkit, EXTREMELY) read by fuzzylite is that
-        rb = replace(rb, hedges=np.where(rb.hedges == Hedge.EXTREMELY, Hedge.SHARPLY, rb.hedges))
+        sharp = {r: np.column_stack([p[:, :3], np.where(p[:, 3] == Hedge.EXTREMELY,
+                                                        Hedge.SHARPLY, p[:, 3])])
+                 for r, p in rb.conditions.items()}
+        rb = replace(rb, hedges=np.where(rb.hedges == Hedge.EXTREMELY, Hedge.SHARPLY, rb.hedges),
+                     conditions=sharp)
         if rb.inference.defuzzifier == Defuzzifier.TSUKAMOTO:
             return _tsukamoto(rb, np.atleast_2d(np.asarray(x, dtype=float)),
                               _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse)
