@@ -1,7 +1,8 @@
-"""Chained rules (fuzzylite's SimpleDimmerChained): a rule that reads an output goes to a rule
-block after the rules concluding it.  fuzzyc reads the output's value through its terms (as a
-MATLAB FIS tree does); fuzzylite reads the term's activation in the output's fuzzy set, which
-`--semantics fuzzylite` reproduces.  Hand-computed values."""
+"""Rule blocks read from fuzzylite's files.  Chained rules (SimpleDimmerChained): a rule that
+reads an output goes to a rule block after the rules concluding it.  fuzzyc reads the output's
+value through its terms (as a MATLAB FIS tree does); fuzzylite reads the term's activation in
+the output's fuzzy set, which `--semantics fuzzylite` reproduces.  Hybrid FCL: a RULEBLOCK
+each, a METHOD per output.  Hand-computed values."""
 from __future__ import annotations
 
 import numpy as np
@@ -10,6 +11,7 @@ import pytest
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fcl, read_fll
 from fuzzyc.formats.tool_semantics import Chain
+from fuzzyc.model import Defuzzifier
 
 # x = 0.25: low = 1 - x = 0.75, high = x = 0.25.
 # y: max(min(0.75, a), min(0.25, b)) = 0.75 on [0, 0.5], 0.25 on (0.5, 1]; centroid
@@ -46,7 +48,8 @@ RuleBlock:
   rule: if y is b then z is c
 """
 
-CHAINED_FCL = """FUNCTION_BLOCK chained
+# the FCL head both tests share: y's terms are rectangles, z's singletons
+FCL_HEAD = """FUNCTION_BLOCK chained
 VAR_INPUT x : REAL; END_VAR
 VAR_OUTPUT y : REAL; z : REAL; END_VAR
 FUZZIFY x
@@ -66,17 +69,33 @@ DEFUZZIFY z
   RANGE := (0 .. 1);
   TERM c := 0;
   TERM d := 1;
-  METHOD : COG;
+"""
+Y_RULES = """  AND : MIN;
+  ACT : MIN;
+  RULE 1 : if x is low then y is a;
+  RULE 2 : if x is high then y is b;
+"""
+CHAINED_FCL = FCL_HEAD + """  METHOD : COG;
   ACCU : MAX;
   DEFAULT := nan;
 END_DEFUZZIFY
 RULEBLOCK rules
-  AND : MIN;
-  ACT : MIN;
-  RULE 1 : if x is low then y is a;
-  RULE 2 : if x is high then y is b;
-  RULE 3 : if y is a then z is d;
+""" + Y_RULES + """  RULE 3 : if y is a then z is d;
   RULE 4 : if y is b then z is c;
+END_RULEBLOCK
+END_FUNCTION_BLOCK
+"""
+# fuzzylite's hybrid FCL: a METHOD per DEFUZZIFY and a RULEBLOCK per output with its own AND.
+# x = 0.25: y as above, 0.375; z (COGS without ACCU: the weighted average over the rules):
+# (0.75 * 1 + 0.25 * 0) / 1 = 0.75.
+HYBRID_FCL = FCL_HEAD + """  METHOD : COGS;
+END_DEFUZZIFY
+RULEBLOCK mamdani
+""" + Y_RULES + """END_RULEBLOCK
+RULEBLOCK sugeno
+  AND : PROD;
+  RULE 1 : if x is low then z is d;
+  RULE 2 : if x is high then z is c;
 END_RULEBLOCK
 END_FUNCTION_BLOCK
 """
@@ -99,3 +118,19 @@ def test_a_rule_reading_an_output_before_it_is_concluded_is_refused():
         "  rule: if x is low then y is a\n"
     with pytest.raises(FuzzycError, match=r"chained.fll:25:9: .*reads `y` before the rule at chained.fll:27"):
         read_fll(text, "chained.fll")
+
+
+def test_hybrid_fcl_reads_a_method_per_output_and_a_block_per_ruleblock():
+    model = read_fcl(HYBRID_FCL, "hybrid.fcl")
+    assert [(rb.name, [v.name for v in rb.outputs]) for rb in model.blocks] == \
+        [("mamdani", ["y"]), ("sugeno", ["z"])]
+    assert model.blocks[1].inference_of(0).defuzzifier == Defuzzifier.WEIGHTED_AVERAGE
+    np.testing.assert_allclose(Chain(model).evaluate([[0.25]]), [[0.375, 0.75]], rtol=0,
+                               atol=1e-12)
+
+
+def test_two_methods_in_one_defuzzify_are_refused():
+    text = HYBRID_FCL.replace("  METHOD : COGS;\n", "  METHOD : COGS;\n  METHOD : COG;\n")
+    with pytest.raises(FuzzycError, match=r"hybrid.fcl:22:12: error: METHOD COG differs from "
+                                          r"COGS at line 21 in the same block"):
+        read_fcl(text, "hybrid.fcl")
