@@ -49,16 +49,29 @@ FAST_TNORMS = (TNorm.MIN, TNorm.PRODUCT)   # the t-norms the sparse and grid pat
 def activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
     """x (N, I) -> act (N, R): every rule's activation, after weights (the dense reference)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
-    n, r = x.shape[0], rb.n_rules
+    mus = [memberships(var, x[:, i]) for i, var in enumerate(rb.inputs)]
+    return activations_from(rb, mus, mus, x.shape[0])
+
+
+def activations_from(rb: RuleBase, mus: list[np.ndarray], negated_mus: list[np.ndarray],
+                     n: int) -> np.ndarray:
+    """act (N, R) from each input's memberships mus[i] (N, T_i); a negated clause reads
+    negated_mus instead (1 - hedge of it). Every norm and hedge is monotone, so the set-valued
+    proofs get an activation's bounds by passing (lower, upper) and (upper, lower) bounds."""
+    r = rb.n_rules
     conj = rb.connective == Connective.AND
     clauses = []
     for i, var in enumerate(rb.inputs):
-        mu = np.concatenate([memberships(var, x[:, i]), np.zeros((n, 1))], axis=1)
         cols = rb.antecedents[:, i]
-        g = mu[:, np.where(cols >= 0, cols, var.n_terms)]
-        if np.any(rb.hedges[:, i] != Hedge.NONE):
-            g = apply_hedges(g, rb.hedges[:, i])
-        g = np.where(rb.negated[:, i], 1.0 - g, g)
+        picked = np.where(cols >= 0, cols, var.n_terms)
+        gathered = []
+        for source in (mus[i],) if negated_mus is mus else (mus[i], negated_mus[i]):
+            mu = np.concatenate([source, np.zeros((n, 1))], axis=1)
+            g = mu[:, picked]
+            if np.any(rb.hedges[:, i] != Hedge.NONE):
+                g = apply_hedges(g, rb.hedges[:, i])
+            gathered.append(g)
+        g = np.where(rb.negated[:, i], 1.0 - gathered[-1], gathered[0])
         # An absent clause is the neutral element of the rule's connective.
         clauses.append(np.where(cols >= 0, g, np.where(conj, 1.0, 0.0)))
     if not clauses:

@@ -153,3 +153,63 @@ class PIGapServo:
         self.integral = np.where(~saturated | unwinding,
                                  self.integral + self.Ki * e * self.period, self.integral)
         return {self.output_name: np.clip(self.Kp * e + self.integral, -self.vmax, self.vmax)}
+
+
+# --- the same plant on sets (fuzzyc verify --prove) -------------------------------------------
+SET_VARIABLE = ("gap0",)     # params that may be a set (an affine form) in set_initial_state
+
+
+def set_initial_state(params: EdmSinkParams, gap0, noise) -> dict:
+    """The state on affine forms: gap (mm, the form of gap0), coil velocity v (m/s), and the
+    unknown phases of the mains and harmonic pick-up as (cos, sin) pairs, each a symbol in
+    [-1, 1] for the whole run (the square holds the circle)."""
+    state = {"gap": gap0, "v": 0.0}
+    for name in ("cos50", "sin50", "cos100", "sin100"):
+        state[name] = noise.widen(0.0, 1.0)
+    return state
+
+
+def set_step(params: EdmSinkParams, state: dict, inputs: dict, t: float, dt: float,
+             noise) -> tuple[dict, dict]:
+    """`step` on affine forms (fuzzyc.verify.reach.affine), for every run of the plant from
+    the states and inputs in the sets.
+
+    - The actuator is linear in (v, command) but for the 48 V clip of the coil voltage, which
+      goes through Affine.clip; the gap is tracked directly (surface - z) so its feedback keeps
+      its correlation with v.
+    - Erosion only widens the gap: over one sample the surface advances by some amount in
+      [0, C dt] (erosion_speed is in [0, C]), a new symbol per sample.
+    - V(g) is nondecreasing in g (0 up to the short, then the quadratic ignition law): its
+      interval extension is its values at the ends.
+    - Noise: the mains and harmonic terms are A sin(w t + phase) = A (sin(w t) cos(phase) +
+      cos(w t) sin(phase)), linear in the state's phase symbols, so the filters see them as
+      the sinusoids they are; the spark noise is Gaussian and unbounded, so the set covers it
+      only up to `noise.sigmas` standard deviations, a new symbol per sample (an assumption
+      the proof states; 0 leaves it out).
+    Outputs: mean_voltage, measured_voltage, gap (um), velocity_actual (mm/s), short.
+    """
+    command = inputs["velocity"] * 1e-3
+    gap, v = state["gap"], state["v"]
+    h = dt / params.substeps
+    for _ in range(params.substeps):
+        u = _clip_form(params.Kv * (command - v), params.supply)
+        current = (u - v * params.Kb) * (1.0 / params.R)
+        v = v + (current * params.Kf - v * params.damping) * (h / params.mass)
+        gap = gap - v * (h * 1e3)
+    erosion = 0.5 * params.erosion_rate * dt
+    gap = noise.widen(gap + erosion, erosion)
+    mean = noise.monotone(gap, lambda g: gap_voltage(params, g))
+    t_end = t + dt
+    w50, w100 = 2 * np.pi * 50 * t_end, 2 * np.pi * 100 * t_end
+    pickup = (state["cos50"] * (params.mains * np.sin(w50))
+              + state["sin50"] * (params.mains * np.cos(w50))
+              + state["cos100"] * (params.harmonic * np.sin(w100))
+              + state["sin100"] * (params.harmonic * np.cos(w100)))
+    measured = noise.widen(mean + pickup, params.spark_noise * noise.sigmas)
+    short = noise.monotone(gap, lambda g: (g <= params.g_short).astype(float), increasing=False)
+    return {**state, "gap": gap, "v": v}, {"measured_voltage": measured, "mean_voltage": mean,
+                                  "gap": gap * 1e3, "velocity_actual": v * 1e3, "short": short}
+
+
+def _clip_form(u, limit: float):
+    return u.clip(-limit, limit) if hasattr(u, "clip") else float(np.clip(u, -limit, limit))

@@ -160,6 +160,28 @@ class SOSFilter:
         return {self.output_name: self._last.copy()}
 
 
+    def set_reset(self) -> None:
+        """Start the set-valued run (fuzzyc verify --prove): no sample yet."""
+        self.set_state: dict = {}
+
+    def set_step(self, signals: dict) -> dict:
+        """`step` on affine forms (linear: exact), for a signal that is never NaN: the first
+        sample sets the steady state, as `step` does."""
+        x = signals[self.input_name]
+        if not self.set_state:
+            for s, (b0, b1, b2, _, a1, a2) in enumerate(self.sos):
+                self.set_state[f"{s}.2"] = x * (b2 - a2)
+                self.set_state[f"{s}.1"] = x * (b1 - a1) + self.set_state[f"{s}.2"]
+        y = x
+        for s, (b0, b1, b2, _, a1, a2) in enumerate(self.sos):
+            s1, s2 = self.set_state[f"{s}.1"], self.set_state[f"{s}.2"]
+            out = y * b0 + s1
+            self.set_state[f"{s}.1"] = y * b1 - out * a1 + s2
+            self.set_state[f"{s}.2"] = y * b2 - out * a2
+            y = out
+        return {self.output_name: y}
+
+
 def lowpass(input_name: str, output_name: str, order: int, cutoff_hz: float,
             fs: float) -> SOSFilter:
     return SOSFilter(butter_lowpass_sos(order, cutoff_hz, fs), input_name, output_name)

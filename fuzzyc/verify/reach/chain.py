@@ -1,0 +1,225 @@
+"""A Model's signal chain on affine forms: the set-valued twin of `fuzzyc.controller`.
+
+Expressions are walked like `fuzzyc.expr` walks them, one node kind at a time; linear nodes are
+exact, the others go through `Affine.apply` with their interval extension. Stateful steps keep
+affine memories, so delta(lowpass(x)) cancels exactly as it does on numbers. The rule base is
+linearized per box: slopes from central differences of the engine (any slope is sound), the
+remainder bounded by the interval rule base (`reach.rulebase`) on a grid of sub-boxes.
+A node, step or rule base with no set-valued meaning raises `Unsupported` naming it.
+"""
+from __future__ import annotations
+
+import itertools
+
+import numpy as np
+import sympy
+
+from ... import engine
+from ...model import Model, Op, OutputKind
+from . import rulebase as set_rulebase
+from .affine import Affine, Symbols, monotone
+
+SUB_BOXES = 256     # sub-boxes per box for the rule base's remainder (about: per axis n^I)
+
+
+class Unsupported(ValueError):
+    """A piece of the loop the proof has no set-valued evaluation for (named in the message)."""
+
+
+Value = "Affine | float"
+
+
+def _relu(lo, hi):
+    return np.maximum(lo, 0.0), np.maximum(hi, 0.0)
+
+
+def _abs(lo, hi):
+    low = np.where((lo <= 0) & (hi >= 0), 0.0, np.minimum(np.abs(lo), np.abs(hi)))
+    return low, np.maximum(np.abs(lo), np.abs(hi))
+
+
+def _power(n: int):
+    def box(lo, hi):
+        a, b = lo ** n, hi ** n
+        if n % 2:
+            return a, b
+        low = np.where((lo <= 0) & (hi >= 0), 0.0, np.minimum(a, b))
+        return low, np.maximum(a, b)
+    return box
+
+
+def apply_fn(x: Value, box, point) -> Value:
+    return x.apply(box) if isinstance(x, Affine) else float(point(x))
+
+
+def maximum(a: Value, b: Value) -> Value:
+    """max(a, b): with a number, one monotone step; of two forms, b + relu(a - b)."""
+    if not isinstance(a, Affine) and not isinstance(b, Affine):
+        return max(a, b)
+    if not isinstance(a, Affine) or not isinstance(b, Affine):
+        form, c = (a, float(b)) if isinstance(a, Affine) else (b, float(a))
+        return form.clip(c, np.inf)
+    return b + apply_fn(a - b, _relu, lambda v: max(v, 0.0))
+
+
+def minimum(a: Value, b: Value) -> Value:
+    return -maximum(-a, -b)
+
+
+def _clamp(expr: sympy.Expr, env: dict) -> Value | None:
+    """clamp(e, lo, hi) as the language writes it, Min(hi, Max(lo, e)): one clip."""
+    if not isinstance(expr, sympy.Min) or len(expr.args) != 2:
+        return None
+    inner = [a for a in expr.args if isinstance(a, sympy.Max) and len(a.args) == 2]
+    hi = [a for a in expr.args if a.is_number]
+    lo = [a for a in inner[0].args if a.is_number] if inner else []
+    if not (inner and hi and lo):
+        return None
+    (rest,) = [a for a in inner[0].args if not a.is_number]
+    value = evaluate(rest, env)
+    if not isinstance(value, Affine):
+        return float(np.clip(value, float(lo[0]), float(hi[0])))
+    return value.clip(float(lo[0]), float(hi[0]))
+
+
+def evaluate(expr: sympy.Expr, env: dict) -> Value:
+    """expr over env (Affine forms and numbers)."""
+    if isinstance(expr, sympy.Symbol):
+        if expr.name not in env:
+            raise Unsupported(f"no value for `{expr.name}`")
+        return env[expr.name]
+    if expr.is_number:
+        return float(expr)
+    clamped = _clamp(expr, env)
+    if clamped is not None:
+        return clamped
+    args = [evaluate(a, env) for a in expr.args] if not isinstance(expr, sympy.Pow) else None
+    if isinstance(expr, sympy.Add):
+        return sum(args[1:], args[0])
+    if isinstance(expr, sympy.Mul):
+        out = args[0]
+        for a in args[1:]:
+            out = out * a
+        return out
+    if isinstance(expr, (sympy.Min, sympy.Max)):
+        fold = minimum if isinstance(expr, sympy.Min) else maximum
+        out = args[0]
+        for a in args[1:]:
+            out = fold(out, a)
+        return out
+    if isinstance(expr, sympy.Abs):
+        return apply_fn(args[0], _abs, abs)
+    if isinstance(expr, sympy.exp):
+        return apply_fn(args[0], monotone(np.exp), np.exp)
+    if isinstance(expr, sympy.Pow) and expr.exp.is_number:
+        return _pow(evaluate(expr.base, env), float(expr.exp), expr)
+    raise Unsupported(f"`{expr}`: {type(expr).__name__} has no set-valued evaluation")
+
+
+def _pow(base: Value, n: float, expr) -> Value:
+    if not isinstance(base, Affine):
+        return float(base) ** n
+    lo, hi = base.bounds()
+    if n == int(n) and n >= 1:
+        return base.apply(_power(int(n)))
+    if n == -1 and (np.all(lo > 0) or np.all(hi < 0)):
+        return base.apply(monotone(lambda x: 1.0 / x, increasing=False))
+    if n == 0.5 and np.all(lo >= 0):
+        return base.apply(monotone(np.sqrt))
+    raise Unsupported(f"`{expr}`: a power {n:g} of a set that reaches [{lo.min():.6g}, "
+                      f"{hi.max():.6g}]")
+
+
+def rulebase_forms(rb, xs: list[Affine]) -> list[Affine]:
+    """The rule base's outputs as affine forms of its inputs, per box: y = sum_i s_i x_i +
+    mid + rad eps_new, the remainder bounded on sub-boxes by the interval rule base."""
+    sym = xs[0].sym
+    n, k = sym.batch, len(xs)
+    lo = np.stack([x.lo() for x in xs], axis=1)
+    hi = np.stack([x.hi() for x in xs], axis=1)
+    centre, radius = 0.5 * (lo + hi), 0.5 * (hi - lo)
+    # slopes: central differences of the engine across each box
+    points = np.repeat(centre[:, None, :], 2 * k, axis=1)
+    for i in range(k):
+        points[:, 2 * i, i] += radius[:, i]
+        points[:, 2 * i + 1, i] -= radius[:, i]
+    y = engine.evaluate(rb, points.reshape(-1, k)).reshape(n, 2 * k, -1)
+    slopes = np.where(radius[:, :, None] > 0, (y[:, 0::2] - y[:, 1::2])
+                      / np.where(radius > 0, 2 * radius, 1.0)[:, :, None], 0.0)  # (B, I, O)
+    # remainder on a grid of sub-boxes
+    per_axis = max(1, int(round(SUB_BOXES ** (1.0 / k))))
+    t = np.linspace(0.0, 1.0, per_axis + 1)
+    cells = np.array(list(itertools.product(range(per_axis), repeat=k)))       # (C, I)
+    a = lo[:, None, :] + (hi - lo)[:, None, :] * t[cells]                        # (B, C, I)
+    b = lo[:, None, :] + (hi - lo)[:, None, :] * t[cells + 1]
+    b = np.where(cells + 1 == per_axis, hi[:, None, :], b)
+    y_lo, y_hi = set_rulebase.evaluate(rb, a.reshape(-1, k), b.reshape(-1, k))
+    y_lo, y_hi = y_lo.reshape(n, len(cells), -1), y_hi.reshape(n, len(cells), -1)
+    out = []
+    for o in range(y_lo.shape[2]):
+        s = slopes[:, None, :, o]
+        lin_lo = np.minimum(s * a, s * b).sum(axis=2)
+        lin_hi = np.maximum(s * a, s * b).sum(axis=2)
+        low = (y_lo[:, :, o] - lin_hi).min(axis=1)
+        high = (y_hi[:, :, o] - lin_lo).max(axis=1)
+        form = Affine(sym, 0.5 * (low + high))
+        for i, x in enumerate(xs):
+            form = form + x.scale(slopes[:, i, o])
+        out.append(form.with_error(0.5 * (high - low) * (1 + 1e-12) + 1e-15))
+    return out
+
+
+class SetController:
+    """The chain of a Model on affine forms, one period at a time (`step`)."""
+
+    def __init__(self, model: Model, sym: Symbols, params: dict):
+        self.model, self.sym, self.params = model, sym, params
+        reason = set_rulebase.unsupported(model.rulebase)
+        if reason:
+            raise Unsupported(reason)
+        self.state: dict[str, Affine | float] = {}     # step memories, output states
+        for out in model.outputs:
+            init = 1.0 / out.init if out.kind == OutputKind.RECIPROCAL_INCREMENT else out.init
+            self.state["out:" + out.name] = float(init)
+
+    def step(self, inputs: dict) -> dict:
+        env = {**self.params, **inputs}
+        for s in self.model.steps:
+            arg = evaluate(s.expr, env)
+            key = "mem:" + s.name
+            mem = self.state.get(key)
+            if s.op == Op.ASSIGN:
+                value = arg
+            elif s.op == Op.DELTA:
+                value = 0.0 if mem is None else arg - mem
+                self.state[key] = arg
+            elif s.op == Op.PREV:
+                value = arg if mem is None else mem
+                self.state[key] = arg
+            else:
+                a, b = s.coeffs
+                value = arg if mem is None else mem * a + arg * b
+                self.state[key] = value
+            env[s.name] = value
+        rb = self.model.rulebase
+        xs = [self._form(env[v.name]) for v in rb.inputs]
+        for v, y in zip(rb.outputs, rulebase_forms(rb, xs)):
+            env[v.name] = y
+        outputs = {}
+        for out in self.model.outputs:
+            value, key = evaluate(out.expr, env), "out:" + out.name
+            if out.kind == OutputKind.DIRECT:
+                state = self._form(value).clip(out.lo, out.hi)
+            else:
+                lo, hi = (out.lo, out.hi) if out.kind == OutputKind.INCREMENT else (
+                    1.0 / out.hi, 1.0 / out.lo)
+                state = self._form(self.state[key] + value).clip(lo, hi)
+            self.state[key] = state
+            outputs[out.name] = state if out.kind != OutputKind.RECIPROCAL_INCREMENT else \
+                _pow(state, -1.0, out.name)
+        env.update(outputs)
+        self.signals = env
+        return outputs
+
+    def _form(self, value: Value) -> Affine:
+        return value if isinstance(value, Affine) else Affine(self.sym, value)
