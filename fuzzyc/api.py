@@ -144,19 +144,24 @@ def verify(model: Model | PathLike, *, max_examples: int = 100, seed: int = 0,
            backend: str = "numpy", only: str | None = None,
            report_dir: PathLike | None = None,
            progress: Callable[[str], None] | None = None,
-           cluster: Cluster | None = None) -> VerifyReport:
+           cluster: Cluster | None = None, prove: bool = False,
+           prove_boxes: int = 64, noise_sigmas: float = 0.0) -> VerifyReport:
     """Check every property of a model (or of the file at that path); a model that declares
     none gets the structural defaults. `only` keeps the properties whose text contains it;
     `report_dir` receives the plots of closed-loop counterexamples; `progress` is called with
     each property's text before it is checked; `cluster` (fuzzyc.runtime.campaign.Cluster) checks
-    the closed-loop cases in chunks, on Dask with workers or a scheduler (docs/campaigns.md)."""
+    the closed-loop cases in chunks, on Dask with workers or a scheduler (docs/campaigns.md).
+    `prove`: closed loops get sound reachable sets first (docs/proofs.md), split into at most
+    `prove_boxes` boxes, Gaussian plant noise covered to `noise_sigmas` standard deviations
+    (0: not at all)."""
     from .verifier import Options, verify_model
     from .verifier.report import VerifyReport
     if not isinstance(model, Model):
         model = load(model)
     options = Options(backend=backend, max_examples=max_examples, seed=seed,
                       report_dir=None if report_dir is None else str(report_dir), only=only,
-                      progress=progress, cluster=cluster)
+                      progress=progress, cluster=cluster, prove=prove,
+                      prove_boxes=prove_boxes, noise_sigmas=noise_sigmas)
     return VerifyReport(verify_model(model, options))
 
 

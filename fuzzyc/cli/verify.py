@@ -31,6 +31,14 @@ def add_parser(subparsers) -> None:
     p.add_argument("--report", metavar="DIR",
                    help="write verify.json, verify.junit.xml and counterexample plots here")
     p.add_argument("--only", metavar="TEXT", help="only properties whose text contains TEXT")
+    p.add_argument("--prove", action="store_true",
+                   help="closed loops: compute sound reachable sets first (PROVED, or UNKNOWN "
+                        "with the bound and horizon reached), then search (see docs/proofs.md)")
+    p.add_argument("--prove-boxes", type=int, default=64, metavar="N",
+                   help="branch-and-bound budget: boxes of the vary ranges per closed loop")
+    p.add_argument("--noise-sigmas", type=float, default=0.0, metavar="K",
+                   help="cover Gaussian plant noise up to K standard deviations (0: not at "
+                        "all; the proof states it)")
     add_campaign_arguments(p)
     add_semantics(p)
     p.set_defaults(run=run)
@@ -84,7 +92,9 @@ def run(args) -> int:
                 report.results += verify(model, max_examples=args.max_examples,
                                          seed=args.seed, backend=args.backend, only=args.only,
                                          report_dir=args.report, progress=progress,
-                                         cluster=cluster).results
+                                         cluster=cluster, prove=args.prove,
+                                         prove_boxes=args.prove_boxes,
+                                         noise_sigmas=args.noise_sigmas).results
             except FuzzycError as exc:
                 progress.done()
                 for diagnostic in exc.diagnostics:

@@ -43,6 +43,7 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     if with_baseline and not scen.baseline:
         return [[Evidence("closed-loop", Status.UNDECIDED, f"`{BASELINE}...` signals need a "
                           f"scenario with a baseline; {scen.name} names none")] for _ in checks]
+    proofs = _prove(model, prop, checks, scen, options)
     loop = _Loop(model, scen, a["duration"], options.backend, options.seed)
     loop.with_baseline = with_baseline
     loop.progress = None if options.progress else False   # the runtime's bar, on a terminal
@@ -63,7 +64,7 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     results, plots = [], OutputFolder(options.report_dir or ".")
     for i, (c, (violated, _)) in enumerate(zip(checks, verdicts)):
         if i not in shrunk:
-            results.append([Evidence("closed-loop", Status.HELD, f"{len(cases)} loops of "
+            results.append(proofs[i] + [Evidence("closed-loop", Status.HELD, f"{len(cases)} loops of "
                                      f"{a['duration']:g} s on scenario {scen.name}{learned}",
                                      cases=len(cases))])
             continue
@@ -77,8 +78,8 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
             shown = temporal.names_in(c) + [o.name for o in model.outputs] + _event_signals(case)
             trace["plot"] = str(plot_trace(trace, shown, f"{model.name}: {c.text}",
                                            plots.file(name, ".png")))
-        results.append([Evidence("closed-loop", Status.VIOLATED, detail, cases=len(cases),
-                                 trace=trace)])
+        results.append(proofs[i] + [Evidence("closed-loop", Status.VIOLATED, detail,
+                                             cases=len(cases), trace=trace)])
     return results
 
 
@@ -113,6 +114,16 @@ def _check_chunk(loop: "_Loop", checks: list[Property], cases: list[dict]):
         raise temporal.UnknownSignal(exc.args[0], list(signals)) from None
     return verdicts, {i: _column(time, signals, int(np.argmax(v)))
                       for i, (v, _) in enumerate(verdicts) if v.any()}
+
+
+def _prove(model: Model, prop: Property, checks: list[Property], scen, options
+           ) -> list[list[Evidence]]:
+    """With --prove: the reachable-set evidence per check (fuzzyc.verify.reach), timed."""
+    if not getattr(options, "prove", False):
+        return [[] for _ in checks]
+    from .reach.decide import Settings, prove
+    settings = Settings(max_boxes=options.prove_boxes, sigmas=options.noise_sigmas)
+    return [[e] for e in prove(model, prop, checks, scen, settings)]
 
 
 def _column(time, signals, k: int):
