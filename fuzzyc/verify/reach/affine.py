@@ -48,7 +48,9 @@ class Affine:
 
     def __init__(self, sym: Symbols, c, g: np.ndarray | None = None):
         self.sym = sym
-        self.c = np.broadcast_to(np.asarray(c, dtype=float), (sym.batch,)).copy()
+        if not (isinstance(c, np.ndarray) and c.shape == (sym.batch,) and c.dtype == float):
+            c = np.broadcast_to(np.asarray(c, dtype=float), (sym.batch,)).copy()
+        self.c = c         # forms never write into their arrays: sharing them is safe
         self.g = np.zeros((sym.batch, 0)) if g is None else g
 
     # --- construction ---------------------------------------------------------------------

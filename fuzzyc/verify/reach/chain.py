@@ -19,7 +19,7 @@ from ...model import Model, Op, OutputKind
 from . import rulebase as set_rulebase
 from .affine import Affine, Symbols, monotone
 
-SUB_BOXES = 256     # sub-boxes per box for the rule base's remainder (about: per axis n^I)
+SUB_BOXES = 1024    # sub-boxes per box for the rule base remainder (n per axis, n^I about this)
 
 
 class Unsupported(ValueError):
