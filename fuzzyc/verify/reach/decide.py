@@ -24,7 +24,7 @@ from ...model import Model, Property
 from ..result import Evidence, Status
 from .affine import Affine
 from .chain import Unsupported, evaluate
-from .loop import SetLoop, split
+from .loop import SetLoop, split, step_keys
 
 MARGIN = 1e-9          # a predicate is true on a set only with this much room (rounding)
 DEFAULT_MAX_BOXES = 64
@@ -80,6 +80,8 @@ def truth(expr, env: dict, batch: int) -> tuple[np.ndarray, np.ndarray]:
 
 def _bound_text(expr, slack: float) -> str:
     """The bound reached, said on the signal: `gap >= 7.31` for gap > 5 with slack 2.31."""
+    if not np.isfinite(slack):
+        return f"`{expr}` (no period of the run falls in its window)"
     if isinstance(expr, sympy.Rel) and expr.rhs.is_number:
         sign = 1 if isinstance(expr, (sympy.StrictGreaterThan, sympy.GreaterThan)) else -1
         op = ">=" if sign > 0 else "<="
@@ -140,7 +142,8 @@ def prove(model: Model, prop: Property, checks: list[Property], scen,
     settings = settings or Settings()
     a = prop.args
     start = _time.perf_counter()
-    full = {k: (float(lo), float(hi)) for k, (lo, hi) in a["vary"].items()}
+    ranges = {**a["vary"], **step_keys(a, a["duration"])}
+    full = {k: (float(lo), float(hi)) for k, (lo, hi) in ranges.items()}
     boxes = {k: (np.array([lo]), np.array([hi])) for k, (lo, hi) in full.items()}
     leaves: list[tuple[dict, list[_Tally]]] = []
     try:

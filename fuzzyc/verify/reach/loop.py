@@ -6,9 +6,9 @@ reads the controller's outputs of the period before).
 What the sets stand for, per loop of a box:
 - `vary plant.P`: one value in the box for the whole run (the plant must list P in its
   SET_VARIABLE);
-- `vary controller.P`: the search may step P once, to another value of the range, at any time
-  before its `steps before` time (or the run's end): until then the set lets P take any value
-  of the box at every period (which covers every such step), after it one unknown value;
+- `vary controller.P`: a value for the start and, as the search may step P once, a value it
+  steps to and the time of the step (before its `steps before` time, or the run's end): three
+  box dimensions (`step_keys`); no step is the step to the same value;
 - plant noise: whatever the plant's `set_step` covers (it says which bound it assumes).
 Sensor faults, `baseline_` signals and observers without `set_step` are refused by name.
 """
@@ -22,6 +22,7 @@ from ...model import Model
 from .affine import Affine, Symbols, monotone, reduce
 from .chain import SetController, Unsupported
 
+STEP = "step:"         # the box dimensions of a set-point step: step:controller.P:value/time
 KEEP_SYMBOLS = 80      # symbols kept when the run reduces (plus one per live form)
 
 
@@ -58,6 +59,8 @@ class SetLoop:
         self.duration, self.period = args["duration"], scen.period
         movable = getattr(self.module, "SET_VARIABLE", ())
         for key in boxes:
+            if key.startswith(STEP):
+                continue
             kind, name = key.split(".", 1)
             if kind == "plant" and name not in movable:
                 raise Unsupported(f"`vary {key}`: the set step of "
@@ -81,11 +84,11 @@ class SetLoop:
         state = self.module.set_initial_state(params, noise=noise, **{
             name: plant_sets.get(name, getattr(nominal, name))
             for name in getattr(self.module, "SET_VARIABLE", ())})
-        controller_keys = {k.split(".", 1)[1]: v for k, v in self.boxes.items()
-                           if k.startswith("controller.")}
-        free_until = {name: min(self.duration, self.args.get("steps_before", {}).get(
-            "controller." + name, self.duration)) for name in controller_keys}
-        settled = {name: Affine.interval(sym, *v) for name, v in controller_keys.items()}
+        before = {k.split(".", 1)[1]: Affine.interval(sym, *v) for k, v in self.boxes.items()
+                  if k.startswith("controller.")}
+        after = {name: Affine.interval(sym, *self.boxes[f"{STEP}controller.{name}:value"])
+                 for name in before}
+        at = {name: self.boxes[f"{STEP}controller.{name}:time"] for name in before}
         params_c = self._controller_params()
         controller = SetController(self._controller_model(params_c), sym, dict(params_c))
         for block in self.observers:
@@ -101,9 +104,8 @@ class SetLoop:
                 bus[name] = value
                 if name in controller.params:
                     controller.params[name] = value
-            for name, box in controller_keys.items():
-                controller.params[name] = settled[name] if t >= free_until[name] else \
-                    Affine.interval(sym, *box)
+            for name, form in before.items():
+                controller.params[name] = _stepped(sym, form, after[name], at[name], t)
             state, out = self.module.set_step(params, state, {n: bus[n] for n in inputs
                                                                if n in bus}, t, self.period,
                                               noise)
@@ -118,15 +120,15 @@ class SetLoop:
             yield (k + 1) * self.period, {n: signals.get(n, controller.params.get(n))
                                           for n in record}
             if sym.count > 2 * KEEP_SYMBOLS:
-                self._reduce(sym, state, bus, controller, settled)
+                self._reduce(sym, state, bus, controller, before, after)
 
     def _signal_names(self) -> list[str]:
         return [s.name for s in self.model.signals]
 
-    def _reduce(self, sym, state, bus, controller, settled) -> None:
+    def _reduce(self, sym, state, bus, controller, before, after) -> None:
         """Reduce the symbols of every form that lives into the next period (a form held in
         two places stays one form)."""
-        places = [state, bus, controller.state, controller.params, settled] + \
+        places = [state, bus, controller.state, controller.params, before, after] + \
             [block.set_state for block in self.observers]
         live = [(d, k, v) for d in places for k, v in d.items() if isinstance(v, Affine)]
         unique = list({id(v): v for _, _, v in live}.values())
@@ -147,6 +149,30 @@ class SetLoop:
             dataclasses.replace(o, init=float((spec.get("initial") or {}).get(o.name, o.init)))
             for o in self.model.outputs])
         return model
+
+
+def _stepped(sym: Symbols, before: Affine, after: Affine, at: tuple, t: float) -> Affine:
+    """A param that steps from `before` to `after` at a time in [at_lo, at_hi] (per box):
+    before + s (after - before), s = 0 before at_lo, 1 from at_hi on, any of [0, 1] between
+    (a new symbol per period: every step time of the range at once)."""
+    lo, hi = at
+    s = np.where(t >= hi, 1.0, 0.0)
+    between = (t >= lo) & (t < hi)
+    if between.any():
+        s = Affine.interval(sym, s, np.where(between, 1.0, s))
+    return before + (after - before) * s
+
+
+def step_keys(args: dict, duration: float) -> dict[str, tuple[float, float]]:
+    """The extra dimensions of a `vary controller.P` range: the value it may step to and when
+    (before its `steps before` time, or the run's end), as `vary` ranges."""
+    out = {}
+    for key, rng in args["vary"].items():
+        if key.startswith("controller."):
+            out[f"{STEP}{key}:value"] = tuple(rng)
+            out[f"{STEP}{key}:time"] = (0.0, min(duration, args.get("steps_before", {}).get(
+                key, duration)))
+    return out
 
 
 def split(boxes: dict[str, tuple], which: np.ndarray, full: dict[str, tuple]
