@@ -5,6 +5,9 @@
    search (20,000 engine evaluations) as the baseline in the same run.
 2. The closed-loop search for WEDM properties on the finish cut: 200 hypothesis examples of
    300 s at 40 ms run as one batch, against one loop (batch 1) times 200 as the baseline.
+3. The closed-loop proofs (fuzzyc verify --prove) of every closed loop the shipped rule bases
+   declare, beside the search of the same loop (100 cases): CPU seconds of this process
+   (time.process_time), so other load on the machine does not swing them.
 Writes benchmarks/results/verify.md (atomically).
 
     python3 benchmarks/bench_verify.py [--quick]
@@ -101,10 +104,59 @@ def bench_closed_loop(examples: int, duration: float) -> str:
             + f"\nVerdicts: {verdicts}\n")
 
 
+SHIPPED_LOOPS = ["edm_sink_gap", "milling_neurofuzzy_learned", "wedm_three_region",
+                 "wedm_corner"]
+
+
+def bench_proofs(max_boxes: int, horizon_scale: float) -> str:
+    """Per shipped closed loop: the proof's answer and bound per check, its CPU time, and the
+    search's CPU time and verdict (100 cases)."""
+    from fuzzyc.parser import load
+    from fuzzyc.plants import scenario as scenarios
+    from fuzzyc.verify import Options
+    from fuzzyc.verify import closed_loop
+    from fuzzyc.verify.reach.decide import Settings, prove
+    rows = []
+    for name in SHIPPED_LOOPS:
+        model = load(ROOT / "rulebases" / f"{name}.fz")
+        loops = [p for p in model.properties if p.kind == "closed_loop"]
+        for k, prop in enumerate(loops):
+            prop.args["duration"] *= horizon_scale
+            checks = prop.args["checks"]
+            scen = scenarios.load(prop.args["scenario"], {})
+            start = time.process_time()
+            proofs = prove(model, prop, checks, scen, Settings(max_boxes=max_boxes))
+            proof_s = time.process_time() - start
+            start = time.process_time()
+            found = closed_loop.check(model, prop, checks, Options(max_examples=100))
+            search_s = time.process_time() - start
+            for check, proof, searched in zip(checks, proofs, found):
+                answer = {"proved": "PROVED", "undecided": "UNKNOWN"}[proof.status.value]
+                verdict = searched[-1].status.value
+                rows.append([f"{name}.fz #{k + 1}", f"`{check.text}`", answer,
+                             proof.detail.replace("|", "/"),
+                             f"{prop.args['duration']:g} s", f"{proof_s:.1f} s",
+                             f"{verdict} ({search_s:.1f} s)"])
+    return markdown_table(["loop", "check", "proof", "bound / where it stopped", "horizon",
+                           "proof CPU (all checks of the loop)", "search, 100 cases (CPU)"],
+                          rows)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser()
     parser.add_argument("--quick", action="store_true", help="fewer repeats, shorter loops")
+    parser.add_argument("--proofs-only", action="store_true",
+                        help="only the closed-loop proofs (writes benchmarks/results/proofs.md)")
     args = parser.parse_args()
+    if args.proofs_only:
+        boxes, scale = (8, 0.1) if args.quick else (64, 1.0)
+        text = (f"# Closed-loop proofs beside the search\n\n`python3 benchmarks/bench_verify.py "
+                f"--proofs-only{' --quick' if args.quick else ''}` (box budget {boxes}, horizons "
+                f"x {scale:g}; spark noise not covered: --noise-sigmas 0)\n\n"
+                f"{bench_proofs(boxes, scale)}")
+        write_result(ROOT / "benchmarks" / "results" / "proofs.md", text)
+        print(text)
+        return
     _aliases()
     repeats = 3 if args.quick else 7
     examples, duration = (50, 60.0) if args.quick else (200, 300.0)

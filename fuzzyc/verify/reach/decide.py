@@ -191,8 +191,10 @@ def _evidence(check: Property, i: int, leaves, full: dict, duration: float, seco
     n = len(proved)
     where = ", ".join(f"{k} in [{lo:g}, {hi:g}]" for k, (lo, hi) in full.items()) or \
         "the nominal loop"
-    assumption = (f"plant noise within the plant's stated bounds (Gaussian terms to "
-                  f"{settings.sigmas:g} sigma)")
+    assumption = ("Gaussian plant noise not covered (--noise-sigmas 0); bounded noise as the "
+                  "plant's set step states" if settings.sigmas == 0 else
+                  f"Gaussian plant noise covered to {settings.sigmas:g} sigma; bounded noise as "
+                  f"the plant's set step states")
     horizon = f"{min(duration, end):g} s" if np.isfinite(end) else f"{duration:g} s"
     if proved.all():
         bound = _bound_text(pred, float(slack.min())) if check.kind != "eventually" else \
