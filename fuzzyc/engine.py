@@ -50,15 +50,18 @@ def activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
     """x (N, I) -> act (N, R): every rule's activation, after weights (the dense reference)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     mus = [memberships(var, x[:, i]) for i, var in enumerate(rb.inputs)]
-    return activations_from(rb, mus, mus, x.shape[0])
+    act = flat_activations(rb, mus, mus, x.shape[0])
+    for r, program in rb.conditions.items():
+        act[:, r] = run_condition(rb, program, x)
+    return firing(act * rb.weights)
 
 
-def activations_from(rb: RuleBase, mus: list[np.ndarray], negated_mus: list[np.ndarray],
+def flat_activations(rb: RuleBase, mus: list[np.ndarray], negated_mus: list[np.ndarray],
                      n: int) -> np.ndarray:
-    """act (N, R) from each input's memberships mus[i] (N, T_i); a negated clause reads
-    negated_mus instead (1 - hedge of it). Every norm and hedge is monotone, so the set-valued
-    proofs get an activation's bounds by passing (lower, upper) and (upper, lower) bounds."""
-    r = rb.n_rules
+    """The matrix rules' truth (N, R) before weights, from each input's memberships mus[i]
+    (N, T_i); a negated clause reads negated_mus instead (1 - hedge of it). Every norm and
+    hedge is monotone, so the set-valued proofs get bounds of the truth by passing (lower,
+    upper) and (upper, lower) membership bounds."""
     conj = rb.connective == Connective.AND
     clauses = []
     for i, var in enumerate(rb.inputs):
@@ -75,13 +78,10 @@ def activations_from(rb: RuleBase, mus: list[np.ndarray], negated_mus: list[np.n
         # An absent clause is the neutral element of the rule's connective.
         clauses.append(np.where(cols >= 0, g, np.where(conj, 1.0, 0.0)))
     if not clauses:
-        return np.broadcast_to(rb.weights.astype(float), (n, r)).copy()
+        return np.ones((n, rb.n_rules))
     act = np.where(conj, combine(clauses, rb.inference.and_, True),
                    combine(clauses, rb.inference.or_, False))
-    act = np.where(np.all(rb.antecedents < 0, axis=1), 1.0, act)
-    for r, program in rb.conditions.items():
-        act[:, r] = run_condition(rb, program, x)
-    return firing(act * rb.weights)
+    return np.where(np.all(rb.antecedents < 0, axis=1), 1.0, act)
 
 
 def run_condition(rb: RuleBase, program: np.ndarray, x: np.ndarray) -> np.ndarray:

@@ -145,3 +145,22 @@ def test_unsupported_pieces_are_refused_by_name():
     scen = scenarios.load(prop.args["scenario"], {})
     evidence = prove(wedm, prop, prop.args["checks"], scen)
     assert all("wedm_gap` has no set-valued step" in e.detail for e in evidence)
+
+
+def test_nested_conditions_are_refused_by_name():
+    from fuzzyc.parser import parse
+    from fuzzyc.verify.reach.chain import SetController, Unsupported
+    text = """controller nested {
+      input a in [0, 1]
+      input b in [0, 1]
+      terms a, b : L = tri(-1, 0, 1), H = tri(0, 1, 2)
+      var y in [0, 10]
+      terms y : singletons lo = 0 hi = 10
+      inference and = min, or = max, defuzzify = coa
+      rule if not (a is H or b is H) then y is lo
+      rule if a is H and b is H then y is hi
+      output u in [0, 10] = y
+    }"""
+    model = parse(text, "nested.fz")
+    with pytest.raises(Unsupported, match=r"nested conditions \(rule 1 `if not \(a is H or b"):
+        SetController(model, Symbols(1), model.symbol_values())

@@ -64,9 +64,10 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     results, plots = [], OutputFolder(options.report_dir or ".")
     for i, (c, (violated, _)) in enumerate(zip(checks, verdicts)):
         if i not in shrunk:
-            results.append(proofs[i] + [Evidence("closed-loop", Status.HELD, f"{len(cases)} loops of "
-                                     f"{a['duration']:g} s on scenario {scen.name}{learned}",
-                                     cases=len(cases))])
+            held = Evidence("closed-loop", Status.HELD, f"{len(cases)} loops of "
+                            f"{a['duration']:g} s on scenario {scen.name}{learned}",
+                            cases=len(cases))
+            results.append(proofs[i] + [held])
             continue
         case, trace = shrunk[i]
         detail = (f"{int(violated.sum())} of {len(cases)} loops break it; shrunk case: "

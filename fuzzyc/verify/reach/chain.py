@@ -174,9 +174,10 @@ class SetController:
 
     def __init__(self, model: Model, sym: Symbols, params: dict):
         self.model, self.sym, self.params = model, sym, params
-        reason = set_rulebase.unsupported(model.rulebase)
-        if reason:
-            raise Unsupported(reason)
+        for rb in model.blocks:
+            reason = set_rulebase.unsupported(rb)
+            if reason:
+                raise Unsupported(f"rule block {rb.name or 1}: {reason}")
         self.state: dict[str, Affine | float] = {}     # step memories, output states
         for out in model.outputs:
             init = 1.0 / out.init if out.kind == OutputKind.RECIPROCAL_INCREMENT else out.init
@@ -201,10 +202,10 @@ class SetController:
                 value = arg if mem is None else mem * a + arg * b
                 self.state[key] = value
             env[s.name] = value
-        rb = self.model.rulebase
-        xs = [self._form(env[v.name]) for v in rb.inputs]
-        for v, y in zip(rb.outputs, rulebase_forms(rb, xs)):
-            env[v.name] = y
+        for rb in self.model.blocks:          # in order: a block may read an earlier one's
+            xs = [self._form(env[v.name]) for v in rb.inputs]
+            for v, y in zip(rb.outputs, rulebase_forms(rb, xs)):
+                env[v.name] = y
         outputs = {}
         for out in self.model.outputs:
             value, key = evaluate(out.expr, env), "out:" + out.name

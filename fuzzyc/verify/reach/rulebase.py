@@ -3,9 +3,10 @@
 - Memberships: every term kind of the model is unimodal (rises to a plateau [p1, p2], then
   falls) or monotone (an empty plateau), so over [x1, x2] its least value is the smaller of its
   end values and its largest is 1 where [x1, x2] meets the plateau, else the larger end value.
-- Hedges, NOT, t-norms, s-norms, weights >= 0 and the aggregations are monotone in every
-  argument: bounds go through the engine's own code (`engine.activations_from`,
-  `defuzz.term_strengths`) as lower and upper bounds.
+- Hedges, NOT, t-norms, s-norms, weights >= 0, the firing threshold and the aggregations are
+  monotone in every argument: bounds go through the engine's own code
+  (`engine.flat_activations`, `norms.firing`, `defuzz.term_strengths`) as lower and upper
+  bounds. Nested conditions (clause programs) are refused by name.
 - Peak-based outputs (center of area, weighted average, a centroid of singletons) are
   sum(w z) / sum(w) with each weight w in [w_lo, w_hi]: the exact extremes of this ratio over
   the weight box put w_hi on the values above the optimum and w_lo below it (as the
@@ -23,7 +24,8 @@ import warnings
 import numpy as np
 
 from ...defuzz import OutputDefuzzifier, term_strengths
-from ...engine import activations_from
+from ...engine import flat_activations
+from ...norms import firing
 from ...membership import term_values
 from ...model import Defuzzifier, RuleBase, TermKind
 
@@ -34,6 +36,8 @@ UNIMODAL = {TermKind.TRAPEZOID: (1, 2), TermKind.PISHAPE: (1, 2), TermKind.GAUSS
 
 def unsupported(rb: RuleBase) -> str | None:
     """Why this rule base has no set-valued evaluation here, by name (None if it has one)."""
+    if rb.conditions:
+        return f"nested conditions ({rb.nested_rules()})"
     if np.any(rb.weights < 0):
         return "negative rule weights (the activations would not be monotone)"
     for v in rb.outputs:
@@ -109,13 +113,14 @@ def evaluate(rb: RuleBase, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, 
     n = lo.shape[0]
     bounds = [membership_bounds(v, lo[:, i], hi[:, i]) for i, v in enumerate(rb.inputs)]
     mu_lo, mu_hi = [b[0] for b in bounds], [b[1] for b in bounds]
-    act_lo = activations_from(rb, mu_lo, mu_hi, n)
-    act_hi = activations_from(rb, mu_hi, mu_lo, n)
+    act_lo = firing(flat_activations(rb, mu_lo, mu_hi, n) * rb.weights)
+    act_hi = firing(flat_activations(rb, mu_hi, mu_lo, n) * rb.weights)
     y_lo, y_hi = np.empty((n, len(rb.outputs))), np.empty((n, len(rb.outputs)))
     for o, var in enumerate(rb.outputs):
-        d = OutputDefuzzifier(var, rb.inference, len(rb.inputs))
+        inference = rb.inference_of(o)
+        d = OutputDefuzzifier(var, inference, rb.inputs)
         J = rb.consequents[:, o]
-        method = rb.inference.defuzzifier
+        method = inference.defuzzifier
         if d.use_peaks:
             agg = d.strength_aggregation()
             a_lo = term_strengths(act_lo, J, var.n_terms, agg)
