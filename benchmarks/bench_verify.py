@@ -108,7 +108,7 @@ SHIPPED_LOOPS = ["edm_sink_gap", "milling_neurofuzzy_learned", "wedm_three_regio
                  "wedm_corner"]
 
 
-def bench_proofs(max_boxes: int, horizon_scale: float) -> str:
+def bench_proofs(names: list[str], max_boxes: int, horizon_scale: float) -> str:
     """Per shipped closed loop: the proof's answer and bound per check, its CPU time, and the
     search's CPU time and verdict (100 cases)."""
     from fuzzyc.parser import load
@@ -117,7 +117,7 @@ def bench_proofs(max_boxes: int, horizon_scale: float) -> str:
     from fuzzyc.verify import closed_loop
     from fuzzyc.verify.reach.decide import Settings, prove
     rows = []
-    for name in SHIPPED_LOOPS:
+    for name in names:
         model = load(ROOT / "rulebases" / f"{name}.fz")
         loops = [p for p in model.properties if p.kind == "closed_loop"]
         for k, prop in enumerate(loops):
@@ -147,14 +147,20 @@ def main() -> None:
     parser.add_argument("--quick", action="store_true", help="fewer repeats, shorter loops")
     parser.add_argument("--proofs-only", action="store_true",
                         help="only the closed-loop proofs (writes benchmarks/results/proofs.md)")
+    parser.add_argument("--loops", nargs="+", choices=SHIPPED_LOOPS, default=SHIPPED_LOOPS,
+                        help="with --proofs-only: these rule files' closed loops "
+                             "(results/proofs-NAME.md for a subset)")
     args = parser.parse_args()
     if args.proofs_only:
         boxes, scale = (8, 0.1) if args.quick else (64, 1.0)
-        text = (f"# Closed-loop proofs beside the search\n\n`python3 benchmarks/bench_verify.py "
-                f"--proofs-only{' --quick' if args.quick else ''}` (box budget {boxes}, horizons "
-                f"x {scale:g}; spark noise not covered: --noise-sigmas 0)\n\n"
-                f"{bench_proofs(boxes, scale)}")
-        write_result(ROOT / "benchmarks" / "results" / "proofs.md", text)
+        command = " ".join(["python3 benchmarks/bench_verify.py --proofs-only"]
+                           + (["--quick"] if args.quick else [])
+                           + (["--loops"] + args.loops if args.loops != SHIPPED_LOOPS else []))
+        text = (f"# Closed-loop proofs beside the search\n\n`{command}` (box budget {boxes}, "
+                f"horizons x {scale:g}; spark noise not covered: --noise-sigmas 0)\n\n"
+                f"{bench_proofs(args.loops, boxes, scale)}")
+        stem = "proofs" if args.loops == SHIPPED_LOOPS else "proofs-" + "-".join(args.loops)
+        write_result(ROOT / "benchmarks" / "results" / f"{stem}.md", text)
         print(text)
         return
     _aliases()
