@@ -162,10 +162,6 @@ def monotone(f: Callable[[np.ndarray], np.ndarray], increasing: bool = True) -> 
     return box
 
 
-def constant(sym: Symbols, value) -> Affine:
-    return Affine(sym, value)
-
-
 def reduce(sym: Symbols, forms: list[Affine], keep: int) -> list[Affine]:
     """The same forms over at most keep + len(forms) symbols (Girard's box reduction): the
     symbols with the smallest generators (summed over the forms, largest over the boxes) are

@@ -28,7 +28,7 @@ from .loop import SetLoop, split, step_keys
 
 MARGIN = 1e-9          # a predicate is true on a set only with this much room (rounding)
 DEFAULT_MAX_BOXES = 64
-DEFAULT_SIGMAS = 4.0   # Gaussian plant noise covered up to this many standard deviations
+DEFAULT_SIGMAS = 0.0   # Gaussian plant noise covered up to this many standard deviations
 
 
 @dataclass
@@ -91,12 +91,11 @@ def _bound_text(expr, slack: float) -> str:
 
 @dataclass
 class _Tally:
-    """Per check and box: proved so far, the least slack seen in the window, the time up to
-    which the predicate held."""
+    """Per check and box: proved so far, the least slack seen in the window (the largest, for
+    `eventually`), the time up to which the predicate held (when it first held)."""
     proved: np.ndarray
     slack: np.ndarray
     reached: np.ndarray
-    failed_at: np.ndarray
 
 
 def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
@@ -107,7 +106,7 @@ def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
     # `always`-like checks start proved and lose boxes; `eventually` starts open and gains
     tallies = [_Tally(np.full(batch, c.kind != "eventually"),
                       np.full(batch, np.inf if c.kind != "eventually" else -np.inf),
-                      np.zeros(batch), np.full(batch, np.nan)) for c in checks]
+                      np.zeros(batch)) for c in checks]
     for t, signals in loop.run(record):
         env = {**signals, "t": t}
         alive = False
@@ -126,8 +125,6 @@ def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
                 alive |= not tally.proved.all()
             else:
                 tally.slack = np.where(tally.proved, np.fmin(tally.slack, slack), tally.slack)
-                breaking = tally.proved & ~true
-                tally.failed_at = np.where(breaking, t, tally.failed_at)
                 tally.proved &= true
                 tally.reached = np.where(tally.proved, t, tally.reached)
                 alive |= bool(tally.proved.any())
@@ -179,7 +176,7 @@ def _take(boxes: dict, idx: np.ndarray) -> dict:
 
 
 def _take_tally(t: _Tally, idx: np.ndarray) -> _Tally:
-    return _Tally(t.proved[idx], t.slack[idx], t.reached[idx], t.failed_at[idx])
+    return _Tally(t.proved[idx], t.slack[idx], t.reached[idx])
 
 
 def _evidence(check: Property, i: int, leaves, full: dict, duration: float, seconds: float,
