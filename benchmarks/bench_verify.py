@@ -125,7 +125,7 @@ def bench_proofs(names: list[str], max_boxes: int, horizon_scale: float) -> str:
             checks = prop.args["checks"]
             scen = scenarios.load(prop.args["scenario"], {})
             start = time.process_time()
-            proofs = prove(model, prop, checks, scen, Settings(max_boxes=max_boxes))
+            proofs = prove(model, prop, checks, scen, Settings(max_boxes=max_boxes, sigmas=0.0))
             proof_s = time.process_time() - start
             start = time.process_time()
             found = closed_loop.check(model, prop, checks, Options(max_examples=100))
