@@ -113,9 +113,9 @@ def bench_proofs(names: list[str], max_boxes: int, horizon_scale: float) -> str:
     search's CPU time and verdict (100 cases)."""
     from fuzzyc.parser import load
     from fuzzyc.plants import scenario as scenarios
-    from fuzzyc.verify import Options
-    from fuzzyc.verify import closed_loop
-    from fuzzyc.verify.reach.decide import Settings, prove
+    from fuzzyc.verifier import Options
+    from fuzzyc.verifier import closed_loop
+    from fuzzyc.verifier.reach.decide import Settings, prove
     rows = []
     for name in names:
         model = load(ROOT / "rulebases" / f"{name}.fz")

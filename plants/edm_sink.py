@@ -171,7 +171,7 @@ def set_initial_state(params: EdmSinkParams, gap0, noise) -> dict:
 
 def set_step(params: EdmSinkParams, state: dict, inputs: dict, t: float, dt: float,
              noise) -> tuple[dict, dict]:
-    """`step` on affine forms (fuzzyc.verify.reach.affine), for every run of the plant from
+    """`step` on affine forms (fuzzyc.verifier.reach.affine), for every run of the plant from
     the states and inputs in the sets.
 
     - The actuator is linear in (v, command) but for the 48 V clip of the coil voltage, which

@@ -1,4 +1,4 @@
-"""Closed-loop proofs (fuzzyc.verify.reach): the sets hold every sampled run, and a controller
+"""Closed-loop proofs (fuzzyc.verifier.reach): the sets hold every sampled run, and a controller
 with its sign flipped is never proved."""
 import copy
 
@@ -10,12 +10,12 @@ from fuzzyc import engine
 from fuzzyc.model import Aggregation, Defuzzifier, TNorm
 from fuzzyc.parser import load
 from fuzzyc.plants import scenario as scenarios
-from fuzzyc.verify.closed_loop import _Loop
-from fuzzyc.verify.reach import rulebase as set_rulebase
-from fuzzyc.verify.reach.affine import Affine, Symbols
-from fuzzyc.verify.reach.decide import Settings, prove
-from fuzzyc.verify.reach.loop import SetLoop
-from fuzzyc.verify.result import Status
+from fuzzyc.verifier.closed_loop import _Loop
+from fuzzyc.verifier.reach import rulebase as set_rulebase
+from fuzzyc.verifier.reach.affine import Affine, Symbols
+from fuzzyc.verifier.reach.decide import Settings, prove
+from fuzzyc.verifier.reach.loop import SetLoop
+from fuzzyc.verifier.result import Status
 
 SLOW = settings(max_examples=4, deadline=None, derandomize=True,
                 suppress_health_check=list(HealthCheck))
@@ -149,7 +149,7 @@ def test_unsupported_pieces_are_refused_by_name():
 
 def test_nested_conditions_are_refused_by_name():
     from fuzzyc.parser import parse
-    from fuzzyc.verify.reach.chain import SetController, Unsupported
+    from fuzzyc.verifier.reach.chain import SetController, Unsupported
     text = """controller nested {
       input a in [0, 1]
       input b in [0, 1]

@@ -119,7 +119,7 @@ def _check_chunk(loop: "_Loop", checks: list[Property], cases: list[dict]):
 
 def _prove(model: Model, prop: Property, checks: list[Property], scen, options
            ) -> list[list[Evidence]]:
-    """With --prove: the reachable-set evidence per check (fuzzyc.verify.reach), timed."""
+    """With --prove: the reachable-set evidence per check (fuzzyc.verifier.reach), timed."""
     if not getattr(options, "prove", False):
         return [[] for _ in checks]
     from .reach.decide import Settings, prove

@@ -31,7 +31,7 @@ class Options:
     only: str | None = None         # run only properties whose text contains this
     progress: Callable[[str], None] | None = None
     cluster: Any = None             # a runtime.campaign.Cluster: closed-loop cases in chunks
-    prove: bool = False             # closed loops: reachable sets first (fuzzyc.verify.reach)
+    prove: bool = False             # closed loops: reachable sets first (fuzzyc.verifier.reach)
     prove_boxes: int = 64           # branch-and-bound budget of boxes per closed loop
     noise_sigmas: float = 0.0       # Gaussian plant noise covered up to this many sigma
 

@@ -15,7 +15,7 @@ Any slope gives a sound form; the secant makes the new error small.
 Rounding: the arithmetic is plain float64 (round to nearest). Every new error term is widened
 by `SLACK` (relative) + `TINY` (absolute), which covers the rounding of the operation that made
 it; the linear operations' own rounding (a few ulps of values of order 1e2 per step) is far
-below the margins the decisions keep (fuzzyc.verify.reach.decide.MARGIN).
+below the margins the decisions keep (fuzzyc.verifier.reach.decide.MARGIN).
 """
 from __future__ import annotations
 
