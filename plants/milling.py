@@ -293,3 +293,104 @@ def max_constant_feed(params: MillingParams, force_limit: float, feed_range=(1.0
             f_lo = f_lo / 2 if side == 1 else f_lo
             side = 1
     return lo
+
+
+# --- the same plant on sets (fuzzyc verify --prove) -------------------------------------------
+SET_VARIABLE = ("ks",)       # params that may be a set (an affine form) in set_initial_state
+
+
+def set_initial_state(params: MillingParams, ks, noise) -> dict:
+    """The state on affine forms: as initial_state, with the cutting coefficient ks (a form
+    when it is varied) carried along for set_step."""
+    return {"x": -params.radius, "v": 0.0, "dv": 0.0, "ks": ks}
+
+
+def peak_force_box(params: MillingParams, x_lo: np.ndarray, x_hi: np.ndarray,
+                   ft_lo: np.ndarray, ft_hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Bounds of peak_force / ks over tool centres in [x_lo, x_hi] and feeds per tooth in
+    [ft_lo, ft_hi] (any equal shapes): the chip thickness is nondecreasing in the feed per
+    tooth where a tooth cuts (sin theta >= 0 on [0, pi]); the depths are the least and largest
+    of the pieces the tooth tip may be in; each force component is bounded term by term by the
+    sign of its coefficient; the resultant by the distance from the origin to the box of its
+    components and to its farthest corner; the peak by the largest of each."""
+    m, R, shape = params.teeth, params.radius, np.shape(x_lo)
+    angles = 2 * np.pi * np.arange(params.angle_samples) / params.angle_samples
+    tooth = np.arange(m)
+    theta = np.mod(angles[:, None] + 2 * np.pi * tooth[None, :] / m, 2 * np.pi)    # (A, m)
+    radii = R + params.runout * np.cos(2 * np.pi * tooth / m - params.runout_phase)
+    k = np.arange(1, m + 1)
+    dr = radii[:, None] - radii[(tooth[:, None] - k[None, :]) % m]                  # (m, m)
+    sin_t, cos_t = np.sin(theta), np.cos(theta)
+    x_lo, x_hi, ft_lo, ft_hi = (np.reshape(v, (-1, 1, 1)) for v in (x_lo, x_hi, ft_lo, ft_hi))
+
+    def chip(ft):
+        return np.maximum(0.0, np.min(k * ft[..., None] * sin_t[..., None] + dr, axis=-1))
+
+    b_lo, b_hi, a_lo, a_hi = _depth_range(params.workpiece, x_lo + R * sin_t, x_hi + R * sin_t)
+    front = theta <= np.pi
+    sure = front & (cos_t >= 1.0 - a_lo / R) & (b_lo > 0)
+    maybe = front & (cos_t >= 1.0 - a_hi / R) & (b_hi > 0)
+    ft_min = b_lo * chip(ft_lo) * sure                                               # (N, A, m)
+    ft_max = b_hi * chip(ft_hi) * maybe
+
+    def component(coef):
+        low = np.sum(np.where(coef >= 0, coef * ft_min, coef * ft_max), axis=-1)
+        high = np.sum(np.where(coef >= 0, coef * ft_max, coef * ft_min), axis=-1)
+        return low, high
+
+    fx, fy = component(cos_t + params.kr * sin_t), component(-sin_t + params.kr * cos_t)
+    near = np.hypot(*(np.maximum(0.0, np.maximum(lo, -hi)) for lo, hi in (fx, fy)))
+    far = np.hypot(*(np.maximum(np.abs(lo), np.abs(hi)) for lo, hi in (fx, fy)))
+    return near.max(axis=-1).reshape(shape), far.max(axis=-1).reshape(shape)
+
+
+def _depth_range(work: Workpiece, lo: np.ndarray, hi: np.ndarray):
+    """(least b, largest b, least a_r, largest a_r) over the pieces path positions in
+    [lo, hi] may fall in (0 outside the workpiece)."""
+    b = np.concatenate([[0.0], work.axial_depth, [0.0]])
+    a = np.concatenate([[0.0], work.radial_depth, [0.0]])
+    first = np.searchsorted(work.edges, lo, side="right")[..., None]      # index into b
+    last = np.searchsorted(work.edges, hi, side="right")[..., None]
+    inside = (np.arange(len(b)) >= first) & (np.arange(len(b)) <= last)
+    return (np.where(inside, b, np.inf).min(-1), np.where(inside, b, -np.inf).max(-1),
+            np.where(inside, a, np.inf).min(-1), np.where(inside, a, -np.inf).max(-1))
+
+
+def set_step(params: MillingParams, state: dict, inputs: dict, t: float, dt: float,
+             noise) -> tuple[dict, dict]:
+    """`step` on affine forms (fuzzyc.verifier.reach.affine), for every run of the plant from
+    the states and inputs in the sets.
+
+    - The feed drive (eq. 6.1) is linear: its transition matrix (the same `_expm`) maps the
+      forms exactly; the travel goes through max(mean speed, 0) (monotone).
+    - The force is ks times the peak force per unit ks, g(x, f_t): g as the secant slope in
+      the feed per tooth plus a new symbol bounding the rest over the sub-intervals of f_t
+      that Affine.apply takes (with the whole range of the tool centre) by peak_force_box; then times ks (the
+      product of two forms).
+    - Dynamometer noise: Gaussian, covered to `noise.sigmas` standard deviations only.
+    """
+    a = np.zeros((4, 4))
+    a[0, 1], a[1, 0], a[1, 1] = 1.0, -params.wn ** 2, -2 * params.zeta * params.wn
+    a[1, 2], a[3, 0] = params.wn ** 2 * params.Kn, 1.0
+    phi = _expm(a * dt)
+    v, dv, command = state["v"], state["dv"], inputs["feed"]
+    new_v = v * phi[0, 0] + dv * phi[0, 1] + command * phi[0, 2]
+    new_dv = v * phi[1, 0] + dv * phi[1, 1] + command * phi[1, 2]
+    mean = noise.monotone((v * phi[3, 0] + dv * phi[3, 1] + command * phi[3, 2]) * (1 / dt),
+                          lambda s: np.maximum(s, 0.0))
+    x_mid = noise.form(state["x"] + mean * (dt / 120.0))
+    ft = noise.form(mean * (1.0 / (params.spindle_rpm * params.teeth)))
+    x_lo, x_hi = x_mid.bounds()
+
+    def along(x, like):                    # the tool centre's range beside every f_t piece
+        return np.broadcast_to(x.reshape(x.shape + (1,) * (like.ndim - 1)), like.shape)
+
+    per_ks = ft.apply(lambda lo, hi: peak_force_box(params, along(x_lo, lo), along(x_hi, lo),
+                                                    lo, hi))
+    force = noise.widen(per_ks * state["ks"], params.force_noise * noise.sigmas)
+    x = state["x"] + mean * (dt / 60.0)
+    done = noise.monotone(x, lambda p: (p - params.radius >= params.workpiece.end).astype(float))
+    cutting = noise.monotone(force, lambda f: (f > 0).astype(float))
+    return ({**state, "x": x, "v": new_v, "dv": new_dv},
+            {"force": force, "feed_actual": new_v, "position": x, "done": done,
+             "cutting": cutting})

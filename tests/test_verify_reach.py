@@ -124,13 +124,19 @@ def _flip_sign(model):
 
 
 def test_a_sign_flipped_servo_is_never_proved():
+    """The mutation tests' sign error on the closed loop: over 0.3 s the search finds a loop
+    whose gap closes (the shrunk case replayed alone breaks it too) and the sets do not prove
+    `always gap > 5`: they lose it before the violation (it comes at t = 0.19 s)."""
+    from fuzzyc.verifier import Options, verify_model
     model, prop = _edm(_flip_sign)
     prop.args["duration"] = 0.3
-    checks = prop.args["checks"][:1]                     # always gap > 5
-    scen = scenarios.load(prop.args["scenario"], {})
-    (evidence,) = prove(model, prop, checks, scen, Settings(max_boxes=4))
-    assert evidence.status == Status.UNDECIDED, evidence.detail
-    assert "unknown" in evidence.detail
+    prop.args["checks"] = prop.args["checks"][:1]        # always gap > 5
+    model.properties = [prop]
+    (result,) = verify_model(model, Options(max_examples=10, prove=True, prove_boxes=4))
+    reach, search = result.evidence
+    assert search.status == Status.VIOLATED and "replayed alone: violated at" in search.detail
+    assert reach.method == "reach" and reach.status == Status.UNDECIDED, reach.detail
+    assert "unknown" in reach.detail and result.status == Status.VIOLATED
 
 
 def test_unsupported_pieces_are_refused_by_name():
@@ -180,3 +186,110 @@ def test_verify_prove_on_the_command_line(capsys, tmp_path):
     first = out.split("PROVED", 1)[1]
     assert "reach: proved" in first and "gap >= " in first and "over 0.05 s" in first
     assert "Gaussian plant noise not covered" in first
+
+
+@SLOW
+@given(v0=st.floats(45, 60), v1=st.floats(45, 60), width=st.floats(0.0, 2.0),
+       at=st.floats(0.0, 0.04), at_width=st.floats(0.0, 0.02), seed=st.integers(0, 2 ** 16))
+def test_every_sampled_set_point_step_lies_in_the_reachable_set(v0, v1, width, at, at_width,
+                                                                seed):
+    """The second EDM loop (`vary controller.Vset ... steps before`): random boxes of the start
+    value, the value it steps to and the step time; 12 plain simulations with a step drawn in
+    the box (the search's case format) stay inside the sets at every period."""
+    rng = np.random.default_rng(seed)
+    model, _ = _edm()
+    prop = [p for p in model.properties if p.kind == "closed_loop"][1]
+    args = {**prop.args, "duration": 0.06}
+    scen = scenarios.load(args["scenario"], {"plant.spark_noise": "0"})
+    box = {"controller.Vset": (np.array([v0]), np.array([v0 + width])),
+           "step:controller.Vset:value": (np.array([v1]), np.array([v1 + width])),
+           "step:controller.Vset:time": (np.array([at]), np.array([at + at_width]))}
+    sets = list(SetLoop(model, scen, args, box, 0.0).run(["gap", "mean_voltage", "velocity"]))
+    loop = _Loop(model, scen, args["duration"], "numpy", seed)
+    cases = [{"controller.Vset": rng.uniform(v0, v0 + width), "fault": None,
+              "step": ("controller.Vset", rng.uniform(at, at + at_width),
+                       rng.uniform(v1, v1 + width))} for _ in range(12)]
+    time, signals = loop.run(cases)
+    assert len(time) == len(sets)
+    for k, (_, forms) in enumerate(sets):
+        for name in ("gap", "mean_voltage", "velocity"):
+            f_lo, f_hi = forms[name].bounds()
+            got = signals[name][k]
+            slack = 1e-7 * (1 + np.abs(got))
+            assert np.all(got >= f_lo - slack) and np.all(got <= f_hi + slack), (name, k)
+
+
+@settings(max_examples=30, deadline=None, suppress_health_check=list(HealthCheck))
+@given(x=st.floats(-8.0, 45.0), width=st.floats(0.0, 3.0), ft=st.floats(0.0, 0.08),
+       ft_width=st.floats(0.0, 0.02))
+def test_milling_peak_force_bounds_hold_every_sampled_point(x, width, ft, ft_width):
+    """peak_force_box over a box of tool centres (across the air/6 mm/12 mm edges of the
+    step cut) and feeds per tooth holds the plant's peak force at 200 points and the corners."""
+    from fuzzyc.plants import milling
+    params = milling.MillingParams(ks=1.0)
+    lo, hi = milling.peak_force_box(params, np.array([x]), np.array([x + width]),
+                                    np.array([ft]), np.array([ft + ft_width]))
+    u = np.random.default_rng(0).uniform(size=(2, 200))
+    xs = np.concatenate([x + width * u[0], [x, x + width, x, x + width]])
+    fs = np.concatenate([ft + ft_width * u[1], [ft, ft, ft + ft_width, ft + ft_width]])
+    force = milling.peak_force(params, xs, fs)
+    assert np.all(force >= lo[0] * (1 - 1e-12)) and np.all(force <= hi[0] * (1 + 1e-12))
+
+
+def _milling():
+    model = load("rulebases/milling_neurofuzzy_learned.fz")
+    return model, next(p for p in model.properties if p.kind == "closed_loop")
+
+
+@SLOW
+@given(lo=st.floats(1350, 1640), width=st.floats(0.0, 10.0), seed=st.integers(0, 2 ** 16))
+def test_every_sampled_milling_trace_lies_in_the_reachable_set(lo, width, seed):
+    """Random boxes of ks on the milling step cut over 3 s (the entry into the workpiece at
+    about 1.9 s included): 12 plain simulations with ks drawn in the box stay inside the sets
+    (force, feed, actual feed, position) at every period."""
+    model, prop = _milling()
+    args = {**prop.args, "duration": 3.0}
+    scen = scenarios.load(args["scenario"], {})
+    names = ["force", "feed", "feed_actual", "position"]
+    box = {"plant.ks": (np.array([lo]), np.array([lo + width]))}
+    sets = list(SetLoop(model, scen, args, box, 0.0).run(names))
+    loop = _Loop(model, scen, args["duration"], "numpy", seed)
+    cases = [{"plant.ks": k, "step": None, "fault": None}
+             for k in np.random.default_rng(seed).uniform(lo, lo + width, 12)]
+    time, signals = loop.run(cases)
+    assert len(time) == len(sets) and signals["force"].max() > 400   # the entry is in it
+    for k, (_, forms) in enumerate(sets):
+        for name in names:
+            f_lo, f_hi = forms[name].bounds() if hasattr(forms[name], "bounds") else \
+                (forms[name], forms[name])
+            got = signals[name][k]
+            slack = 1e-7 * (1 + np.abs(got))
+            assert np.all(got >= f_lo - slack) and np.all(got <= f_hi + slack), (name, k)
+
+
+def test_milling_loop_proved_over_its_entry_and_a_runaway_feed_never():
+    """The learned milling controller over 3 s (through the entry into the 6 mm cut): the
+    force limit and the overshoot are proved with their bounds; with every learned weight 8
+    and no feed limit (the mutation tests' runaway feed) the search breaks the force limit
+    (replayed alone) and the sets do not prove it."""
+    from fuzzyc.verifier import Options, verify_model
+    model, prop = _milling()
+    prop.args["duration"] = 3.0
+    scen = scenarios.load(prop.args["scenario"], {})
+    checks = prop.args["checks"][:2]                 # always force < 700, overshoot below 350
+    limit, overshoot = prove(model, prop, checks, scen, Settings(max_boxes=4))
+    assert limit.status == overshoot.status == Status.PROVED, (limit.detail, overshoot.detail)
+    bound = float(limit.detail.split("force <= ")[1].split()[0])
+    loop = _Loop(model, scen, 3.0, "numpy", 0)
+    _, signals = loop.run([{"plant.ks": 1650.0, "step": None, "fault": None}])
+    assert signals["force"].max() <= bound < 700     # the stiffest material's entry is inside
+    assert "force - final <= " in overshoot.detail
+    model.rulebase.outputs[0].params[:, 0] = 8.0
+    model.outputs[0].hi = np.inf
+    prop.args["duration"] = 4.0
+    prop.args["checks"] = checks[:1]
+    model.properties = [prop]
+    (result,) = verify_model(model, Options(max_examples=10, prove=True, prove_boxes=4))
+    reach, search = result.evidence
+    assert search.status == Status.VIOLATED and "replayed alone: violated at" in search.detail
+    assert reach.status == Status.UNDECIDED and result.status == Status.VIOLATED

@@ -72,7 +72,8 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
         case, trace = shrunk[i]
         detail = (f"{int(violated.sum())} of {len(cases)} loops break it; shrunk case: "
                   + (", ".join(f"{k}={v:.6g}" for k, v in _values(case).items())
-                     or "nominal plant") + _event_text(case) + learned)
+                     or "nominal plant") + _event_text(case) + learned
+                  + _replay(loop, c, case))
         if options.report_dir:
             from .report import plot_trace
             name = re.sub(r"[^A-Za-z0-9]+", "_", f"{model.name}_{c.text}").strip("_")[:80]
@@ -125,6 +126,16 @@ def _prove(model: Model, prop: Property, checks: list[Property], scen, options
     from .reach.decide import Settings, prove
     settings = Settings(max_boxes=options.prove_boxes, sigmas=options.noise_sigmas)
     return [[e] for e in prove(model, prop, checks, scen, settings)]
+
+
+def _replay(loop: "_Loop", check: Property, case: dict) -> str:
+    """A violation is a plain simulation's: the shrunk case runs again on its own (a batch of
+    one, its noise keyed as in the search) and the check is evaluated anew."""
+    time, signals = loop.run([case])
+    violated, when = temporal.evaluate(check, time, signals, loop.params)
+    if violated[0]:
+        return f"; replayed alone: violated at t={when[0]:.6g} s"
+    return "; replayed alone: not violated (the batch's rounding decided it)"
 
 
 def _column(time, signals, k: int):

@@ -51,6 +51,8 @@ def _predicate(check: Property) -> tuple[sympy.Expr, float, float]:
     if check.kind == "settles":
         expr = sympy.Abs(sympy.Symbol(a["signal"]) - a["target"]) <= a["tolerance"]
         return expr, a["by"], np.inf
+    if check.kind == "overshoot":     # decided at the end of the run (_overshoot)
+        return sympy.Symbol(a["signal"]) <= a["limit"], 0.0, np.inf
     raise Unsupported(f"`{check.text}`: no set-valued decision for `{check.kind}` checks")
 
 
@@ -92,10 +94,26 @@ def _bound_text(expr, slack: float) -> str:
 @dataclass
 class _Tally:
     """Per check and box: proved so far, the least slack seen in the window (the largest, for
-    `eventually`), the time up to which the predicate held (when it first held)."""
+    `eventually`), the time up to which the predicate held (when it first held); for
+    `overshoot` the signal's least and largest value at every period."""
     proved: np.ndarray
     slack: np.ndarray
     reached: np.ndarray
+    lows: list | None = None
+    highs: list | None = None
+
+
+def _overshoot(check: Property, tally: _Tally, t: float) -> None:
+    """`overshoot X below L`: X - final <= L at every period, final the mean of X over the
+    last 10 % of the periods (temporal.py). On the sets: the largest upper bound of X less
+    the mean of the lower bounds over the last 10 % (the correlation between the peak and the
+    final value is dropped: sound, looser)."""
+    lows = np.array(tally.lows)
+    final = lows[-max(1, len(lows) // 10):].mean(axis=0)
+    slack = check.args["limit"] - (np.max(tally.highs, axis=0) - final)
+    tally.slack = slack
+    tally.proved = np.isfinite(slack) & (slack >= MARGIN * (1.0 + np.abs(final)))
+    tally.reached = np.where(tally.proved, t, 0.0)
 
 
 def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
@@ -115,6 +133,13 @@ def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
             if t < start - 1e-9 or t > end + 1e-9:
                 alive |= t < start
                 continue
+            if check.kind == "overshoot":
+                low, high = (np.broadcast_to(np.asarray(b, float), (batch,)) for b in
+                             _bounds(env[check.args["signal"]]))
+                tally.lows = (tally.lows or []) + [low]
+                tally.highs = (tally.highs or []) + [high]
+                alive = True
+                continue
             true, slack = truth(pred, env, batch)
             true &= np.isfinite(slack)
             if check.kind == "eventually":
@@ -124,13 +149,21 @@ def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
                 tally.proved |= true
                 alive |= not tally.proved.all()
             else:
-                tally.slack = np.where(tally.proved, np.fmin(tally.slack, slack), tally.slack)
+                held = tally.proved & true
+                tally.slack = np.where(held, np.fmin(tally.slack, slack), tally.slack)
                 tally.proved &= true
                 tally.reached = np.where(tally.proved, t, tally.reached)
                 alive |= bool(tally.proved.any())
         if not alive:
             break
+    for check, tally in zip(checks, tallies):
+        if check.kind == "overshoot":
+            _overshoot(check, tally, t)
     return tallies
+
+
+def _bounds(x) -> tuple:
+    return x.bounds() if isinstance(x, Affine) else (x, x)
 
 
 def prove(model: Model, prop: Property, checks: list[Property], scen,
@@ -196,21 +229,32 @@ def _evidence(check: Property, i: int, leaves, full: dict, duration: float, seco
     if proved.all():
         bound = _bound_text(pred, float(slack.min())) if check.kind != "eventually" else \
             f"`{pred}` holds by t = {reached.max():.6g} s"
+        if check.kind == "overshoot":
+            bound = _overshoot_text(check, float(slack.min()))
         return Evidence("reach", Status.PROVED,
                         f"{bound} for all loops with {where} over {horizon} ({n} boxes, "
                         f"{seconds:.2f} s; {assumption})", cases=n)
     worst = int(np.argmin(np.where(proved, np.inf, reached)))
-    box_lo, box_hi = _leaf_box(leaves, worst)
-    box = ", ".join(f"{k} in [{box_lo[k]:.6g}, {box_hi[k]:.6g}]" for k in box_lo)
     tight = _bound_text(pred, float(np.nanmin(np.where(np.isfinite(slack), slack, np.nan))))\
         if np.isfinite(slack).any() else "no bound"
     got = f"{reached[worst]:g} s of {horizon}" if check.kind != "eventually" else \
         f"not decided within {horizon}"
+    held = f"hold `{pred}` only up to t = {got}"
+    if check.kind == "overshoot":          # decided at the end, in the box that overshoots most
+        worst = int(np.argmin(slack))
+        held = f"bound the overshoot only by {_overshoot_text(check, float(slack[worst]))}"
+    box_lo, box_hi = _leaf_box(leaves, worst)
+    box = ", ".join(f"{k} in [{box_lo[k]:.6g}, {box_hi[k]:.6g}]" for k in box_lo)
     return Evidence("reach", Status.UNDECIDED,
-                    f"unknown: the sets hold `{pred}` only up to t = {got} in the worst box "
+                    f"unknown: the sets {held} in the worst box "
                     f"({box or 'the nominal loop'}); tightest bound while it held: {tight}; "
                     f"splitting stopped at {n} boxes ({n - int(proved.sum())} open, budget "
                     f"{settings.max_boxes}; {seconds:.2f} s; {assumption})", cases=n)
+
+
+def _overshoot_text(check: Property, slack: float) -> str:
+    return (f"{check.args['signal']} - final <= {check.args['limit'] - slack:.6g} (final: the "
+            f"mean of the last 10 % of the run)")
 
 
 def _leaf_box(leaves, index: int) -> tuple[dict, dict]:
