@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench clean conformance
+.PHONY: demo test bench proofs clean conformance
 
 $(STAMP): pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV) || { echo "python3 -m venv failed: on Debian install python3-venv (apt-get install python3-venv)"; exit 1; }
@@ -34,6 +34,11 @@ conformance: $(STAMP) $(PYFL_VENV)/.installed
 
 bench: $(STAMP)
 	$(PY) benchmarks/run_all.py
+
+# the closed-loop proofs of every shipped rule base beside the search (docs/proofs.md's table;
+# tens of minutes on one core: the EDM loops dominate)
+proofs: $(STAMP)
+	$(PY) benchmarks/bench_verify.py --proofs-only
 
 clean:
 	rm -rf $(VENV) $(PYFL_VENV) build *.egg-info out
