@@ -283,7 +283,11 @@ def test_milling_loop_proved_over_its_entry_and_a_runaway_feed_never():
     loop = _Loop(model, scen, 3.0, "numpy", 0)
     _, signals = loop.run([{"plant.ks": 1650.0, "step": None, "fault": None}])
     assert signals["force"].max() <= bound < 700     # the stiffest material's entry is inside
-    assert "force - final <= " in overshoot.detail
+    # its overshoot as temporal.py measures it (peak less the mean of the last 10 % of the
+    # 20 periods) lies under the proved one, and that under the check's 350
+    force = signals["force"][:, 0]
+    shown = float(overshoot.detail.split("force - final <= ")[1].split()[0])
+    assert force.max() - force[-2:].mean() <= shown <= 350
     model.rulebase.outputs[0].params[:, 0] = 8.0
     model.outputs[0].hi = np.inf
     prop.args["duration"] = 4.0
