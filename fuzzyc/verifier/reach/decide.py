@@ -243,6 +243,7 @@ def _evidence(check: Property, i: int, leaves, full: dict, duration: float, seco
     if check.kind == "overshoot":          # decided at the end, in the box that overshoots most
         worst = int(np.argmin(slack))
         held = f"bound the overshoot only by {_overshoot_text(check, float(slack[worst]))}"
+        tight = "the same"
     box_lo, box_hi = _leaf_box(leaves, worst)
     box = ", ".join(f"{k} in [{box_lo[k]:.6g}, {box_hi[k]:.6g}]" for k in box_lo)
     return Evidence("reach", Status.UNDECIDED,
