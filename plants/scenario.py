@@ -30,12 +30,14 @@ Format (every key but `plant` optional):
 `load(name_or_path, overrides)` applies `KEY=VALUE` overrides with dotted keys first
 (`plant.tension=800` reaches into `plant.params` when `plant` has no key `tension`); values are
 read as YAML scalars (numbers, booleans, strings), never evaluated. Mistakes are FuzzycErrors
-naming the file and the line of the offending key.
+at the offending key or value (file:line:col); scenario_schema checks the shape on loading.
 """
 from __future__ import annotations
 
 import dataclasses
 import importlib
+import inspect
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -50,11 +52,7 @@ from . import gym_env
 
 SCENARIO_DIR = Path(__file__).resolve().parent / "scenarios"
 RULEBASE_SETTING = "controller.rulebase"    # what FILE on the command line sets
-TOP_KEYS = {"title", "source", "plant", "controller", "baseline", "observers", "duration",
-            "period", "initial", "schedules", "metrics", "plots", "notes"}
-SECTION_KEYS = {"plant": {"model", "params", "randomize"},
-                "controller": {"rulebase", "params", "initial", "expose"},
-                "baseline": {"make", "params", "label"}}
+YAML_BREAK = re.compile("\r\n|[\r\n\x85\u2028\u2029]")   # the line breaks YAML counts
 
 
 def available() -> list[str]:
@@ -74,33 +72,48 @@ def resolve(name_or_path: str | Path) -> Path:
                                         f"{suggest(str(name_or_path), available())}")])
 
 
-class _Lines:
-    """Dotted key -> line in the YAML file, from the composed node tree (for messages)."""
+class _Marks:
+    """Dotted key -> where its key and its value start in the YAML file, (line, col) 1-based,
+    from the composed node tree (for messages)."""
 
     def __init__(self, text: str):
-        self.lines: dict[str, int] = {}
+        self.keys: dict[str, tuple[int, int]] = {}
+        self.values: dict[str, tuple[int, int]] = {}
         try:
             root = yaml.compose(text)
         except yaml.YAMLError:
             root = None
         if root is not None:
-            self._walk(root, "")
+            self._walk(root, "", set())
 
-    def _walk(self, node, prefix: str) -> None:
+    def _walk(self, node, prefix: str, seen: set[int]) -> None:
+        if id(node) in seen:     # an alias: walked once, so `&a [*a, *a, ...]` stays linear
+            return
+        seen.add(id(node))
         if isinstance(node, yaml.MappingNode):
-            for key, value in node.value:
-                dotted = f"{prefix}{key.value}"
-                self.lines[dotted] = key.start_mark.line + 1
-                self._walk(value, dotted + ".")
+            items = [(key, value, f"{prefix}{key.value}") for key, value in node.value]
         elif isinstance(node, yaml.SequenceNode):
-            for i, item in enumerate(node.value):
-                self.lines[f"{prefix}{i}"] = item.start_mark.line + 1
-                self._walk(item, f"{prefix}{i}.")
+            items = [(item, item, f"{prefix}{i}") for i, item in enumerate(node.value)]
+        else:
+            return
+        for key, value, dotted in items:
+            self.keys[dotted] = _position(key.start_mark)
+            self.values[dotted] = _position(value.start_mark)
+            self._walk(value, dotted + ".", seen)
 
-    def line(self, dotted: str) -> int:
-        while dotted and dotted not in self.lines:
+    def at(self, dotted: str, of_value: bool) -> tuple[int, int]:
+        """The place of `dotted`'s value (or key); the nearest enclosing key's if not in the
+        file (an override, a default)."""
+        table = self.values if of_value else self.keys
+        if dotted in table:
+            return table[dotted]
+        while dotted and dotted not in self.keys:
             dotted = dotted.rpartition(".")[0]
-        return self.lines.get(dotted, 1)
+        return self.keys.get(dotted, (1, 1))
+
+
+def _position(mark) -> tuple[int, int]:
+    return mark.line + 1, mark.column + 1
 
 
 @dataclass
@@ -108,7 +121,7 @@ class Scenario:
     name: str
     path: Path
     data: dict
-    lines: _Lines = field(repr=False)
+    marks: _Marks = field(repr=False)
     text: str = field(repr=False, default="")
     settings: dict[str, str] = field(default_factory=dict)   # the --set overrides applied
 
@@ -162,11 +175,11 @@ class Scenario:
         return list(self.data.get("plots") or [])
 
     # --- construction ------------------------------------------------------------------------
-    def error(self, dotted: str, message: str) -> FuzzycError:
-        line = self.lines.line(dotted)
-        lines = self.text.splitlines()
+    def error(self, dotted: str, message: str, of_value: bool = False) -> FuzzycError:
+        """A FuzzycError at the key `dotted` (or, of_value, at its value)."""
+        line, col = self.marks.at(dotted, of_value)
+        lines = YAML_BREAK.split(self.text)
         source = lines[line - 1] if 1 <= line <= len(lines) else None
-        col = 1 + (len(source) - len(source.lstrip())) if source else 1
         return FuzzycError([Diagnostic(SourceLoc(str(self.path), line, col),
                                        f"`{dotted}`: {message}", source)])
 
@@ -191,6 +204,8 @@ class Scenario:
                 from fuzzyc.errors import suggest
                 raise self.error(f"plant.params.{key}", f"{cls.__name__} has no field `{key}` "
                                  f"— {suggest(key, sorted(names))}")
+        _check_types(self, "plant.params", given,
+                     {f.name: f.default for f in dataclasses.fields(cls)})
         try:
             params = cls(**given)
         except (TypeError, ValueError) as exc:
@@ -208,8 +223,11 @@ class Scenario:
         """Instantiate `plants.<module>.<callable>(**params)` named by spec["make"]."""
         module_name, _, attr = str(spec.get("make", "")).rpartition(".")
         factory = _plant_attr(self, f"{dotted}.make", module_name, attr)
+        given = spec.get("params") or {}
+        _check_types(self, f"{dotted}.params", given,
+                     {name: p.default for name, p in inspect.signature(factory).parameters.items()})
         try:
-            return factory(**(spec.get("params") or {}))
+            return factory(**given)
         except (TypeError, ValueError) as exc:
             raise self.error(f"{dotted}.params", str(exc)) from None
 
@@ -252,6 +270,23 @@ def _plant_attr(scenario: Scenario, dotted: str, module_name: str, attr: str | N
     return getattr(module, attr)
 
 
+def _check_types(scenario: Scenario, dotted: str, given: dict, defaults: dict) -> None:
+    """A param whose default is a number must be given a finite number, one whose default is a
+    bool a bool (the plants compute with them: a string would fail deep inside a run)."""
+    from .scenario_schema import finite_number, shown
+    for key, value in given.items():
+        default = defaults.get(key)
+        if isinstance(default, bool):
+            ok, what = isinstance(value, bool), "true or false"
+        elif isinstance(default, (int, float)):
+            ok, what = finite_number(value), "a finite number"
+        else:
+            continue
+        if not ok:
+            raise scenario.error(f"{dotted}.{key}", f"must be {what}, got {shown(value)}",
+                                 of_value=True)
+
+
 def _params_class(scenario: Scenario, module):
     classes = [v for k, v in vars(module).items()
                if k.endswith("Params") and dataclasses.is_dataclass(v)
@@ -278,57 +313,58 @@ def _apply_override(data: dict, key: str, value: Any) -> None:
     node[last] = value
 
 
-def _check_keys(scenario: Scenario) -> None:
-    data = scenario.data
-    for key in data:
-        if key not in TOP_KEYS:
-            raise scenario.error(str(key), f"unknown key; known: {' '.join(sorted(TOP_KEYS))}")
-    if not isinstance(data.get("plant"), dict) or "model" not in data["plant"]:
-        raise scenario.error("plant", "a scenario needs `plant:` with `model:`")
-    for section, known in SECTION_KEYS.items():
-        value = data.get(section)
-        if value is None:
-            continue
-        if not isinstance(value, dict):
-            raise scenario.error(section, "must be a mapping")
-        if section == "plant" and value.get("model") == gym_env.MODEL:
-            gym_env.from_scenario(scenario)      # its own keys, checked there
-            continue
-        for key in value:
-            if key not in known:
-                raise scenario.error(f"{section}.{key}",
-                                     f"unknown key; known: {' '.join(sorted(known))}")
-    for key in ("duration", "period"):
-        if key in data and not (isinstance(data[key], (int, float)) and data[key] > 0):
-            raise scenario.error(key, f"must be a positive number of seconds, got {data[key]!r}")
-    for name, points in (data.get("schedules") or {}).items():
-        ok = isinstance(points, list) and points and all(
-            isinstance(p, list) and len(p) == 2
-            and all(isinstance(x, (int, float)) for x in p) for p in points)
-        if not ok:
-            raise scenario.error(f"schedules.{name}", "must be a list of [time, value] pairs")
-
-
 def load(name_or_path: str | Path, overrides: dict[str, str] | None = None) -> Scenario:
     path = resolve(name_or_path)
-    text = path.read_text(encoding="utf-8")
+    text = _read(path)
     try:
         data = yaml.safe_load(text)
     except yaml.YAMLError as exc:
-        mark = getattr(exc, "problem_mark", None)
-        loc = SourceLoc(str(path), mark.line + 1, mark.column + 1) if mark else None
-        line = text.splitlines()[mark.line] if mark and mark.line < len(text.splitlines()) else None
-        raise FuzzycError([Diagnostic(loc, f"not valid YAML: {getattr(exc, 'problem', exc)}",
-                                      line)]) from None
+        raise _yaml_error(path, text, exc) from None
     if not isinstance(data, dict):
         raise FuzzycError([Diagnostic(SourceLoc(str(path), 1, 1),
                                       "a scenario file must be a YAML mapping")])
-    scenario = Scenario(path.stem, path, data, _Lines(text), text, dict(overrides or {}))
+    scenario = Scenario(path.stem, path, data, _Marks(text), text, dict(overrides or {}))
     for key, raw in (overrides or {}).items():
         try:
             _apply_override(data, key, yaml.safe_load(str(raw)))
         except (KeyError, yaml.YAMLError):
             raise FuzzycError([Diagnostic(None, f"--set {key}={raw}: `{key}` does not name a "
                                                 f"scenario setting of {path}")]) from None
-    _check_keys(scenario)
+    from .scenario_schema import check
+    check(scenario)
     return scenario
+
+
+def _read(path: Path) -> str:
+    """The file as text; a byte that is not UTF-8 is an error at its line and column."""
+    try:
+        raw = path.read_bytes()
+    except OSError as exc:
+        raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc.strerror}")]) from None
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        before = raw[:exc.start]
+        line = before.count(b"\n") + 1
+        col = len(before) - (before.rfind(b"\n") + 1) + 1
+        raise FuzzycError([Diagnostic(SourceLoc(str(path), line, col),
+                                      f"byte 0x{raw[exc.start]:02x} is not UTF-8 text "
+                                      "(save the file as UTF-8)")]) from None
+
+
+def _yaml_error(path: Path, text: str, exc: yaml.YAMLError) -> FuzzycError:
+    """The parser's complaint at its mark (a character it refuses: at that character)."""
+    mark = getattr(exc, "problem_mark", None) or getattr(exc, "context_mark", None)
+    if mark is not None:
+        line, col = _position(mark)
+    elif isinstance(exc, yaml.reader.ReaderError):
+        before = text[:exc.position]
+        line = len(YAML_BREAK.findall(before)) + 1
+        col = len(YAML_BREAK.split(before)[-1]) + 1
+    else:
+        line, col = 1, 1
+    lines = YAML_BREAK.split(text)
+    source = lines[line - 1] if line <= len(lines) else None
+    problem = getattr(exc, "problem", None) or getattr(exc, "reason", None) or exc
+    return FuzzycError([Diagnostic(SourceLoc(str(path), line, col), f"not valid YAML: {problem}",
+                                   source)])

@@ -232,11 +232,12 @@ def simulate(scenario, batch: int = 1, baseline: bool = False, backend: str = "n
     return trace
 
 
-def _target(scenario, trace: Trace, spec: dict):
+def _target(scenario, trace: Trace, spec: dict, dotted: str):
     target = spec.get("target")
     if isinstance(target, str):
         if target not in trace:
-            raise scenario.error("metrics", f"target `{target}` is not a recorded signal")
+            raise scenario.error(f"{dotted}.target", f"`{target}` is not a recorded signal",
+                                 of_value=True)
         return trace[target]
     return 0.0 if target is None else float(target)
 
@@ -283,13 +284,17 @@ def loop_metrics(scenario, trace: Trace) -> dict[str, np.ndarray]:
             raise scenario.error(f"metrics.{i}.name",
                                  f"unknown metric `{kind}`; known: {' '.join(sorted(METRICS))}")
         if signal not in trace:
-            raise scenario.error(f"metrics.{i}.signal", f"no recorded signal `{signal}`")
-        y, target = trace[signal], _target(scenario, trace, spec)
+            raise scenario.error(f"metrics.{i}.signal", f"no recorded signal `{signal}`",
+                                 of_value=True)
+        y, target = trace[signal], _target(scenario, trace, spec, f"metrics.{i}")
         if spec.get("smooth"):
             y = M.moving_average(y, int(round(float(spec["smooth"]) / trace.period)))
             if isinstance(target, np.ndarray):
                 target = M.moving_average(target, int(round(float(spec["smooth"]) / trace.period)))
         keep = trace.time >= float(spec.get("after", 0.0))
+        if not keep.any():
+            raise scenario.error(f"metrics.{i}.after", f"the run ends at {trace.time[-1]:g} s, "
+                                 "before this metric starts", of_value=True)
         target = target[keep] if isinstance(target, np.ndarray) else target
         values = METRICS[kind](trace.time[keep], y[keep], target, spec)
         if spec.get("where"):

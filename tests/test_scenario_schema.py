@@ -1,0 +1,86 @@
+"""Scenario files whose values have the wrong type: a located message (file:line:col of the
+offending value or key), never a traceback. The first five are the tracebacks of issue 13
+(plots, metrics and keys of the wrong type); the columns are counted by hand below."""
+import pytest
+
+from fuzzyc.errors import FuzzycError
+from fuzzyc.plants import scenario as S
+
+HEAD = "plant: {model: wedm_gap}\ncontroller: {rulebase: wedm_three_region.fz}\n"   # lines 1-2
+METRIC = "  - {name: overshoot, signal: abnormal_ratio, target: Yr2}\n"
+
+
+@pytest.mark.parametrize("tail, line, col, words", [
+    # `plots: 3` -- the value 3 starts in column 8 ("plots: " is 7 characters)
+    ("plots: 3\n", 3, 8, "`plots`: must be a list of signal names, got 3"),
+    # `plots: [[a]]` -- the inner list starts at column 9, just after "plots: ["
+    ("plots: [[a]]\n", 3, 9, "`plots.0`: must be a signal name"),
+    # `metrics: {a: 1}` -- a mapping where a list belongs, at column 10
+    ("metrics: {a: 1}\n", 3, 10, "`metrics`: must be a list"),
+    # a metric that is a number: "  - " is 4 characters, the 7 is in column 5
+    ("metrics:\n  - 7\n", 4, 5, "`metrics.0`: must be a mapping"),
+    # a key that is a number is an unknown key, reported at the key (column 1)
+    ("1: 2\n", 3, 1, "`1`: unknown key"),
+    # a section that is a number: "baseline: " is 10 characters
+    ("baseline: 3\n", 3, 11, "`baseline`: must be a mapping, got 3"),
+    # name: [1] -- "  - {name: " is 11 characters, the [ is in column 12
+    ("metrics:\n  - {name: [1], signal: x}\n", 4, 12, "unknown metric [1]"),
+    # settling_time without its band: reported at the metric's mapping (column 5)
+    ("metrics:\n  - {name: settling_time, signal: x}\n", 4, 5, "settling_time needs `band:`"),
+    # tail: 0 -- "  - {name: mean, signal: x, tail: " is 34 characters
+    ("metrics:\n  - {name: mean, signal: x, tail: 0}\n", 4, 35, "a fraction in (0, 1]"),
+    # duration: .inf (YAML infinity) at column 11
+    ("duration: .inf\n", 3, 11, "`duration`: must be a positive number of seconds, got inf"),
+    # 1 s of 1e-9 s periods is 1e9 periods, over the 1e7 limit: at the duration's value
+    ("duration: 1\nperiod: 1.0e-9\n", 3, 11, "more than 10,000,000 periods"),
+    # "initial: {feed: " is 16 characters
+    ("initial: {feed: x}\n", 3, 17, "`initial.feed`: must be a finite number, got 'x'"),
+    ("schedules: {Yr2: [[0, .nan]]}\n", 3, 18, "a list of [time, value] pairs"),
+    ("baseline: {make: 3}\n", 3, 18, "`baseline.make`: must be module.Callable"),
+    ("observers: [{make: a.b, parms: {}}]\n", 3, 25, "`observers.0.parms`: unknown key"),
+    ("title: {a: 1}\n", 3, 8, "`title`: must be text"),
+])
+def test_wrong_types_are_located(tmp_path, tail, line, col, words):
+    path = tmp_path / "bad.yaml"
+    path.write_text(HEAD + tail, encoding="utf-8")
+    with pytest.raises(FuzzycError) as info:
+        S.load(path)
+    diagnostic = info.value.diagnostics[0]
+    assert (diagnostic.loc.line, diagnostic.loc.col) == (line, col), diagnostic.format()
+    assert words in diagnostic.message
+
+
+def test_plant_param_of_the_wrong_type_is_located_at_its_value(tmp_path):
+    # "    height: " is 12 characters: the value starts in column 13 of line 4
+    path = tmp_path / "bad.yaml"
+    path.write_text("plant:\n  model: wedm_gap\n  params:\n    height: thirty\n", encoding="utf-8")
+    with pytest.raises(FuzzycError) as info:
+        S.load(path).plant_params()
+    diagnostic = info.value.diagnostics[0]
+    assert str(diagnostic.loc).endswith("bad.yaml:4:13")
+    assert "must be a finite number, got 'thirty'" in diagnostic.message
+
+
+def test_text_that_is_not_utf8_or_not_yaml_is_located(tmp_path):
+    path = tmp_path / "bad.yaml"
+    # the byte 0xff follows "plant: " (7 bytes) on line 2: column 8
+    path.write_bytes(b"title: x\nplant: \xff\n")
+    with pytest.raises(FuzzycError) as info:
+        S.load(path)
+    assert str(info.value.diagnostics[0].loc).endswith("bad.yaml:2:8")
+    # a form feed is not allowed in YAML: the reader stops at it, line 2 column 3
+    path.write_text("title: x\nab\f\n", encoding="utf-8")
+    with pytest.raises(FuzzycError) as info:
+        S.load(path)
+    assert str(info.value.diagnostics[0].loc).endswith("bad.yaml:2:3")
+    assert "not valid YAML" in info.value.diagnostics[0].message
+
+
+def test_alias_bomb_is_loaded_without_walking_every_path(tmp_path):
+    # 9 levels of 9 aliases: 9**9 paths if the marks were walked per path
+    lines = ["a0: &a0 [x]"] + [f"a{i}: &a{i} [{', '.join([f'*a{i - 1}'] * 9)}]"
+                               for i in range(1, 10)]
+    path = tmp_path / "bomb.yaml"
+    path.write_text("\n".join(lines) + "\n", encoding="utf-8")
+    with pytest.raises(FuzzycError, match="`a0`: unknown key"):
+        S.load(path)
