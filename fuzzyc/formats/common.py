@@ -179,6 +179,9 @@ class Collected:
                 self.notes.append(f"`{var.name}` has no terms")
 
     def model(self, path: str, text: str) -> Model:
+        for kind, declared in (("input", self.inputs), ("output", self.outputs)):
+            if not declared:     # a controller of nothing: every command would trip over it
+                self.rep.error(self.rep.loc(1, 1), f"the file declares no {kind} variable")
         self.check_ranges()
         self._check_linear_terms()
         self.rep.raise_if_any()
