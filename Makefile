@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench proofs clean conformance
+.PHONY: demo test bench proofs fuzz clean conformance
 
 $(STAMP): pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV) || { echo "python3 -m venv failed: on Debian install python3-venv (apt-get install python3-venv)"; exit 1; }
@@ -31,6 +31,10 @@ $(PYFL_VENV)/.installed:
 conformance: $(STAMP) $(PYFL_VENV)/.installed
 	$(PY) -m fuzzyc.conformance
 	$(PY) -m pytest -q -m conformance
+
+# 10,000 hostile inputs (docs/fuzzing.md); fails on any traceback or unlocated rejection
+fuzz: $(STAMP)
+	$(PY) -m tests.fuzz --inputs 10000
 
 bench: $(STAMP)
 	$(PY) benchmarks/run_all.py

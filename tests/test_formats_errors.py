@@ -97,6 +97,10 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
     (read_fis, "[System]\nType='mamdani'\nDefuzzMethod='wtaver'\n", "cannot use weighted_average"),
     (read_fis, "[System]\nType='sugeno'\n[Input1]\nName='x'\nRange=[0 1]\n"
                "MF1='a':'linear',[1 0]\n", "cannot have one"),
+    # files without variables loaded as empty models (fuzzing: StopIteration in eval --csv)
+    (read_fll, "# nothing\n", "the file declares no input variable"),
+    (read_fcl, "FUNCTION_BLOCK f\nEND_FUNCTION_BLOCK\n", "the file declares no output variable"),
+    (read_fis, "[System]\nName='x'\n", "the file declares no input variable"),
 ])
 def test_unsupported_constructs_are_reported(reader, text, words):
     with pytest.raises(FuzzycError) as info:

@@ -1,0 +1,260 @@
+"""Run mutated inputs through `fuzzyc.cli.main` in-process and classify what happens.
+
+Outcomes: `ok` (exit 0), `rejected` (exit 2, every message with file:line:col), `usage`
+(argparse refused the command line), `refused` (`convert` or `compile` of a valid file into a
+format or back end that cannot say it: the message names what, the input is not at fault),
+`exit N` (another status a command documents, e.g. a
+verify that finds a counterexample), and the failures: `traceback` (any exception out of
+main), `unlocated` (an exit-2 message about an input file without file:line:col),
+`timeout` (an input that runs past the limit) and `subprocess` (the console script disagrees
+with the in-process run).
+"""
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import re
+import shlex
+import shutil
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import traceback
+import warnings
+from collections import Counter
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from hypothesis import HealthCheck, Phase, given, settings
+from hypothesis import seed as hypothesis_seed
+from hypothesis import strategies as st
+
+from .known import known_owner
+from .targets import Target
+
+FAILURES = ("traceback", "unlocated", "timeout", "subprocess")
+SAVED_PER_CLASS = 3
+
+
+class InputTimeout(BaseException):
+    """Raised by the alarm: a BaseException so no `except Exception` in the code swallows it."""
+
+
+@dataclass
+class Run:
+    argv: list[str]
+    code: int | None
+    stderr: str
+    error: str | None = None     # the traceback text, when main raised
+    usage: bool = False          # argparse exited
+    warnings: int = 0
+
+
+def run_in_process(argv: list[str], seconds: float) -> Run:
+    from fuzzyc.cli import main
+    out, err = io.StringIO(), io.StringIO()
+
+    def alarm(*_):
+        raise InputTimeout(f"more than {seconds:g} CPU s")
+
+    # CPU time, not wall time: on a shared machine a wall-clock limit would fire at random
+    previous = signal.signal(signal.SIGPROF, alarm)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
+    run = Run(argv, None, "")
+    try:
+        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
+                warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            try:
+                run.code = main(argv)
+            except SystemExit as exc:          # only argparse exits
+                run.code, run.usage = (exc.code if isinstance(exc.code, int) else 2), True
+            finally:
+                run.warnings = len(caught)
+    except BaseException as exc:               # noqa: B036 - classifying is the point
+        if isinstance(exc, KeyboardInterrupt):
+            raise
+        run.error = traceback.format_exc()
+    finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        signal.signal(signal.SIGPROF, previous)
+        with contextlib.suppress(Exception):
+            import matplotlib.pyplot as plt
+            plt.close("all")
+    run.stderr = err.getvalue()
+    return run
+
+
+def run_console_script(argv: list[str], seconds: float) -> tuple[int | None, str]:
+    script = Path(sys.executable).with_name("fuzzyc")
+    command = [str(script)] if script.exists() else [sys.executable, "-m", "fuzzyc"]
+    try:
+        done = subprocess.run(command + argv, capture_output=True, text=True, errors="replace",
+                              timeout=seconds * 10)
+    except subprocess.TimeoutExpired:
+        return None, "timeout"
+    return done.returncode, done.stderr
+
+
+# Diagnostic.format(): `FILE:LINE:COL: error: ...`, or `error: ...` when it has no place; a
+# message may also carry the place in its text (`error: data.csv:3:2: ...`).
+UNLOCATED = re.compile(r"(?m)^error: (?!.*:\d+:\d+)(.*)$")
+# Commands that translate a file `check` accepted (the rule targets run them only then): a
+# message without a place says what the other format or back end cannot do, not what is wrong
+# with the input.
+TRANSLATORS = ("convert", "compile")
+
+
+def _deepest_project_frame(text: str) -> str:
+    frames = re.findall(r'File "([^"]+)", line \d+, in (\S+)', text)
+    mine = [(f, fn) for f, fn in frames
+            if re.search(r"/(fuzzyc|plants|runtime|rulebases)/", f) and "/site-packages/" not in f]
+    if not mine:
+        return "?"
+    file, function = mine[-1]
+    short = re.sub(r".*/(fuzzyc|plants|runtime)/", r"\1/", file)
+    return f"{short}:{function}"
+
+
+def _normalized(message: str, tmp: Path) -> str:
+    text = message.replace(str(tmp), "TMP")
+    text = re.sub(r"`[^`]*`", "`…`", text)
+    text = re.sub(r"0x[0-9a-f]+|\d+", "0", text)
+    return text[:70]
+
+
+def classify(run: Run, target: Target, tmp: Path) -> tuple[str, str]:
+    """(outcome, class signature: what makes two failures the same bug)."""
+    command = run.argv[0] if run.argv else "-"
+    if run.error is not None:
+        last = run.error.strip().splitlines()[-1]
+        kind = "timeout" if last.startswith(f"{__name__}.InputTimeout") or \
+            "InputTimeout" in last else "traceback"
+        exc_type = last.split(":")[0].rpartition(".")[2]
+        return kind, f"{command}: {exc_type} at {_deepest_project_frame(run.error)}"
+    if run.usage:
+        return "usage", ""
+    if run.code == 0:
+        return "ok", ""
+    if run.code == 2 and command in TRANSLATORS and UNLOCATED.search(run.stderr):
+        return "refused", ""
+    if run.code == 2:
+        unlocated = UNLOCATED.search(run.stderr)
+        if unlocated and target.located:
+            return "unlocated", f"{command}: {_normalized(unlocated.group(1), tmp)}"
+        return "rejected", ""
+    return f"exit {run.code}", ""
+
+
+@dataclass
+class Tally:
+    """What one target's inputs did."""
+    target: str
+    inputs: int = 0
+    outcomes: Counter = field(default_factory=Counter)
+    commands: Counter = field(default_factory=Counter)
+    failures: Counter = field(default_factory=Counter)       # (kind, signature) -> count
+    examples: dict = field(default_factory=dict)              # (kind, signature) -> [folders]
+    warnings: int = 0
+    subprocess_runs: int = 0
+    cpu: float = 0.0          # CPU seconds of this process (the machine may be shared)
+
+    def merge(self, other: "Tally") -> None:
+        self.inputs += other.inputs
+        self.outcomes.update(other.outcomes)
+        self.commands.update(other.commands)
+        self.failures.update(other.failures)
+        for key, folders in other.examples.items():
+            self.examples.setdefault(key, []).extend(folders)
+        self.warnings += other.warnings
+        self.subprocess_runs += other.subprocess_runs
+        self.cpu += other.cpu
+
+    def failure_count(self, include_known: bool = True) -> int:
+        return sum(n for (kind, sig), n in self.failures.items()
+                   if include_known or known_owner(sig) is None)
+
+
+def _save(tally: Tally, key: tuple[str, str], run: Run, tmp: Path, out: Path) -> None:
+    folders = tally.examples.setdefault(key, [])
+    if len(folders) >= SAVED_PER_CLASS:
+        return
+    slug = re.sub(r"[^A-Za-z0-9]+", "_", f"{key[0]} {key[1]}")[:80].strip("_")
+    folder = out / tally.target / f"{slug}-{len(folders) + 1}-{tmp.name}"
+    shutil.copytree(tmp, folder, dirs_exist_ok=True)
+    argv = [a.replace(str(tmp), str(folder)) for a in run.argv]
+    detail = run.error or run.stderr
+    (folder / "REPRODUCE.txt").write_text(
+        f"{key[0]}: {key[1]}\nreproduce: fuzzyc {shlex.join(argv)}\n\n{detail}",
+        encoding="utf-8", errors="replace")
+    folders.append(str(folder))
+
+
+def fuzz_target(target: Target, inputs: int, seed: int, out: Path, seconds: float = 15.0,
+                subprocess_every: int = 0) -> Tally:
+    """`inputs` mutated inputs of one target (hypothesis-driven, reproducible from `seed`)."""
+    tally = Tally(target.name)
+    started = time.process_time()
+
+    @hypothesis_seed(seed)
+    @settings(max_examples=inputs, database=None, deadline=None, phases=[Phase.generate],
+              suppress_health_check=list(HealthCheck), print_blob=False)
+    @given(target.input_strategy(), st.data())
+    def one(chosen, data):
+        index, blob = chosen
+        with tempfile.TemporaryDirectory(prefix=f"fuzz-{target.name}-") as name, \
+                _working_directory(name):         # a default output (compile -o .) lands here
+            tmp = Path(name)
+            path = tmp / f"input{target.suffix}"
+            path.write_bytes(blob)
+            counted = False
+            pending = list(target.commands(data.draw, path, tmp, target.seeds[index][1]))
+            while pending:
+                argv = pending.pop(0)
+                if callable(argv):            # follow-up commands, built once the others passed
+                    pending = list(argv()) + pending
+                    continue
+                if not counted:           # hypothesis may abandon an input while drawing
+                    tally.inputs, counted = tally.inputs + 1, True
+                run = run_in_process(argv, seconds)
+                kind, signature = classify(run, target, tmp)
+                tally.commands[argv[0] if argv else "-"] += 1
+                tally.outcomes[kind] += 1
+                tally.warnings += run.warnings
+                if kind in FAILURES:
+                    tally.failures[(kind, signature)] += 1
+                    _save(tally, (kind, signature), run, tmp, out)
+                    break
+                if subprocess_every and tally.inputs % subprocess_every == 1:
+                    _compare_with_console_script(tally, run, kind, tmp, out, seconds)
+                if kind != "ok":
+                    break
+
+    one()
+    tally.cpu = time.process_time() - started
+    return tally
+
+
+@contextlib.contextmanager
+def _working_directory(path: str):
+    previous = os.getcwd()
+    os.chdir(path)
+    try:
+        yield
+    finally:
+        os.chdir(previous)
+
+
+def _compare_with_console_script(tally: Tally, run: Run, kind: str, tmp: Path, out: Path,
+                                 seconds: float) -> None:
+    """The installed `fuzzyc` gives the in-process exit status and prints no traceback."""
+    tally.subprocess_runs += 1
+    code, stderr = run_console_script(run.argv, seconds)
+    if code == run.code and "Traceback" not in stderr:
+        return
+    key = ("subprocess", f"{run.argv[0]}: in-process {kind} exit {run.code}, script exit {code}")
+    tally.failures[key] += 1
+    _save(tally, key, Run(run.argv, code, stderr), tmp, out)

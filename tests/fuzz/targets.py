@@ -1,0 +1,217 @@
+"""What is fuzzed: each target is a set of seed files, a file suffix and the command lines
+that read a mutated file.
+
+- fz, fll, fcl, fis: every shipped rule base and format-corpus file (plus the shipped rule
+  bases exported to the other formats), through `check`; a file that passes goes on to `eval
+  --csv` over its inputs' ranges and `convert` to another format, now and then `compile`.
+- scenario: the shipped scenario YAML files (duration cut to a few periods) through
+  `simulate --scenario FILE`, with its rule base or its baseline.
+- csv: `eval FILE --csv` with a CSV over the inputs of a shipped or corpus rule file.
+- cmdline: argument vectors built from the parser's own options with hostile values.
+"""
+from __future__ import annotations
+
+import argparse
+import contextlib
+import re
+from dataclasses import dataclass
+from functools import cached_property
+from pathlib import Path
+from typing import Callable
+
+from hypothesis import strategies as st
+
+from .mutate import HOSTILE, mutated
+
+ROOT = Path(__file__).resolve().parents[2]
+RULEBASES = sorted((ROOT / "rulebases").glob("*.fz"))
+CORPUS = sorted((ROOT / "tests" / "format_corpus").iterdir())
+SCENARIOS = sorted((ROOT / "plants" / "scenarios").glob("*.yaml"))
+RULE_SUFFIXES = (".fz", ".fll", ".fcl", ".fis")
+SHORT_RUN = "duration: 0.6\n"   # a handful of periods: the loop and metrics run, quickly
+
+
+def snapshot() -> dict[Path, bytes]:
+    """The shipped files the harness reads: a run must leave them as they were."""
+    return {p: p.read_bytes() for p in RULEBASES + CORPUS + SCENARIOS}
+
+
+def _load(path):
+    from fuzzyc.formats import load_any
+    return load_any(path)
+
+
+def _good_rule_files() -> list[Path]:
+    return [p for p in RULEBASES + CORPUS
+            if p.suffix in RULE_SUFFIXES and not p.name.startswith("bad_")]
+
+
+def _exports(suffix: str) -> list[str]:
+    """The shipped rule bases written in another format (where that format can say them)."""
+    from fuzzyc.errors import FuzzycError
+    from fuzzyc.formats import WRITERS
+    texts = []
+    for path in RULEBASES:
+        try:
+            texts.append(WRITERS[suffix](_load(path), []))
+        except FuzzycError:
+            pass
+    return texts
+
+
+def _csv_over_range(model) -> str:
+    """A CSV whose columns are the model's inputs, at the low end, middle and high end."""
+    names = [s.name for s in model.signals]
+    rows = [[s.lo + (s.hi - s.lo) * f for s in model.signals] for f in (0.0, 0.5, 1.0)]
+    return "\n".join([",".join(names)] + [",".join(f"{v:g}" for v in row) for row in rows]) + "\n"
+
+
+@dataclass
+class Target:
+    """name; seeds (texts); suffix of the mutated file; commands(draw, file, tmp, seed index)
+    -> argument vectors, each run only while the previous ones exit 0."""
+    name: str
+    suffix: str
+    make_seeds: Callable[[], list[tuple[str, object]]]
+    commands: Callable
+    located: bool = True     # an exit-2 message must carry file:line:col
+
+    @cached_property
+    def seeds(self) -> list[tuple[str, object]]:
+        return self.make_seeds()
+
+    def input_strategy(self):
+        """(index of the seed, the mutated file's bytes)."""
+        texts = tuple(text for text, _ in self.seeds)
+        return st.integers(0, len(texts) - 1).flatmap(
+            lambda i: st.tuples(st.just(i), mutated(texts[i], texts)))
+
+
+def _rule_seeds(suffix: str):
+    def make():
+        own = [(p.read_text(encoding="utf-8"), None)
+               for p in RULEBASES + CORPUS if p.suffix == suffix]
+        return own + ([] if suffix == ".fz" else [(t, None) for t in _exports(suffix)])
+    return make
+
+
+def _rule_commands(draw, path: Path, tmp: Path, _context) -> list[list[str]]:
+    def more():
+        model = _load(path)   # `check` passed, so this loads
+        table = tmp / "points.csv"
+        table.write_text(_csv_over_range(model), encoding="utf-8")
+        other = draw(st.sampled_from(RULE_SUFFIXES))
+        argvs = [["eval", str(path), "--csv", str(table)],
+                 ["convert", str(path), str(tmp / f"converted{other}")]]
+        if draw(st.integers(0, 7)) == 0:
+            argvs.append(["compile", str(path), "-o", str(tmp / "c"),
+                          "--numeric", draw(st.sampled_from(("float", "q15")))])
+        return argvs
+    return [["check", str(path)], more]
+
+
+def _scenario_seeds():
+    return [(re.sub(r"(?m)^duration:.*\n", SHORT_RUN, p.read_text(encoding="utf-8")), None)
+            for p in SCENARIOS]
+
+
+def _scenario_commands(draw, path: Path, tmp: Path, _context) -> list[list[str]]:
+    argv = ["simulate", "--scenario", str(path), "-o", str(tmp / "sim")]
+    return [argv + (["--baseline"] if draw(st.booleans()) else [])]
+
+
+def _csv_seeds():
+    from fuzzyc.errors import FuzzycError
+    seeds = []
+    for path in _good_rule_files():
+        with contextlib.suppress(FuzzycError):     # a several-block FCL needs ::NAME
+            seeds.append((_csv_over_range(_load(path)), path))
+    return seeds
+
+
+def _csv_commands(draw, path: Path, tmp: Path, rule_file: Path) -> list[list[str]]:
+    return [["eval", str(rule_file), "--csv", str(path)] + (["--core"] if draw(st.booleans())
+                                                             else [])]
+
+
+# Options whose value is a path the command writes: always a name inside the run's folder.
+OUTPUT_DESTS = {"out", "output", "report", "plot"}
+# Options that set how much work a run does: bounded, a huge batch would exhaust the memory.
+WORK_BOUNDS = {"batch": 64, "cycles": 2, "max_examples": 20, "resolution": 200}
+
+
+def _subcommands() -> dict[str, argparse.ArgumentParser]:
+    from fuzzyc.cli import build_parser
+    parser = build_parser()
+    # argparse keeps the subparsers in a private action; this harness reads them to fuzz
+    # every option the CLI has, including ones added later.
+    return next(a for a in parser._actions
+                if isinstance(a, argparse._SubParsersAction)).choices
+
+
+@st.composite
+def _option_value(draw, action: argparse.Action, tmp: Path):
+    if action.dest in OUTPUT_DESTS:
+        name = draw(st.sampled_from(("o", "o.png", "o.fll", "o.fz", "o.txt", "", ".", "a/b",
+                                     "é.fis", "x" * 300)))
+        return str(tmp / name)
+    if action.dest in WORK_BOUNDS:
+        return str(draw(st.integers(-2, WORK_BOUNDS[action.dest])))
+    if action.choices:
+        valid = st.sampled_from(list(action.choices))
+    elif action.type is int:
+        valid = st.integers(-3, 100).map(str)
+    elif action.type is float:
+        valid = st.sampled_from(("0.1", "1", "0", "-1", "1e9", "nan", "inf"))
+    elif action.dest == "scenario":
+        valid = st.sampled_from([p.stem for p in SCENARIOS] + [str(p) for p in SCENARIOS])
+    elif action.dest in ("file", "files", "input"):
+        valid = st.sampled_from([str(p) for p in RULEBASES + CORPUS])
+    else:                                   # NAME=VALUE pairs (eval values, --set, --at)
+        valid = st.from_regex(r"[a-zA-Z_.]{1,12}=-?[0-9.e]{0,6}", fullmatch=True)
+    hostile = st.one_of(st.sampled_from(HOSTILE), st.text(max_size=10))
+    return draw(st.one_of(valid, valid, valid, valid, hostile))
+
+
+@st.composite
+def _argv(draw, tmp: Path) -> list[str]:
+    """A subcommand with its positionals, its required options and up to three others, in a
+    random order; one value in five hostile (more and nearly every line is a usage error)."""
+    commands = _subcommands()
+    name = draw(st.sampled_from(sorted(commands)))
+    actions = [a for a in commands[name]._actions if not isinstance(a, argparse._HelpAction)]
+    optional = [a for a in actions if a.option_strings and not a.required]
+    chosen = [a for a in actions if a not in optional] + draw(
+        st.lists(st.sampled_from(optional), max_size=3, unique_by=id) if optional else st.just([]))
+    order = draw(st.permutations(chosen))
+    # positionals keep their own order (argparse assigns them by position: `convert OUT IN`
+    # would overwrite a shipped file), options go anywhere around them
+    positionals = iter([a for a in chosen if not a.option_strings])
+    words = []
+    for action in (a if a.option_strings else next(positionals) for a in order):
+        value = [] if action.nargs == 0 else [draw(_option_value(action, tmp))]
+        words.append(value if not action.option_strings else
+                     [draw(st.sampled_from(action.option_strings)), *value])
+    argv = [name, *(w for group in words for w in group)]
+    if name in ("simulate", "learn"):
+        argv += ["--set", "duration=0.6"]                   # keep a long scenario short
+    return argv
+
+
+def _cmdline_commands(draw, _path: Path, tmp: Path, _context) -> list[list[str]]:
+    return [draw(_argv(tmp))]
+
+
+TARGETS = {t.name: t for t in (
+    Target("fz", ".fz", _rule_seeds(".fz"), _rule_commands),
+    Target("fll", ".fll", _rule_seeds(".fll"), _rule_commands),
+    Target("fcl", ".fcl", _rule_seeds(".fcl"), _rule_commands),
+    Target("fis", ".fis", _rule_seeds(".fis"), _rule_commands),
+    Target("scenario", ".yaml", _scenario_seeds, _scenario_commands),
+    Target("csv", ".csv", _csv_seeds, _csv_commands),
+    # command lines name valid files: a rejection is about an argument, which has no line
+    Target("cmdline", ".txt", lambda: [("", None)], _cmdline_commands, located=False),
+)}
+# Share of the inputs per target (the .fz language has the most to break).
+SHARES = {"fz": 0.30, "fll": 0.12, "fcl": 0.12, "fis": 0.12, "scenario": 0.08, "csv": 0.10,
+          "cmdline": 0.16}

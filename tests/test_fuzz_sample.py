@@ -1,0 +1,55 @@
+"""A sample of the fuzzing harness (`make fuzz` runs 10,000 inputs): about 400 hostile inputs
+over every target must give no traceback, no rejection without file:line:col, no timeout and
+the same exit status from the console script -- except the classes listed in
+tests/fuzz/known.py, which other branches are fixing. Plus the harness's own classification,
+so that it can fail."""
+import pytest
+
+from tests.fuzz.known import known_owner
+from tests.fuzz.runner import Run, classify, fuzz_target
+from tests.fuzz.targets import SHARES, TARGETS, snapshot
+
+SAMPLE = 400
+SEED = 20261124
+
+
+@pytest.mark.parametrize("name", sorted(TARGETS))
+def test_hostile_inputs_get_a_located_message(name, tmp_path):
+    count = max(20, round(SAMPLE * SHARES[name]))
+    before = snapshot()
+    # one input of the sample (the first) also through the `fuzzyc` console script
+    tally = fuzz_target(TARGETS[name], count, SEED, tmp_path, subprocess_every=count)
+    assert tally.inputs >= count // 2, "hypothesis gave up on most inputs"
+    assert tally.subprocess_runs >= 1
+    assert snapshot() == before, "the harness wrote over a shipped file"
+    new = {f"{kind}: {signature}": tally.examples[(kind, signature)]
+           for (kind, signature) in tally.failures if known_owner(signature) is None}
+    assert not new, "\n".join(f"{k}\n    {v[0]}/REPRODUCE.txt" for k, v in new.items())
+
+
+TARGET = TARGETS["fll"]
+
+
+@pytest.mark.parametrize("run, kind", [
+    (Run(["check", "x.fll"], 0, ""), "ok"),
+    (Run(["check", "x.fll"], 2, "x.fll:3:7: error: no term `hot`\n1 error\n"), "rejected"),
+    # the place may be inside the message (eval --csv names the CSV cell)
+    (Run(["eval", "x.fll"], 2, "error: t.csv:2:1: `a` is not a number\n1 error\n"), "rejected"),
+    (Run(["check", "x.fll"], 2, "error: cannot read x.fll: bad byte\n1 error\n"), "unlocated"),
+    (Run(["check"], 2, "usage: fuzzyc check ...", usage=True), "usage"),
+    (Run(["convert", "x.fll", "y.fis"], 2, "error: cannot export `x` to FIS: hedge\n"),
+     "refused"),
+    (Run(["verify", "x.fz"], 1, ""), "exit 1"),
+])
+def test_classify(run, kind, tmp_path):
+    assert classify(run, TARGET, tmp_path)[0] == kind
+
+
+def test_classify_names_the_deepest_project_frame_of_a_traceback(tmp_path):
+    text = ('Traceback (most recent call last):\n'
+            '  File "/w/fuzzyc/cli/main.py", line 30, in main\n'
+            '  File "/w/fuzzyc/formats/fll.py", line 99, in _term\n'
+            '  File "/w/.venv/lib/python3.11/site-packages/numpy/core/x.py", line 5, in f\n'
+            'ValueError: bad\n')
+    kind, signature = classify(Run(["check"], None, "", error=text), TARGET, tmp_path)
+    assert (kind, signature) == ("traceback", "check: ValueError at fuzzyc/formats/fll.py:_term")
