@@ -79,6 +79,14 @@ def test_a_csv_field_over_128_kib_is_located(base, tmp_path, capsys):
     assert f"{table}:3:5: a field longer than 131072 characters" in err   # after `0.2,`
 
 
+def test_an_empty_csv_is_located(base, tmp_path, capsys):
+    table = tmp_path / "in.csv"
+    table.write_text("")
+    assert main(["eval", base, "--csv", str(table)]) == 2
+    err = no_traceback(capsys.readouterr().err)
+    assert f"{table}:1:1: the file is empty" in err
+
+
 # ---------------------------------------------------------------- unwritable outputs
 
 def forbid(monkeypatch, target: str) -> None:

@@ -40,6 +40,10 @@ TARGET = TARGETS["fll"]
     (Run(["convert", "x.fll", "y.fis"], 2, "error: cannot export `x` to FIS: hedge\n"),
      "refused"),
     (Run(["verify", "x.fz"], 1, ""), "exit 1"),
+    # what main() catches as a bug: exit 70 and the traceback on stderr
+    (Run(["check", "x.fll"], 70, "fuzzyc: internal error, please report it ...:\n"
+         "Traceback (most recent call last):\n  File \"/w/fuzzyc/x.py\", line 1, in f\n"
+         "ValueError: bad\n"), "traceback"),
 ])
 def test_classify(run, kind, tmp_path):
     assert classify(run, TARGET, tmp_path)[0] == kind

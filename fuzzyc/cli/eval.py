@@ -198,7 +198,7 @@ def _run_csv(model: Model, args) -> int:
     held = parse_assignments(model, args.values, args.core, complete=False)
     rows = read_csv(args.csv)
     if not rows:
-        raise _fail(f"{args.csv}: the file is empty; its first line must name the inputs")
+        raise _fail(f"{args.csv}:1:1: the file is empty; its first line must name the inputs")
     header = [h.strip() for h in rows[0]]
     twice = [n for n in held if n in header]
     if twice:

@@ -36,6 +36,7 @@ from .known import known_owner
 from .targets import Target
 
 FAILURES = ("traceback", "unlocated", "timeout", "subprocess")
+TRACEBACK = "Traceback (most recent call last)"
 SAVED_PER_CLASS = 3
 
 
@@ -129,12 +130,13 @@ def _normalized(message: str, tmp: Path) -> str:
 def classify(run: Run, target: Target, tmp: Path) -> tuple[str, str]:
     """(outcome, class signature: what makes two failures the same bug)."""
     command = run.argv[0] if run.argv else "-"
-    if run.error is not None:
-        last = run.error.strip().splitlines()[-1]
-        kind = "timeout" if last.startswith(f"{__name__}.InputTimeout") or \
-            "InputTimeout" in last else "traceback"
+    # main() catches what nothing else did and prints it as an internal error (exit 70)
+    error = run.error or (run.stderr if TRACEBACK in run.stderr else None)
+    if error is not None:
+        last = error.strip().splitlines()[-1]
+        kind = "timeout" if "InputTimeout" in last else "traceback"
         exc_type = last.split(":")[0].rpartition(".")[2]
-        return kind, f"{command}: {exc_type} at {_deepest_project_frame(run.error)}"
+        return kind, f"{command}: {exc_type} at {_deepest_project_frame(error)}"
     if run.usage:
         return "usage", ""
     if run.code == 0:
@@ -253,7 +255,7 @@ def _compare_with_console_script(tally: Tally, run: Run, kind: str, tmp: Path, o
     """The installed `fuzzyc` gives the in-process exit status and prints no traceback."""
     tally.subprocess_runs += 1
     code, stderr = run_console_script(run.argv, seconds)
-    if code == run.code and "Traceback" not in stderr:
+    if code == run.code and TRACEBACK not in stderr:
         return
     key = ("subprocess", f"{run.argv[0]}: in-process {kind} exit {run.code}, script exit {code}")
     tally.failures[key] += 1
