@@ -37,6 +37,7 @@ from __future__ import annotations
 import dataclasses
 import importlib
 import inspect
+import os
 import re
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -62,11 +63,11 @@ def available() -> list[str]:
 
 def resolve(name_or_path: str | Path) -> Path:
     path = Path(name_or_path)
-    if path.suffix in (".yaml", ".yml") and path.exists():
+    # os.path.isfile: False, not an OSError, for a name the system refuses (too long, a NUL)
+    if path.suffix in (".yaml", ".yml") and os.path.isfile(path):
         return path
-    shipped = SCENARIO_DIR / f"{name_or_path}.yaml"
-    if shipped.exists():
-        return shipped
+    if str(name_or_path) in available():
+        return SCENARIO_DIR / f"{name_or_path}.yaml"
     from fuzzyc.errors import suggest
     raise FuzzycError([Diagnostic(None, f"no scenario `{name_or_path}` — "
                                         f"{suggest(str(name_or_path), available())}")])

@@ -84,3 +84,10 @@ def test_alias_bomb_is_loaded_without_walking_every_path(tmp_path):
     path.write_text("\n".join(lines) + "\n", encoding="utf-8")
     with pytest.raises(FuzzycError, match="`a0`: unknown key"):
         S.load(path)
+
+
+@pytest.mark.parametrize("name", ["a" * 300, "a" * 300 + ".yaml", "x\0.yaml"])
+def test_a_name_the_system_refuses_is_no_scenario(name):
+    # found by the fuzzer: a 300-character name made Path.exists() raise ENAMETOOLONG
+    with pytest.raises(FuzzycError, match="no scenario"):
+        S.resolve(name)

@@ -137,7 +137,11 @@ def _csv_commands(draw, path: Path, tmp: Path, rule_file: Path) -> list[list[str
 # Options whose value is a path the command writes: always a name inside the run's folder.
 OUTPUT_DESTS = {"out", "output", "report", "plot"}
 # Options that set how much work a run does: bounded, a huge batch would exhaust the memory.
-WORK_BOUNDS = {"batch": 64, "cycles": 2, "max_examples": 20, "resolution": 200}
+WORK_BOUNDS = {"batch": 64, "cycles": 2, "max_examples": 5, "resolution": 200}
+# Put first, so a fuzzed value of the same option overrides them: the defaults run for minutes
+# (a 3400 s closed loop per verify example, a long scenario).
+SHORT_WORK = {"simulate": ["--set", "duration=0.6"], "learn": ["--set", "duration=0.6"],
+              "verify": ["--max-examples", "2"]}
 
 
 def _subcommands() -> dict[str, argparse.ArgumentParser]:
@@ -192,10 +196,7 @@ def _argv(draw, tmp: Path) -> list[str]:
         value = [] if action.nargs == 0 else [draw(_option_value(action, tmp))]
         words.append(value if not action.option_strings else
                      [draw(st.sampled_from(action.option_strings)), *value])
-    argv = [name, *(w for group in words for w in group)]
-    if name in ("simulate", "learn"):
-        argv += ["--set", "duration=0.6"]                   # keep a long scenario short
-    return argv
+    return [name, *SHORT_WORK.get(name, []), *(w for group in words for w in group)]
 
 
 def _cmdline_commands(draw, _path: Path, tmp: Path, _context) -> list[list[str]]:
