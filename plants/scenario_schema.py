@@ -20,7 +20,8 @@ SECTION_KEYS = {"plant": {"model", "params", "randomize"},
                 "controller": {"rulebase", "params", "initial", "expose"},
                 "baseline": {"make", "params", "label"}}
 OBSERVER_KEYS = {"make", "params"}
-METRIC_KEYS = {"name", "signal", "target", "band", "smooth", "tail", "after", "unit", "label"}
+METRIC_KEYS = {"name", "signal", "target", "band", "smooth", "tail", "after", "unit", "label",
+               "where", "scale"}
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 MAKE = re.compile(r"[A-Za-z_][A-Za-z0-9_]*\.[A-Za-z_][A-Za-z0-9_]*")   # module.callable
 MAX_PERIODS = 10_000_000   # a longer run is a typo (a trace of T periods holds T rows)
@@ -39,6 +40,11 @@ def finite_number(value) -> bool:
 def shown(value) -> str:
     text = repr(value)
     return text if len(text) <= 40 else text[:37] + "..."
+
+
+def _is_text(value) -> bool:
+    """What YAML reads from plain words: a string, or a number written where text goes."""
+    return isinstance(value, (str, int, float))
 
 
 class _Checker:
@@ -90,9 +96,14 @@ def check(scenario) -> None:
     c = _Checker(scenario)
     data = scenario.data
     c.keys("", data, TOP_KEYS)
-    for key in ("title", "source", "notes"):
+    for key in ("title", "source"):
         if key in data:
-            c.expect(key, data[key], isinstance(data[key], (str, int, float)), "text")
+            c.expect(key, data[key], _is_text(data[key]), "text")
+    notes = data.get("notes")
+    for i, note in enumerate(notes if isinstance(notes, list) else []):
+        c.expect(f"notes.{i}", note, _is_text(note), "text")
+    c.expect("notes", notes, notes is None or isinstance(notes, list) or _is_text(notes),
+             "text or a list of texts")
     for section, known in SECTION_KEYS.items():
         spec = c.mapping(section, data.get(section))
         if section == "plant" and spec.get("model") == gym_env.MODEL:
@@ -166,6 +177,11 @@ def _metric(c: _Checker, dotted: str, spec) -> None:
     if target is not None:
         c.expect(f"{dotted}.target", target, isinstance(target, str) or finite_number(target),
                  "a signal name or a finite number")
+    if "where" in spec:
+        c.text(f"{dotted}.where", spec["where"], None, "the name of a 0/1 signal")
+    if "scale" in spec:
+        c.expect(f"{dotted}.scale", spec["scale"], finite_number(spec["scale"]),
+                 "a finite number")
     if name == "settling_time" and "band" not in spec:
         c.fail(dotted, "settling_time needs `band:` (how close counts as settled)")
     bounds = {"band": (0, False), "smooth": (0, True), "after": (0, True), "tail": (0, False)}

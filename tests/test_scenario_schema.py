@@ -39,6 +39,9 @@ METRIC = "  - {name: overshoot, signal: abnormal_ratio, target: Yr2}\n"
     ("baseline: {make: 3}\n", 3, 18, "`baseline.make`: must be module.Callable"),
     ("observers: [{make: a.b, parms: {}}]\n", 3, 25, "`observers.0.parms`: unknown key"),
     ("title: {a: 1}\n", 3, 8, "`title`: must be text"),
+    # "  - {name: mean, signal: x, scale: " is 35 characters
+    ("metrics:\n  - {name: mean, signal: x, scale: x}\n", 4, 36, "`metrics.0.scale`: must be a"),
+    ("metrics:\n  - {name: mean, signal: x, where: 3}\n", 4, 36, "`metrics.0.where`: must be the"),
 ])
 def test_wrong_types_are_located(tmp_path, tail, line, col, words):
     path = tmp_path / "bad.yaml"
@@ -91,3 +94,19 @@ def test_a_name_the_system_refuses_is_no_scenario(name):
     # found by the fuzzer: a 300-character name made Path.exists() raise ENAMETOOLONG
     with pytest.raises(FuzzycError, match="no scenario"):
         S.resolve(name)
+
+
+@pytest.mark.parametrize("name", S.available())
+def test_every_shipped_scenario_passes_the_schema(name):
+    # notes may be one text or a list of texts (edm_sink, milling_* have lists)
+    assert S.load(name).data["plant"]["model"]
+
+
+def test_notes_of_the_wrong_type_are_located(tmp_path):
+    path = tmp_path / "bad.yaml"
+    # "notes: [a, " is 11 characters: the {b: 1} starts in column 12
+    path.write_text(HEAD + "notes: [a, {b: 1}]\n", encoding="utf-8")
+    with pytest.raises(FuzzycError) as info:
+        S.load(path)
+    assert str(info.value.diagnostics[0].loc).endswith("bad.yaml:3:12")
+    assert "`notes.1`: must be text" in info.value.diagnostics[0].message
