@@ -61,6 +61,29 @@ def test_version(capsys):
     assert f'\nversion = "{fuzzyc.__version__}"\n' in pyproject
 
 
+@pytest.mark.parametrize("argv, words", [
+    # found by the fuzzer: --batch 0 was a ValueError in runtime.loop, --batch -1 one in numpy,
+    # a negative seed one in numpy's generator
+    (["simulate", "--scenario", "wedm_rough", "--batch", "0"], "--batch: must be at least 1"),
+    (["simulate", "--scenario", "wedm_rough", "--batch", "-1"], "--batch: must be at least 1"),
+    (["simulate", "--scenario", "wedm_rough", "--seed", "-5"], "--seed: must be at least 0"),
+    (["verify", str(RULES / "wedm_three_region.fz"), "--max-examples", "0"],
+     "--max-examples: must be at least 1"),
+    (["verify", str(RULES / "wedm_three_region.fz"), "--seed", "-1"],
+     "--seed: must be at least 0"),
+    # --eta nan trained the whole run, then failed on writing a NaN table
+    (["learn", str(RULES / "milling_neurofuzzy.fz"), "--scenario", "milling_step", "-o", "x.fz",
+      "--eta", "nan"], "--eta: must be a finite number, got nan"),
+    (["learn", str(RULES / "milling_neurofuzzy.fz"), "--scenario", "milling_step", "-o", "x.fz",
+      "--rho=-inf"], "--rho: must be a finite number, got -inf"),
+])
+def test_counts_and_seeds_out_of_bounds_are_usage_errors(argv, words, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    assert info.value.code == 2
+    assert words in no_traceback(capsys.readouterr().err)
+
+
 # ---------------------------------------------------------------- eval --csv
 
 def test_a_latin1_csv_is_located(base, tmp_path, capsys):

@@ -1,6 +1,8 @@
 """What the command modules share."""
 from __future__ import annotations
 
+import argparse
+import math
 import os
 import tempfile
 from pathlib import Path
@@ -19,6 +21,25 @@ SEMANTICS_HELP = ("the arithmetic of a source tool where it differs from fuzzyc'
 
 def add_semantics(parser) -> None:
     parser.add_argument("--semantics", default="exact", metavar="TOOL[:N]", help=SEMANTICS_HELP)
+
+
+def at_least(low: int):
+    """An argparse type: an integer of at least `low`; argparse refuses anything else (exit 2)
+    instead of a traceback deep in the run (`--batch 0`, a negative `--seed`)."""
+    def integer(text: str) -> int:
+        value = int(text)
+        if value < low:
+            raise argparse.ArgumentTypeError(f"must be at least {low}, got {value}")
+        return value
+    return integer
+
+
+def finite(text: str) -> float:
+    """An argparse type: a finite number (`--eta nan` trained a whole run, then failed)."""
+    value = float(text)
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
+    return value
 
 
 def check_output(path: str | Path, folder: bool = False) -> None:

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..atomic import save_figure, write_text
 from ..escape import plot_text
-from .common import RULE_FILE_HELP, check_output
+from .common import RULE_FILE_HELP, check_output, finite
 from ..errors import Diagnostic, FuzzycError
 
 
@@ -25,8 +25,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--scenario", required=True, help="scenario name or YAML path (the cycle)")
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="trained rule file")
     p.add_argument("--cycles", type=int, default=15, help="learning cycles (default 15)")
-    p.add_argument("--eta", type=float, default=0.25, help="learning rate (default 0.25)")
-    p.add_argument("--rho", type=float, default=6.0, help="weight of cf^2 in PI (default 6)")
+    p.add_argument("--eta", type=finite, default=0.25, help="learning rate (default 0.25)")
+    p.add_argument("--rho", type=finite, default=6.0, help="weight of cf^2 in PI (default 6)")
     p.add_argument("--table", default="du", help="the learnable output (default du)")
     p.add_argument("--plot", metavar="PNG", help="PI plot (default: OUT with _pi.png)")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",

@@ -14,8 +14,8 @@ import sys
 from pathlib import Path
 
 from ..atomic import write_text
-from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, check_output,
-                     cluster_from)
+from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, at_least,
+                     check_output, cluster_from)
 from ..errors import Diagnostic, FuzzycError
 from fuzzyc.runtime.trace import SHOWN_LOOPS
 
@@ -27,7 +27,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--scenario", required=True, help="scenario name or YAML path")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="sets",
                    help="override a scenario setting, dotted (plant.tension=800)")
-    p.add_argument("--batch", type=int, default=1, help="independent loops (default 1)")
+    p.add_argument("--batch", type=at_least(1), default=1, help="independent loops (default 1)")
     p.add_argument("--randomize", action="store_true",
                    help="draw the plant params of each loop around the scenario's values")
     p.add_argument("--baseline", action="store_true", help="run the scenario's baseline")
@@ -36,7 +36,7 @@ def add_parser(subparsers) -> None:
                         "draws both, summary.txt and .json hold both")
     p.add_argument("--backend", choices=("numpy", "c"), default="numpy")
     add_semantics(p)
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=at_least(0), default=0)
     p.add_argument("--pace", choices=("sim", "wall"), default="sim")
     p.add_argument("--progress", action="store_true", help="show progress even without a tty")
     p.add_argument("--csv-loops", type=csv_loops, default=SHOWN_LOOPS, metavar="N|all",

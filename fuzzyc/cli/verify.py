@@ -14,8 +14,8 @@ import contextlib
 import sys
 
 from ..formats.tool_semantics import with_tool_semantics
-from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, check_output,
-                     cluster_from)
+from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, at_least,
+                     check_output, cluster_from)
 from ..errors import FuzzycError
 
 
@@ -25,9 +25,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("files", nargs="+", metavar="FILE", help=RULE_FILE_HELP)
     p.add_argument("--backend", choices=["numpy", "c"], default="numpy",
                    help="closed loops drive the numpy engine or the generated C")
-    p.add_argument("--max-examples", type=int, default=100,
+    p.add_argument("--max-examples", type=at_least(1), default=100,
                    help="hypothesis examples and closed-loop cases per property")
-    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed", type=at_least(0), default=0)
     p.add_argument("--report", metavar="DIR",
                    help="write verify.json, verify.junit.xml and counterexample plots here")
     p.add_argument("--only", metavar="TEXT", help="only properties whose text contains TEXT")
