@@ -12,7 +12,10 @@ with the in-process run).
 from __future__ import annotations
 
 import contextlib
+import csv
 import io
+import json
+import math
 import os
 import re
 import shlex
@@ -35,7 +38,7 @@ from hypothesis import strategies as st
 from .known import known_owner
 from .targets import Target
 
-FAILURES = ("traceback", "unlocated", "timeout", "subprocess")
+FAILURES = ("traceback", "unlocated", "nonfinite", "timeout", "subprocess")
 TRACEBACK = "Traceback (most recent call last)"
 SAVED_PER_CLASS = 3
 
@@ -49,6 +52,7 @@ class Run:
     argv: list[str]
     code: int | None
     stderr: str
+    stdout: str = ""
     error: str | None = None     # the traceback text, when main raised
     usage: bool = False          # argparse exited
     warnings: int = 0
@@ -85,7 +89,7 @@ def run_in_process(argv: list[str], seconds: float) -> Run:
         with contextlib.suppress(Exception):
             import matplotlib.pyplot as plt
             plt.close("all")
-    run.stderr = err.getvalue()
+    run.stderr, run.stdout = err.getvalue(), out.getvalue()
     return run
 
 
@@ -140,7 +144,8 @@ def classify(run: Run, target: Target, tmp: Path) -> tuple[str, str]:
     if run.usage:
         return "usage", ""
     if run.code == 0:
-        return "ok", ""
+        nonfinite = nonfinite_output(run) if command == "eval" else None
+        return ("nonfinite", f"eval: {_normalized(nonfinite, tmp)}") if nonfinite else ("ok", "")
     if run.code == 2 and command in TRANSLATORS and UNLOCATED.search(run.stderr):
         return "refused", ""
     if run.code == 2:
@@ -149,6 +154,40 @@ def classify(run: Run, target: Target, tmp: Path) -> tuple[str, str]:
             return "unlocated", f"{command}: {_normalized(unlocated.group(1), tmp)}"
         return "rejected", ""
     return f"exit {run.code}", ""
+
+
+def _refuse_constant(name: str):
+    raise ValueError(name)
+
+
+def nonfinite_output(run: Run) -> str | None:
+    """What is wrong when a successful `eval` printed an output that is NaN or infinite (the
+    engine promises a number for every input, docs/limits.md) or --json that is not JSON."""
+    if "--csv" in run.argv:
+        return _nonfinite_csv(run)
+    if "--json" in run.argv:
+        try:
+            outputs = json.loads(run.stdout, parse_constant=_refuse_constant)["outputs"]
+        except ValueError as exc:
+            return f"--json is not strict JSON ({exc})"
+        bad = [k for k, v in outputs.items() if v is None or not math.isfinite(v)]
+        return f"--json output {bad[0]} is not a number" if bad else None
+    line = next((ln for ln in run.stdout.splitlines() if ln.startswith("outputs: ")), "")
+    return "an output is nan or inf" if re.search(r"= -?(nan|inf)\b", line) else None
+
+
+def _nonfinite_csv(run: Run) -> str | None:
+    """Output columns (those the input CSV has not) with a value that is not finite."""
+    table = Path(run.argv[run.argv.index("--csv") + 1])
+    first = table.read_text(encoding="utf-8", errors="replace").partition("\n")[0]
+    inputs = {name.strip() for name in first.split(",")}
+    rows = list(csv.reader(io.StringIO(run.stdout)))
+    columns = [i for i, name in enumerate(rows[0]) if name not in inputs] if rows else []
+    for row in rows[1:]:
+        for i in columns:
+            if not math.isfinite(float(row[i])):
+                return f"--csv output {rows[0][i]} = {row[i]}"
+    return None
 
 
 @dataclass
@@ -188,7 +227,7 @@ def _save(tally: Tally, key: tuple[str, str], run: Run, tmp: Path, out: Path) ->
     folder = out / tally.target / f"{slug}-{len(folders) + 1}-{tmp.name}"
     shutil.copytree(tmp, folder, dirs_exist_ok=True)
     argv = [a.replace(str(tmp), str(folder)) for a in run.argv]
-    detail = run.error or run.stderr
+    detail = run.error or run.stderr + run.stdout
     (folder / "REPRODUCE.txt").write_text(
         f"{key[0]}: {key[1]}\nreproduce: fuzzyc {shlex.join(argv)}\n\n{detail}",
         encoding="utf-8", errors="replace")

@@ -62,7 +62,8 @@ def _exports(suffix: str) -> list[str]:
 def _csv_over_range(model) -> str:
     """A CSV whose columns are the model's inputs, at the low end, middle and high end."""
     names = [s.name for s in model.signals]
-    rows = [[s.lo + (s.hi - s.lo) * f for s in model.signals] for f in (0.0, 0.5, 1.0)]
+    # lo*(1-f) + hi*f: finite for any finite range (hi - lo may overflow)
+    rows = [[s.lo * (1 - f) + s.hi * f for s in model.signals] for f in (0.0, 0.5, 1.0)]
     return "\n".join([",".join(names)] + [",".join(f"{v:g}" for v in row) for row in rows]) + "\n"
 
 
