@@ -3,6 +3,8 @@ over every target must give no traceback, no rejection without file:line:col, no
 the same exit status from the console script -- except the classes listed in
 tests/fuzz/known.py, which other branches are fixing. Plus the harness's own classification,
 so that it can fail."""
+from pathlib import Path
+
 import pytest
 
 from tests.fuzz.known import known_owner
@@ -25,6 +27,24 @@ def test_hostile_inputs_get_a_located_message(name, tmp_path):
     new = {f"{kind}: {signature}": tally.examples[(kind, signature)]
            for (kind, signature) in tally.failures if known_owner(signature) is None}
     assert not new, "\n".join(f"{k}\n    {v[0]}/REPRODUCE.txt" for k, v in new.items())
+
+
+@pytest.mark.parametrize("name", sorted(set(TARGETS) - {"cmdline"}))
+def test_every_seed_passes_as_it_is(name, tmp_path):
+    # a seed that fails unmutated is a shipped file the program rejects (the scenario schema
+    # once refused three shipped scenarios), and its mutations test nothing past the failure
+    target = TARGETS[name]
+    good = [i for i, (text, source) in enumerate(target.seeds) if should_pass(text, source)]
+    tally = fuzz_target(target, 2 * len(good), SEED, tmp_path, unmutated=good)
+    assert set(tally.outcomes) <= {"ok", "refused"}, dict(tally.failures) or tally.outcomes
+    assert tally.outcomes["ok"] >= len(good) > 0
+
+
+def should_pass(text: str, source) -> bool:
+    """Not a corpus file of errors (bad_*), not an FCL file of several blocks (which needs
+    FILE::NAME); exported rule bases (no source file) and every scenario and CSV pass."""
+    return not (isinstance(source, Path) and source.name.startswith("bad_")
+                or text.count("END_FUNCTION_BLOCK") > 1)
 
 
 TARGET = TARGETS["fll"]

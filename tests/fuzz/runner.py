@@ -235,15 +235,18 @@ def _save(tally: Tally, key: tuple[str, str], run: Run, tmp: Path, out: Path) ->
 
 
 def fuzz_target(target: Target, inputs: int, seed: int, out: Path, seconds: float = 15.0,
-                subprocess_every: int = 0) -> Tally:
-    """`inputs` mutated inputs of one target (hypothesis-driven, reproducible from `seed`)."""
+                subprocess_every: int = 0, unmutated: list[int] | None = None) -> Tally:
+    """`inputs` mutated inputs of one target (hypothesis-driven, reproducible from `seed`);
+    `unmutated`: the seed files of these indices as they are, instead."""
     tally = Tally(target.name)
     started = time.process_time()
+    strategy = (st.sampled_from([(i, target.seeds[i][0].encode("utf-8")) for i in unmutated])
+                if unmutated else target.input_strategy())
 
     @hypothesis_seed(seed)
     @settings(max_examples=inputs, database=None, deadline=None, phases=[Phase.generate],
               suppress_health_check=list(HealthCheck), print_blob=False)
-    @given(target.input_strategy(), st.data())
+    @given(strategy, st.data())
     def one(chosen, data):
         index, blob = chosen
         with tempfile.TemporaryDirectory(prefix=f"fuzz-{target.name}-") as name, \

@@ -59,11 +59,13 @@ def _exports(suffix: str) -> list[str]:
     return texts
 
 
-def _csv_over_range(model) -> str:
-    """A CSV whose columns are the model's inputs, at the low end, middle and high end."""
-    names = [s.name for s in model.signals]
+def _csv_over_range(model, core: bool = False) -> str:
+    """A CSV whose columns are the model's inputs (the rule base's with `core`, as `eval
+    --core` reads), at the low end, middle and high end of their ranges."""
+    inputs = model.rulebase.inputs if core else model.signals
+    names = [s.name for s in inputs]
     # lo*(1-f) + hi*f: finite for any finite range (hi - lo may overflow)
-    rows = [[s.lo * (1 - f) + s.hi * f for s in model.signals] for f in (0.0, 0.5, 1.0)]
+    rows = [[s.lo * (1 - f) + s.hi * f for s in inputs] for f in (0.0, 0.5, 1.0)]
     return "\n".join([",".join(names)] + [",".join(f"{v:g}" for v in row) for row in rows]) + "\n"
 
 
@@ -90,8 +92,8 @@ class Target:
 
 def _rule_seeds(suffix: str):
     def make():
-        own = [(p.read_text(encoding="utf-8"), None)
-               for p in RULEBASES + CORPUS if p.suffix == suffix]
+        own = [(p.read_text(encoding="utf-8"), p) for p in RULEBASES + CORPUS
+               if p.suffix == suffix]
         return own + ([] if suffix == ".fz" else [(t, None) for t in _exports(suffix)])
     return make
 
@@ -112,7 +114,9 @@ def _rule_commands(draw, path: Path, tmp: Path, _context) -> list[list[str]]:
 
 
 def _scenario_seeds():
-    return [(re.sub(r"(?m)^duration:.*\n", SHORT_RUN, p.read_text(encoding="utf-8")), None)
+    # a metric judged `after: T` seconds needs a run that long: judged from the start instead
+    return [(re.sub(r"(?m)^duration:.*\n", SHORT_RUN,
+                    re.sub(r"\bafter: [0-9.]+, ", "", p.read_text(encoding="utf-8"))), p)
             for p in SCENARIOS]
 
 
@@ -126,13 +130,14 @@ def _csv_seeds():
     seeds = []
     for path in _good_rule_files():
         with contextlib.suppress(FuzzycError):     # a several-block FCL needs ::NAME
-            seeds.append((_csv_over_range(_load(path)), path))
+            model = _load(path)
+            seeds += [(_csv_over_range(model, core), (path, core)) for core in (False, True)]
     return seeds
 
 
-def _csv_commands(draw, path: Path, tmp: Path, rule_file: Path) -> list[list[str]]:
-    return [["eval", str(rule_file), "--csv", str(path)] + (["--core"] if draw(st.booleans())
-                                                             else [])]
+def _csv_commands(_draw, path: Path, tmp: Path, context) -> list[list[str]]:
+    rule_file, core = context
+    return [["eval", str(rule_file), "--csv", str(path)] + (["--core"] if core else [])]
 
 
 # Options whose value is a path the command writes: always a name inside the run's folder.
