@@ -145,7 +145,7 @@ class CompiledRuleBase:
         else:
             work = max([d.work_per_sample(n_candidates) for d in self.defuzzifiers]
                        + [4 * n_candidates * max(1, len(rb.inputs))])
-        self.chunk_limit = max(1, CHUNK_FLOATS // work)
+        self.chunk_limit = max(1, CHUNK_FLOATS // max(1, work))   # no rules: no work
 
     @staticmethod
     def _sparse_partitions(rb: RuleBase) -> list[LocalPartition] | None:

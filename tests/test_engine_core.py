@@ -50,8 +50,9 @@ def rulebase(inputs, outputs, rules, **inference):
         neg.append(o.get("negated", [False] * len(inputs)))
         hed.append(o.get("hedges", [Hedge.NONE] * len(inputs)))
         conn.append(o.get("conn", Connective.AND))
-    return RuleBase(inputs, outputs, np.array(ant).reshape(len(rules), len(inputs)),
-                    np.array(con).reshape(len(rules), len(outputs)), np.array(w, dtype=float),
+    return RuleBase(inputs, outputs, np.array(ant, dtype=int).reshape(len(rules), len(inputs)),
+                    np.array(con, dtype=int).reshape(len(rules), len(outputs)),
+                    np.array(w, dtype=float),
                     np.array(neg, dtype=bool).reshape(len(rules), len(inputs)),
                     np.array(hed, dtype=int).reshape(len(rules), len(inputs)),
                     np.array(conn, dtype=int), Inference(**inference))
@@ -208,6 +209,16 @@ def test_centroid_of_singletons_is_weighted_point_masses():
 def test_default_when_nothing_fires(method):
     rb, x = driven([(0.0, "A"), (0.0, "B")], Y_TRI, defuzzifier=method)
     assert evaluate(rb, x)[0, 0] == 2.5
+
+
+@pytest.mark.parametrize("method", list(Defuzzifier))
+def test_a_rule_base_without_rules_gives_the_default(method):
+    # found by the fuzzer: a Takagi-Sugeno file whose rules were all deleted had zero work per
+    # sample and the chunk size divided by it (ZeroDivisionError)
+    x = uniform("x", ["N", "P"])
+    rb = rulebase([x], [var("y", {"c": ("single", 1.0)}, lo=0, hi=3, default=2.5)], [],
+                  defuzzifier=method)
+    assert evaluate(rb, np.array([[0.3], [-0.7]]))[:, 0].tolist() == [2.5, 2.5]
 
 
 def test_gaussian_output_is_sampled_on_the_documented_grid():
