@@ -69,6 +69,22 @@ def test_classify(run, kind, tmp_path):
     assert classify(run, TARGET, tmp_path)[0] == kind
 
 
+@pytest.mark.parametrize("argv, stdout, kind", [
+    (["eval", "x.fis", "--json", "x=1"], '{"outputs": {"z": NaN}, "fired": []}', "nonfinite"),
+    (["eval", "x.fis", "--json", "x=1"], '{"outputs": {"z": 2.5}, "fired": []}', "ok"),
+    (["eval", "x.fis", "x=nan"], "x.fis: ...\noutputs: z = nan, z_out = -20\n", "nonfinite"),
+    (["eval", "x.fis", "x=1"], "x.fis: ...\noutputs: z = 10, z_out = -inf\n", "nonfinite"),
+    (["eval", "x.fis", "x=1"], "x.fis: ...\noutputs: z = 10, z_out = -20\n", "ok"),
+    # the CSV echoes its inputs (x and w, the header of in.csv): a NaN there is the input's
+    (["eval", "x.fis", "--csv", "in.csv"], "x,w,z\n1.0,nan,2.0\n", "ok"),
+    (["eval", "x.fis", "--csv", "in.csv"], "x,w,z\n1.0,0.5,inf\n", "nonfinite"),
+])
+def test_a_successful_eval_must_print_numbers(argv, stdout, kind, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "in.csv").write_text("x,w\n1,nan\n")
+    assert classify(Run(argv, 0, "", stdout=stdout), TARGET, tmp_path)[0] == kind
+
+
 def test_classify_names_the_deepest_project_frame_of_a_traceback(tmp_path):
     text = ('Traceback (most recent call last):\n'
             '  File "/w/fuzzyc/cli/main.py", line 30, in main\n'
