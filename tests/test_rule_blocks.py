@@ -179,6 +179,26 @@ def test_fll_rule_blocks_with_their_own_operators():
     assert out["y_out"][0] == pytest.approx(5.0, abs=1e-12)
 
 
+def test_check_summarizes_every_block(capsys):
+    # found by the fuzzer: check read model.rulebase, which refuses a model of several blocks.
+    # a, b, y, z have 2 terms each (8); mamdani and sugeno have 2 rules each (4)
+    from fuzzyc.cli import main
+    assert main(["check", str(CORPUS / "blocks_mamdani_sugeno.fll")]) == 0
+    assert "inputs a(2), b(2); outputs y(2), z(2); 8 terms; 2 rule blocks; 4 rules;" in \
+        capsys.readouterr().out
+
+
+def test_eval_csv_of_several_blocks(tmp_path, capsys):
+    # the values of test_fll_rule_blocks_with_their_own_operators: y = 5, z = 3 at (.6, .5)
+    from fuzzyc.cli import main
+    (tmp_path / "in.csv").write_text("a,b\n0.6,0.5\n")
+    assert main(["eval", str(CORPUS / "blocks_mamdani_sugeno.fll"), "--csv",
+                 str(tmp_path / "in.csv")]) == 0
+    header, row = capsys.readouterr().out.splitlines()
+    values = dict(zip(header.split(","), map(float, row.split(","))))
+    assert values["y"] == pytest.approx(5.0) and values["z"] == pytest.approx(3.0)
+
+
 def test_fll_rule_blocks_agree_with_the_fuzzylite_cli(tmp_path):
     if shutil.which("fuzzylite") is None:
         pytest.skip("the fuzzylite CLI is not installed (Debian package fuzzylite)")

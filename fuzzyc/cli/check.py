@@ -9,13 +9,21 @@ from ..model import Model
 
 
 def summary(model: Model) -> str:
-    rb = model.rulebase
-    terms = sum(v.n_terms for v in rb.inputs + rb.outputs)
-    ins = ", ".join(f"{v.name}({v.n_terms})" for v in rb.inputs)
-    outs = ", ".join(f"{v.name}({v.n_terms})" for v in rb.outputs)
+    blocks = model.blocks
+    inputs, outputs = _variables(blocks, "inputs"), _variables(blocks, "outputs")
+    terms = sum(v.n_terms for v in inputs + outputs)
+    ins = ", ".join(f"{v.name}({v.n_terms})" for v in inputs)
+    outs = ", ".join(f"{v.name}({v.n_terms})" for v in outputs)
     chain = ", ".join(o.name for o in model.outputs) or "-"
+    several = f"{len(blocks)} rule blocks; " if len(blocks) > 1 else ""
     return (f"{model.source_path}: {model.name}: inputs {ins}; outputs {outs}; {terms} terms; "
-            f"{rb.n_rules} rules; controller outputs {chain}; {len(model.properties)} properties")
+            f"{several}{sum(rb.n_rules for rb in blocks)} rules; controller outputs {chain}; "
+            f"{len(model.properties)} properties")
+
+
+def _variables(blocks, kind: str) -> list:
+    """The blocks' input or output variables, each once (blocks may share inputs)."""
+    return list({v.name: v for rb in blocks for v in getattr(rb, kind)}.values())
 
 
 def add_parser(subparsers) -> None:

@@ -122,8 +122,9 @@ def _step(controller, columns: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
     """One step: the rule base's outputs (copied: the controller reuses its arrays), then the
     chain's."""
     outputs = controller.step(columns)
+    # every block's outputs (a model may chain several: found by the fuzzer)
     result = {v.name: np.array(controller.signals[v.name])
-              for v in controller.model.rulebase.outputs}
+              for rb in controller.model.blocks for v in rb.outputs}
     result.update(outputs)
     return result
 
