@@ -129,9 +129,10 @@ def _csv_seeds():
     from fuzzyc.errors import FuzzycError
     seeds = []
     for path in _good_rule_files():
-        with contextlib.suppress(FuzzycError):     # a several-block FCL needs ::NAME
-            model = _load(path)
-            seeds += [(_csv_over_range(model, core), (path, core)) for core in (False, True)]
+        for core in (False, True):
+            # a several-block FCL needs ::NAME; --core reads a one-block model only
+            with contextlib.suppress(FuzzycError):
+                seeds.append((_csv_over_range(_load(path), core), (path, core)))
     return seeds
 
 
