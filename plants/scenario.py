@@ -280,7 +280,9 @@ def _check_types(scenario: Scenario, dotted: str, given: dict, defaults: dict) -
         if isinstance(default, bool):
             ok, what = isinstance(value, bool), "true or false"
         elif isinstance(default, (int, float)):
-            ok, what = finite_number(value), "a finite number"
+            # an array: one value per loop of a batch (the Python API, not YAML)
+            ok, what = (np.all(np.isfinite(value)) if isinstance(value, np.ndarray) and
+                        value.dtype.kind in "if" else finite_number(value)), "a finite number"
         else:
             continue
         if not ok:

@@ -179,11 +179,14 @@ class Collected:
                 self.notes.append(f"`{var.name}` has no terms")
 
     def model(self, path: str, text: str) -> Model:
-        for kind, declared in (("input", self.inputs), ("output", self.outputs)):
-            if not declared:     # a controller of nothing: every command would trip over it
-                self.rep.error(self.rep.loc(1, 1), f"the file declares no {kind} variable")
         self.check_ranges()
         self._check_linear_terms()
+        # a controller of nothing: every command would trip over it (said only when nothing
+        # else is wrong: a broken declaration is not a missing one)
+        missing = [kind for kind, declared in (("input", self.inputs), ("output", self.outputs))
+                   if not declared]
+        for kind in missing if not self.rep.diagnostics else []:
+            self.rep.error(self.rep.loc(1, 1), f"the file declares no {kind} variable")
         self.rep.raise_if_any()
         n_inputs = len(self.inputs)
         inputs = [_variable(v, True, n_inputs) for v in self.inputs.values()]
