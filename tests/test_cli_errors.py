@@ -129,6 +129,7 @@ WRITERS = [
     (["convert", "{base}", "OUT/x.fll"], "fuzzyc.formats.save"),
     (["learn", str(RULES / "milling_neurofuzzy.fz"), "--scenario", "milling_step", "-o",
       "OUT/trained.fz"], "fuzzyc.learn.learn_scenario"),
+    (["examples", "OUT"], "fuzzyc.api.copy_examples"),
 ]
 
 
@@ -144,6 +145,15 @@ def test_an_unwritable_output_is_refused_before_the_work(argv, work, out, reason
     assert main(argv) == 2
     err = no_traceback(capsys.readouterr().err)
     assert f"error: cannot write to {out}" in err and reason in err, err
+
+
+@pytest.mark.parametrize("argv,work", WRITERS, ids=[w[0][0] for w in WRITERS])
+def test_an_output_name_with_a_nul_is_refused(argv, work, base, tmp_path, monkeypatch, capsys):
+    # found by the fuzzer: `fuzzyc examples` with a NUL in DIR was a ValueError from mkdir
+    forbid(monkeypatch, work)
+    out = str(tmp_path / "a\0b")
+    assert main([a.format(base=base).replace("OUT", out) for a in argv]) == 2
+    assert "a file name cannot hold a NUL character" in no_traceback(capsys.readouterr().err)
 
 
 def test_learn_with_an_unwritable_plot_does_not_train(tmp_path, monkeypatch, capsys):

@@ -58,6 +58,8 @@ def check_output(path: str | Path, folder: bool = False) -> None:
 
 
 def _unwritable(path: Path, folder: bool) -> str | None:
+    if "\0" in str(path):          # the system refuses the name (pathlib: a ValueError)
+        return "a file name cannot hold a NUL character"
     if path.exists() or path.is_symlink():
         if folder and not path.is_dir():
             return "it is a file, not a folder"

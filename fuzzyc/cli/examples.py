@@ -15,6 +15,8 @@ def add_parser(subparsers) -> None:
 def run(args) -> int:
     from .. import api
     if args.folder:
+        from .common import check_output
+        check_output(args.folder, folder=True)
         copied = api.copy_examples(args.folder)
         folders = sorted({path.parent.name for path in copied})
         print(f"copied {len(copied)} files into {args.folder}: "
