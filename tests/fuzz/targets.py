@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import importlib.util
 import re
 from dataclasses import dataclass
 from functools import cached_property
@@ -26,7 +27,11 @@ from .mutate import HOSTILE, mutated
 ROOT = Path(__file__).resolve().parents[2]
 RULEBASES = sorted((ROOT / "rulebases").glob("*.fz"))
 CORPUS = sorted((ROOT / "tests" / "format_corpus").iterdir())
-SCENARIOS = sorted((ROOT / "plants" / "scenarios").glob("*.yaml"))
+SHIPPED_SCENARIOS = sorted((ROOT / "plants" / "scenarios").glob("*.yaml"))
+# the Gymnasium examples (each run with the rule file beside it) when the extra is installed
+GYM_SCENARIOS = sorted((ROOT / "examples" / "gymnasium").glob("*.yaml")) \
+    if importlib.util.find_spec("gymnasium") else []
+SCENARIOS = SHIPPED_SCENARIOS + GYM_SCENARIOS
 RULE_SUFFIXES = (".fz", ".fll", ".fcl", ".fis")
 SHORT_RUN = "duration: 0.6\n"   # a handful of periods: the loop and metrics run, quickly
 
@@ -120,9 +125,12 @@ def _scenario_seeds():
             for p in SCENARIOS]
 
 
-def _scenario_commands(draw, path: Path, tmp: Path, _context) -> list[list[str]]:
-    argv = ["simulate", "--scenario", str(path), "-o", str(tmp / "sim")]
-    return [argv + (["--baseline"] if draw(st.booleans()) else [])]
+def _scenario_commands(draw, path: Path, tmp: Path, context: Path) -> list[list[str]]:
+    beside = context.with_suffix(".fz")      # a scenario that names no rule base has one there
+    argv = ["simulate", *([str(beside)] if beside.exists() else []),
+            "--scenario", str(path), "-o", str(tmp / "sim")]
+    has_baseline = re.search(r"(?m)^baseline:", context.read_text(encoding="utf-8"))
+    return [argv + (["--baseline"] if has_baseline and draw(st.booleans()) else [])]
 
 
 def _csv_seeds():
@@ -142,9 +150,14 @@ def _csv_commands(_draw, path: Path, tmp: Path, context) -> list[list[str]]:
 
 
 # Options whose value is a path the command writes: always a name inside the run's folder.
-OUTPUT_DESTS = {"out", "output", "report", "plot"}
+OUTPUT_DESTS = {"out", "output", "report", "plot", "folder"}
 # Options that set how much work a run does: bounded, a huge batch would exhaust the memory.
-WORK_BOUNDS = {"batch": 64, "cycles": 2, "max_examples": 5, "resolution": 200}
+# --workers only below 1 (refused): a local Dask cluster is processes outside the CPU limit
+# (tests/test_campaign.py runs them); --chunk in-process is fuzzed.
+WORK_BOUNDS = {"batch": 64, "cycles": 2, "max_examples": 5, "resolution": 200, "chunk": 64,
+               "workers": 0}
+# Not fuzzed: a scheduler address connects to the network.
+NOT_FUZZED = {"scheduler"}
 # Put first, so a fuzzed value of the same option overrides them: the defaults run for minutes
 # (a 3400 s closed loop per verify example, a long scenario).
 SHORT_WORK = {"simulate": ["--set", "duration=0.6"], "learn": ["--set", "duration=0.6"],
@@ -181,7 +194,7 @@ def _option_value(draw, action: argparse.Action, tmp: Path):
     elif action.type is float:
         valid = st.sampled_from(("0.1", "1", "0", "-1", "1e9", "nan", "inf"))
     elif action.dest == "scenario":
-        valid = st.sampled_from([p.stem for p in SCENARIOS] + [str(p) for p in SCENARIOS])
+        valid = st.sampled_from([p.stem for p in SHIPPED_SCENARIOS] + [str(p) for p in SCENARIOS])
     elif action.dest == "files":        # verify's
         valid = st.sampled_from([str(p) for p in RULEBASES + CORPUS if not _learns_first(p)])
     elif action.dest in ("file", "input"):
@@ -199,7 +212,8 @@ def _argv(draw, tmp: Path) -> list[str]:
     commands = _subcommands()
     name = draw(st.sampled_from(sorted(commands)))
     actions = [a for a in commands[name]._actions if not isinstance(a, argparse._HelpAction)]
-    optional = [a for a in actions if a.option_strings and not a.required]
+    optional = [a for a in actions
+                if a.option_strings and not a.required and a.dest not in NOT_FUZZED]
     chosen = [a for a in actions if a not in optional] + draw(
         st.lists(st.sampled_from(optional), max_size=3, unique_by=id) if optional else st.just([]))
     order = draw(st.permutations(chosen))
