@@ -26,12 +26,13 @@ from __future__ import annotations
 
 import importlib
 import importlib.util
-import math
 import re
 from dataclasses import dataclass, field
 from typing import Any, Callable
 
 import numpy as np
+
+from .scenario_schema import finite_number
 
 MODEL = "gymnasium"
 KEYS = {"model", "env", "kwargs", "observations", "action", "discrete"}
@@ -241,7 +242,7 @@ def from_scenario(scenario) -> GymPlant:
     discrete = spec.get("discrete")
     if discrete is not None:
         need(isinstance(discrete, dict) and discrete != {} and all(
-            _integer(k) and _finite(v) for k, v in discrete.items()), "discrete",
+            _integer(k) and finite_number(v) for k, v in discrete.items()), "discrete",
             "a mapping {action number: output value}")
         discrete = {int(k): float(v) for k, v in discrete.items()}
     clash = sorted(set(observations.values()) & set(EPISODE))
@@ -258,10 +259,6 @@ def from_scenario(scenario) -> GymPlant:
 
 def _integer(value) -> bool:
     return isinstance(value, int) and not isinstance(value, bool) and value >= 0
-
-
-def _finite(value) -> bool:
-    return isinstance(value, (int, float)) and not isinstance(value, bool) and math.isfinite(value)
 
 
 def _observations(value, need) -> dict[int, str]:

@@ -12,8 +12,6 @@ import re
 
 from fuzzyc.errors import suggest
 
-from . import gym_env
-
 TOP_KEYS = {"title", "source", "plant", "controller", "baseline", "observers", "duration",
             "period", "initial", "schedules", "metrics", "plots", "notes"}
 SECTION_KEYS = {"plant": {"model", "params", "randomize"},
@@ -104,6 +102,7 @@ def check(scenario) -> None:
         c.expect(f"notes.{i}", note, _is_text(note), "text")
     c.expect("notes", notes, notes is None or isinstance(notes, list) or _is_text(notes),
              "text or a list of texts")
+    from . import gym_env       # which imports finite_number from here
     for section, known in SECTION_KEYS.items():
         spec = c.mapping(section, data.get(section))
         if section == "plant" and spec.get("model") == gym_env.MODEL:

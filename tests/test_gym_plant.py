@@ -169,6 +169,8 @@ def test_mistakes_in_a_gym_plant_are_located(gym, tmp_path):
         (TANK.replace("1: level10", "7: level10"), "toy.yaml:5", "not index 7"),
         (TANK.replace("0: level}", "0: reward}"), "toy.yaml:5", "writes itself"),
         (TANK + "\n  discrete: {0: -1}", "toy.yaml:7", "continuous actions"),
+        # an integer of 400 digits is no float (OverflowError in math.isfinite, the fuzzer)
+        (TANK + "\n  discrete: {0: 1" + "0" * 400 + "}", "toy.yaml:7", "action number"),
         (TANK + "\n  randomize: {rate: 0.1}", "toy.yaml:7", "unknown key"),
         (TANK.replace("action: inflow", "action: [inflow, 3]"), "toy.yaml:6", "output name"),
     ]
