@@ -93,3 +93,20 @@ def test_classify_names_the_deepest_project_frame_of_a_traceback(tmp_path):
             'ValueError: bad\n')
     kind, signature = classify(Run(["check"], None, "", error=text), TARGET, tmp_path)
     assert (kind, signature) == ("traceback", "check: ValueError at fuzzyc/formats/fll.py:_term")
+
+
+def test_the_summary_gives_inputs_exit_codes_tracebacks_and_unlocated():
+    from collections import Counter
+    from tests.fuzz.__main__ import summary
+    from tests.fuzz.runner import Tally
+    a = Tally("fz", inputs=3, commands=Counter(check=3, eval=1),
+              exit_codes=Counter({"0": 1, "2": 2, "exception": 1}),
+              failures=Counter({("traceback", "check: ValueError at x"): 1}), cpu=2.0)
+    b = Tally("csv", inputs=2, commands=Counter(eval=2), exit_codes=Counter({"2": 1, "70": 1}),
+              failures=Counter({("unlocated", "eval: error"): 1}), cpu=1.5)
+    assert summary({"fz": a, "csv": b}, 12.3).splitlines() == [
+        "inputs tried: 5 (6 commands, 0 also through the console script; 12 s wall, 4 CPU s)",
+        "exit codes: 0: 1, 2: 3, 70: 1, exception: 1",     # 2: two of fz's and one of csv's
+        "tracebacks: 1",
+        "rejections without file:line:col: 1",
+        "other failures: nonfinite 0, timeout 0, subprocess 0"]

@@ -95,6 +95,26 @@ def failure_list(tallies: dict[str, Tally]) -> str:
     return "\n".join(lines)
 
 
+def summary(tallies: dict[str, Tally], wall: float) -> str:
+    """The figures `make fuzz` promises: inputs tried, exit codes, tracebacks, rejections
+    without file:line:col."""
+    total = Tally("total")
+    for tally in tallies.values():
+        total.merge(tally)
+    fails = failures_by_kind(total)
+    codes = ", ".join(f"{code}: {n}" for code, n in sorted(
+        total.exit_codes.items(), key=lambda item: (not item[0].isdigit(), item[0].zfill(3))))
+    return "\n".join([
+        f"inputs tried: {total.inputs} ({sum(total.commands.values())} commands, "
+        f"{total.subprocess_runs} also through the console script; {wall:.0f} s wall, "
+        f"{total.cpu:.0f} CPU s)",
+        f"exit codes: {codes}",
+        f"tracebacks: {fails['traceback']}",
+        f"rejections without file:line:col: {fails['unlocated']}",
+        f"other failures: nonfinite {fails['nonfinite']}, timeout {fails['timeout']}, "
+        f"subprocess {fails['subprocess']}"])
+
+
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m tests.fuzz", description=__doc__)
     parser.add_argument("--inputs", type=int, default=10000)
@@ -122,9 +142,7 @@ def main(argv: list[str] | None = None) -> int:
     failures = failure_list(tallies)
     print(f"\nfailure classes (first saved input under {out}):\n{failures}" if failures
           else "\nno failures")
-    print(f"\n{sum(t.inputs for t in tallies.values())} inputs, "
-          f"{sum(t.subprocess_runs for t in tallies.values())} also through the console script, "
-          f"{time.monotonic() - started:.0f} s wall")
+    print("\n" + summary(tallies, time.monotonic() - started))
     if changed:
         print("the run changed shipped files (restore them with git checkout): "
               + " ".join(changed))

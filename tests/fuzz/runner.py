@@ -197,6 +197,7 @@ class Tally:
     inputs: int = 0
     outcomes: Counter = field(default_factory=Counter)
     commands: Counter = field(default_factory=Counter)
+    exit_codes: Counter = field(default_factory=Counter)     # "exception": main raised
     failures: Counter = field(default_factory=Counter)       # (kind, signature) -> count
     examples: dict = field(default_factory=dict)              # (kind, signature) -> [folders]
     warnings: int = 0
@@ -207,6 +208,7 @@ class Tally:
         self.inputs += other.inputs
         self.outcomes.update(other.outcomes)
         self.commands.update(other.commands)
+        self.exit_codes.update(other.exit_codes)
         self.failures.update(other.failures)
         for key, folders in other.examples.items():
             self.examples.setdefault(key, []).extend(folders)
@@ -267,6 +269,7 @@ def fuzz_target(target: Target, inputs: int, seed: int, out: Path, seconds: floa
                 kind, signature = classify(run, target, tmp)
                 tally.commands[argv[0] if argv else "-"] += 1
                 tally.outcomes[kind] += 1
+                tally.exit_codes["exception" if run.code is None else str(run.code)] += 1
                 tally.warnings += run.warnings
                 if kind in FAILURES:
                     tally.failures[(kind, signature)] += 1
