@@ -190,8 +190,28 @@ def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
                        list(getattr(module, "OUTPUTS", ())), seed=seed, noise_keys=loops)
     observers = make_observers(scenario)
     followed = _followed_params(scenario, controller)
-    return [*schedules, plant, *observers,
-            ControllerBlock(controller, followed, expose=list(expose))]
+    control = ControllerBlock(controller, followed, expose=list(expose))
+    _check_observer_inputs(scenario, module, observers, control)
+    return [*schedules, plant, *observers, control]
+
+
+def _check_observer_inputs(scenario, module, observers: list, control) -> None:
+    """Each observer reads signals that are on the bus when it runs (schedules, the plant's
+    outputs, initial values, the controller's u(-1), earlier observers' outputs); otherwise a
+    FuzzycError at the observer, not a KeyError in its first step. Not checkable for a plant
+    that does not declare its OUTPUTS."""
+    outputs = getattr(module, "OUTPUTS", None)
+    if outputs is None:
+        return
+    offered = {"t", "dt", *scenario.schedules, *outputs, *(scenario.data.get("initial") or {}),
+               *control.initial_outputs()}
+    for i, block in enumerate(observers):
+        missing = [n for n in getattr(block, "input_names", []) if n not in offered]
+        if missing:
+            raise scenario.error(f"observers.{i}",
+                                 f"reads `{missing[0]}`, which is not on the bus before it; "
+                                 f"there are: {', '.join(sorted(offered))}")
+        offered |= set(getattr(block, "output_names", []))
 
 
 def _followed_params(scenario, controller) -> list[str]:

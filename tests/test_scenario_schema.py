@@ -110,3 +110,22 @@ def test_notes_of_the_wrong_type_are_located(tmp_path):
         S.load(path)
     assert str(info.value.diagnostics[0].loc).endswith("bad.yaml:3:12")
     assert "`notes.1`: must be text" in info.value.diagnostics[0].message
+
+
+@pytest.mark.parametrize("baseline", [False, True])
+def test_an_observer_reading_a_signal_nobody_writes_is_located(tmp_path, baseline):
+    # found by the fuzzer: edm_sink's filter (measured_voltage -> gap_voltage) with the plant
+    # spliced to wedm_gap, which writes no measured_voltage: a KeyError in the filter's step.
+    # "  - " is 4 characters: the observer's mapping starts in column 5 of line 5
+    from fuzzyc.runtime.simulate import simulate
+    path = tmp_path / "bad.yaml"
+    path.write_text(HEAD + "baseline: {make: wedm_gap.VoltageP}\nobservers:\n"
+                    "  - make: filters.lowpass_bandstop\n"
+                    "    params: {input_name: measured_voltage, output_name: v, fs: 1000}\n"
+                    "duration: 0.2\n", encoding="utf-8")
+    with pytest.raises(FuzzycError) as info:
+        simulate(S.load(path), baseline=baseline)
+    diagnostic = info.value.diagnostics[0]
+    assert (diagnostic.loc.line, diagnostic.loc.col) == (5, 5), diagnostic.format()
+    assert "`observers.0`: reads `measured_voltage`, which is not on the bus" in \
+        diagnostic.message
