@@ -19,6 +19,9 @@ DEFAULT_CHUNK = 10_000   # loops per task: a WEDM loop step costs ~0.3 us batche
                          # of 10^4 loops is seconds of work against milliseconds of overhead
 
 
+SCHEDULER_SCHEMES = ("tcp", "tls")
+
+
 @dataclass
 class Cluster:
     """Where the chunks run. Neither workers nor scheduler: in this process, one after the
@@ -41,6 +44,10 @@ class Cluster:
         if self.workers is not None and self.scheduler:
             raise ValueError("give workers (a local cluster) or scheduler (a running one), "
                              "not both")
+        scheme = self.scheduler.partition("://")[0] if "://" in (self.scheduler or "") else "tcp"
+        if scheme not in SCHEDULER_SCHEMES:     # Dask's others fail inside it (ucx: TypeError)
+            forms = " or ".join(f"{s}://HOST:PORT" for s in SCHEDULER_SCHEMES)
+            raise ValueError(f"a scheduler address is {forms}, not {self.scheduler}")
         self._open: contextlib.ExitStack | None = None
         self._client: Any = None
         self._held = False
@@ -127,7 +134,13 @@ def _client(cluster: Cluster) -> Iterator[Any]:
                                             "not installed: pip install 'fuzzyc[dask]'")]) \
             from None
     if cluster.scheduler:
-        with Client(cluster.scheduler) as client:
+        try:
+            client = Client(cluster.scheduler)
+        except (ValueError, OSError) as exc:     # a malformed address, nobody listening
+            from fuzzyc.errors import Diagnostic, FuzzycError
+            raise FuzzycError([Diagnostic(None, f"cannot reach the Dask scheduler at "
+                                                f"{cluster.scheduler}: {exc}")]) from None
+        with client:
             yield client
         return
     # processes, one thread each: the batched numpy loop holds the GIL between array calls

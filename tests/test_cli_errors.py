@@ -84,6 +84,20 @@ def test_counts_and_seeds_out_of_bounds_are_usage_errors(argv, words, capsys):
     assert words in no_traceback(capsys.readouterr().err)
 
 
+@pytest.mark.parametrize("address, words", [
+    # found by the fuzzer: a ValueError from inside Dask's address parser
+    ("#", "cannot reach the Dask scheduler at #: missing port number"),
+    ("tcp://a:x", "cannot reach the Dask scheduler at tcp://a:x"),
+    # Dask's ucx connector raises a TypeError when its package is missing: refused before
+    ("ucx://a:1", "a scheduler address is tcp://HOST:PORT or tls://HOST:PORT, not ucx://a:1"),
+])
+def test_a_scheduler_address_dask_cannot_use_is_a_clean_error(address, words, tmp_path, capsys):
+    pytest.importorskip("distributed", reason="Dask is the optional extra fuzzyc[dask]")
+    assert main(["simulate", "--scenario", "wedm_rough", "--scheduler", address,
+                 "-o", str(tmp_path)]) == 2
+    assert f"error: {words}" in no_traceback(capsys.readouterr().err)
+
+
 # ---------------------------------------------------------------- eval --csv
 
 def test_a_latin1_csv_is_located(base, tmp_path, capsys):
