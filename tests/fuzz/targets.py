@@ -211,9 +211,9 @@ def _argv(draw, tmp: Path) -> list[str]:
     random order; one value in five hostile (more and nearly every line is a usage error)."""
     commands = _subcommands()
     name = draw(st.sampled_from(sorted(commands)))
-    actions = [a for a in commands[name]._actions if not isinstance(a, argparse._HelpAction)]
-    optional = [a for a in actions
-                if a.option_strings and not a.required and a.dest not in NOT_FUZZED]
+    actions = [a for a in commands[name]._actions
+               if not isinstance(a, argparse._HelpAction) and a.dest not in NOT_FUZZED]
+    optional = [a for a in actions if a.option_strings and not a.required]
     chosen = [a for a in actions if a not in optional] + draw(
         st.lists(st.sampled_from(optional), max_size=3, unique_by=id) if optional else st.just([]))
     order = draw(st.permutations(chosen))
