@@ -24,7 +24,7 @@ import numpy as np
 from ..errors import Diagnostic, FuzzycError
 from ..model import Model
 from ..escape import c_identifier
-from .c import generate_header
+from . import c as c_backend   # looked up at each call (a test may patch generate_header)
 
 STRICT_FLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion",
                 "-Wshadow", "-Werror")
@@ -132,7 +132,7 @@ def controller_sources(model: Model, numeric: str) -> dict[str, str]:
     name = c_identifier(model.name)
     shim = SHIM.format(name=name, P=name.upper() + "_", real=REAL_OF[numeric],
                        n_in=len(model.signals), n_out=len(model.outputs))
-    return {f"{name}.h": generate_header(model, numeric), "shim.c": shim}
+    return {f"{name}.h": c_backend.generate_header(model, numeric), "shim.c": shim}
 
 
 class CController:
