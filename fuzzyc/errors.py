@@ -48,7 +48,7 @@ def read_source(path: str | Path) -> str:
     with file:line:col of the first byte that is not UTF-8."""
     try:
         data = Path(path).read_bytes()
-    except OSError as exc:
+    except (OSError, ValueError) as exc:      # ValueError: a NUL in the name
         raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
     return decode_source(data, path)
 

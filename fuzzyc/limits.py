@@ -40,7 +40,7 @@ def read_rule_file(path: str | Path) -> str:
     try:
         with open(path, "rb") as f:
             data = f.read(MAX_SOURCE_BYTES + 1)
-    except OSError as exc:
+    except (OSError, ValueError) as exc:      # ValueError: a NUL in the name
         raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
     if len(data) > MAX_SOURCE_BYTES:
         raise FuzzycError([Diagnostic(None, f"{path} is larger than {MAX_SOURCE_BYTES} "

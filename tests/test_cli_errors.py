@@ -98,6 +98,20 @@ def test_a_scheduler_address_dask_cannot_use_is_a_clean_error(address, words, tm
     assert f"error: {words}" in no_traceback(capsys.readouterr().err)
 
 
+@pytest.mark.parametrize("argv", [
+    ["check", "IN.fz"], ["convert", "IN.fz", "OUT/x.fll"], ["compile", "IN.fz", "-o", "OUT"],
+    ["eval", "IN.fz", "x=1"], ["eval", "{base}", "--csv", "IN.csv"],
+    # found by the fuzzer: simulate FILE made the name absolute first (pathlib: ValueError)
+    ["simulate", "IN.fz", "--scenario", "wedm_finish", "-o", "OUT"],
+    ["learn", "IN.fz", "--scenario", "milling_step", "-o", "OUT/x.fz"],
+], ids=lambda argv: " ".join(argv[:3]))
+def test_an_input_name_with_a_nul_cannot_be_read(argv, base, tmp_path, capsys):
+    argv = [a.format(base=base).replace("IN", "a\0b").replace("OUT", str(tmp_path))
+            for a in argv]
+    assert main(argv) == 2
+    assert "error: cannot read a\0b." in no_traceback(capsys.readouterr().err)
+
+
 # ---------------------------------------------------------------- eval --csv
 
 def test_a_latin1_csv_is_located(base, tmp_path, capsys):

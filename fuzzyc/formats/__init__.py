@@ -72,7 +72,10 @@ def absolute_ref(ref: str | Path) -> str:
     """FILE made absolute (a scenario resolves a relative one in its rulebases folder), keeping
     a `::NAME` block choice."""
     path, block = split_block(ref)
-    return str(path.resolve()) + ("" if block is None else f"::{block}")
+    try:
+        return str(path.resolve()) + ("" if block is None else f"::{block}")
+    except ValueError as exc:       # a NUL in the name
+        raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
 
 
 def save(model: Model, path: str | Path) -> list[str]:
