@@ -110,3 +110,18 @@ def test_the_summary_gives_inputs_exit_codes_tracebacks_and_unlocated():
         "tracebacks: 1",
         "rejections without file:line:col: 1",
         "other failures: nonfinite 0, timeout 0, subprocess 0"]
+
+
+def test_the_console_script_runs_on_the_folder_as_it_was(tmp_path):
+    # `examples DIR` refuses to overwrite: run again after the in-process run, in the same
+    # folder, it exited 2 where the in-process run gave 0 (a false `subprocess` failure)
+    from tests.fuzz.runner import Tally, _compare_with_console_script, _copy_of, run_in_process
+    work = tmp_path / "work"
+    work.mkdir()
+    before = _copy_of(work)
+    run = run_in_process(["examples", str(work / "o")], 60.0)
+    assert run.code == 0 and (work / "o" / "rulebases").is_dir()
+    tally = Tally("cmdline")
+    _compare_with_console_script(tally, run, "ok", work, before, tmp_path / "out", 60.0)
+    assert (tally.subprocess_runs, dict(tally.failures)) == (1, {})
+    assert not before.exists()          # the copy is removed

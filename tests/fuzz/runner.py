@@ -93,12 +93,13 @@ def run_in_process(argv: list[str], seconds: float) -> Run:
     return run
 
 
-def run_console_script(argv: list[str], seconds: float) -> tuple[int | None, str]:
+def run_console_script(argv: list[str], seconds: float,
+                       cwd: Path | None = None) -> tuple[int | None, str]:
     script = Path(sys.executable).with_name("fuzzyc")
     command = [str(script)] if script.exists() else [sys.executable, "-m", "fuzzyc"]
     try:
         done = subprocess.run(command + argv, capture_output=True, text=True, errors="replace",
-                              timeout=seconds * 10)
+                              timeout=seconds * 10, cwd=cwd)
     except subprocess.TimeoutExpired:
         return None, "timeout"
     return done.returncode, done.stderr
@@ -265,6 +266,10 @@ def fuzz_target(target: Target, inputs: int, seed: int, out: Path, seconds: floa
                     continue
                 if not counted:           # hypothesis may abandon an input while drawing
                     tally.inputs, counted = tally.inputs + 1, True
+                # the console script runs the command on a copy of the folder as it is now:
+                # after the in-process run, a command that refuses to overwrite would differ
+                due = subprocess_every and tally.inputs % subprocess_every == 1
+                before = _copy_of(tmp) if due else None
                 run = run_in_process(argv, seconds)
                 kind, signature = classify(run, target, tmp)
                 tally.commands[argv[0] if argv else "-"] += 1
@@ -275,8 +280,8 @@ def fuzz_target(target: Target, inputs: int, seed: int, out: Path, seconds: floa
                     tally.failures[(kind, signature)] += 1
                     _save(tally, (kind, signature), run, tmp, out)
                     break
-                if subprocess_every and tally.inputs % subprocess_every == 1:
-                    _compare_with_console_script(tally, run, kind, tmp, out, seconds)
+                if before is not None:
+                    _compare_with_console_script(tally, run, kind, tmp, before, out, seconds)
                 if kind != "ok":
                     break
 
@@ -295,11 +300,22 @@ def _working_directory(path: str):
         os.chdir(previous)
 
 
-def _compare_with_console_script(tally: Tally, run: Run, kind: str, tmp: Path, out: Path,
-                                 seconds: float) -> None:
-    """The installed `fuzzyc` gives the in-process exit status and prints no traceback."""
+def _copy_of(tmp: Path) -> Path:
+    copy = Path(tempfile.mkdtemp(prefix=f"{tmp.name}-script-"))
+    shutil.copytree(tmp, copy, dirs_exist_ok=True)
+    return copy
+
+
+def _compare_with_console_script(tally: Tally, run: Run, kind: str, tmp: Path, before: Path,
+                                 out: Path, seconds: float) -> None:
+    """The installed `fuzzyc`, run on `before` (a copy of the folder as it was before the
+    in-process run), gives the in-process exit status and prints no traceback."""
     tally.subprocess_runs += 1
-    code, stderr = run_console_script(run.argv, seconds)
+    try:
+        code, stderr = run_console_script([a.replace(str(tmp), str(before)) for a in run.argv],
+                                          seconds, cwd=before)
+    finally:
+        shutil.rmtree(before, ignore_errors=True)
     if code == run.code and TRACEBACK not in stderr:
         return
     key = ("subprocess", f"{run.argv[0]}: in-process {kind} exit {run.code}, script exit {code}")
