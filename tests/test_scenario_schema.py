@@ -1,6 +1,8 @@
 """Scenario files whose values have the wrong type: a located message (file:line:col of the
 offending value or key), never a traceback. The first five are the tracebacks of issue 13
 (plots, metrics and keys of the wrong type); the columns are counted by hand below."""
+from pathlib import Path
+
 import pytest
 
 from fuzzyc.errors import FuzzycError
@@ -96,9 +98,13 @@ def test_a_name_the_system_refuses_is_no_scenario(name):
         S.resolve(name)
 
 
-@pytest.mark.parametrize("name", S.available())
+EXAMPLES = sorted(str(p) for p in (Path(__file__).parents[1] / "examples").rglob("*.yaml"))
+
+
+@pytest.mark.parametrize("name", S.available() + EXAMPLES)
 def test_every_shipped_scenario_passes_the_schema(name):
-    # notes may be one text or a list of texts (edm_sink, milling_* have lists)
+    # notes may be one text or a list of texts (edm_sink, milling_* have lists); the
+    # Gymnasium examples' plant keys are gym_env's (checked without importing Gymnasium)
     assert S.load(name).data["plant"]["model"]
 
 
