@@ -205,6 +205,20 @@ def _least_top(var, part) -> float:
     return float(memberships(var, np.array(points)).max(axis=1).min())
 
 
+def alpha_bounds(tables: FixedTables, o: int, numeric: str) -> tuple[int, int]:
+    """(A, the largest sum_j alpha_j of output o; the largest single alpha_j), at 2^-MF:
+    A = n max(w) ONE (n = min(terms, C) levels with max aggregation, C rules met per sample
+    with sum); one alpha_j is at most max(w) ONE with max aggregation, A with sum."""
+    rb, var = tables.rb, tables.rb.outputs[o]
+    one = 1 << FORMATS[numeric][2]
+    summed = rb.inference.defuzzifier in (Defuzzifier.WEIGHTED_AVERAGE,
+                                          Defuzzifier.WEIGHTED_SUM) or \
+        rb.inference.aggregation == Aggregation.SUM
+    n = tables.candidates if summed else min(var.n_terms, tables.candidates)
+    w = max([one] + [abs(round(w * one)) for w in rb.weights])
+    return n * w, (n * w if summed else w)
+
+
 def output_guard(tables: FixedTables, o: int, numeric: str) -> int:
     """Guard bits g of output o below its LSB (its peaks, and the rule base's wide output, at
     2^-g of an output LSB): the most, up to MAX_GUARD, with which the numerator fits in int64
@@ -214,12 +228,8 @@ def output_guard(tables: FixedTables, o: int, numeric: str) -> int:
     rb, var = tables.rb, tables.rb.outputs[o]
     full, mf = FORMATS[numeric][1], FORMATS[numeric][2]
     one = 1 << mf
-    method = rb.inference.defuzzifier
-    summed = method in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM) or \
-        rb.inference.aggregation == Aggregation.SUM
-    n = tables.candidates if summed else min(var.n_terms, tables.candidates)
-    a = n * max([one] + [abs(round(w * one)) for w in rb.weights])
-    weighted_sum = method == Defuzzifier.WEIGHTED_SUM
+    a, _ = alpha_bounds(tables, o, numeric)
+    weighted_sum = rb.inference.defuzzifier == Defuzzifier.WEIGHTED_SUM
     origin = 0.0 if weighted_sum else var.lo
     for g in range(MAX_GUARD, -1, -1):
         scale = full * 2.0 ** g / (var.hi - var.lo)
@@ -513,6 +523,24 @@ class FixedPointWriter:
                 f"{io} out[{P}N_OUTPUTS]) {{",
                 *("    " + line for line in body), "}"]
 
+    def numerator(self, o: int, terms: list[str]) -> list[str]:
+        """The C declaring `num` = sum_j alpha_j z_j of output o.  |num| <= A max|z_j| < 2^63
+        (output_guard), but a value analysis bounds each alpha_j alone, up to sum_j
+        max(alpha_j) |z_j|; where that exceeds int64 the sum is formed modulo 2^64 (unsigned:
+        defined wrap-around, exact as the true sum fits) and read back within +-A max|z_j|."""
+        var, g = self.rb.outputs[o], self.guard[o]
+        a, one_alpha = alpha_bounds(self.tables, o, self.numeric)
+        origin = 0.0 if self.weighted_sum else var.lo
+        scale = self.full * 2.0 ** g / (var.hi - var.lo)
+        z = [abs(round((v - origin) * scale)) for v in var.peaks()]
+        if one_alpha * (sum(z) + len(z)) < 2 ** 62:      # each term alone bounds the sum
+            return ["        int64_t num = " + " + ".join(terms) + ";"]
+        wrapped = " + ".join(f"(uint64_t)({t})" for t in terms)
+        return [f"        const uint64_t wrapped = {wrapped};",
+                "        int64_t num = wrapped > (uint64_t)INT64_MAX ? -(int64_t)~wrapped - 1 "
+                ": (int64_t)wrapped;",
+                f"        num = {self.p}sat(num, INT64_C({-a * max(z)}), INT64_C({a * max(z)}));"]
+
     def functions(self, which: list[int], unit: bool) -> list[str]:
         rb, p, P, io = self.rb, self.p, self.P, self.io
         n_in = len(rb.inputs)
@@ -522,6 +550,12 @@ class FixedPointWriter:
                 "on every compiler fuzzyc supports). */",
                 f"static inline int64_t {p}shr(int64_t v, int s) "
                 "{ return (v + ((int64_t)1 << (s - 1))) >> s; }",
+                "/* sat(a + b, lo, hi) that never overflows, whatever a holds (b and the "
+                "bounds are small); the outer sat",
+                "   changes nothing, it shows a value analysis (Frama-C EVA) the result's "
+                "range. */",
+                f"static inline int64_t {p}sat_add(int64_t a, int64_t b, int64_t lo, int64_t hi) "
+                f"{{ return {p}sat({p}sat(a, lo - b, hi - b) + b, lo, hi); }}",
                 f"static inline int64_t {p}greater(int64_t a, int64_t b) "
                 "{ return a > b ? a : b; }",
                 "/* The two active terms of an input at xq and their memberships. */",
@@ -536,8 +570,14 @@ class FixedPointWriter:
                 "        const int64_t *piece = q + 3 * s;",
                 "        /* rounded to nearest: numerator and width have one sign (truncating "
                 "would bias every membership low, which an integrator downstream sums) */",
-                "        int64_t mu = piece[1] == 0 ? piece[2] : piece[2] + "
-                f"((xq - piece[0]) * {1 << self.mf} + piece[1] / 2) / piece[1];",
+                "        /* |xq - anchor| <= |width| inside the segment, so holding it there "
+                "changes no membership",
+                "           (beyond, mu leaves [0, ONE] and saturates either way) and shows "
+                "that the product fits in int64 */",
+                "        const int64_t w = piece[1] < 0 ? -piece[1] : piece[1];",
+                f"        const int64_t d = {p}sat(xq - piece[0], -w, w);",
+                "        int64_t mu = w == 0 ? piece[2] : piece[2] + "
+                f"(d * {1 << self.mf} + piece[1] / 2) / piece[1];",
                 f"        m[s] = {p}sat(mu, 0, {P}ONE);",
                 "    }",
                 "    id[0] = active[k][0]; id[1] = active[k][1];",
@@ -595,7 +635,7 @@ class FixedPointWriter:
                                                    f"= {slot} > a ? {slot} : a;"))
         code += ["        }", "    }"]
         for o, var in enumerate(rb.outputs):
-            num = " + ".join(f"alpha{o}[{j}] * {P}PEAKS_{o}[{j}]" for j in range(var.n_terms))
+            num = [f"alpha{o}[{j}] * {P}PEAKS_{o}[{j}]" for j in range(var.n_terms)]
             den = " + ".join(f"alpha{o}[{j}]" for j in range(var.n_terms))
             g = self.guard[o]
             top = self.full << g
@@ -607,7 +647,7 @@ class FixedPointWriter:
                 value = f"{p}shr(num + INT64_C({zero}), {self.mf})"
             else:
                 value = "(num + den / 2) / den"
-            code += ["    {", f"        int64_t num = {num};", f"        int64_t den = {den};",
+            code += ["    {", *self.numerator(o, num), f"        int64_t den = {den};",
                      f"        int64_t v = den > 0 ? {value} : INT64_C({default});",
                      f"        yw[{o}] = {p}sat(v, 0, INT64_C({top}));", "    }"]
         code.append("}")

@@ -257,7 +257,7 @@ class FixedChain:
         if o.kind == OutputKind.DIRECT:
             code = [f"{state} = (int32_t){self.p}sat({self.align(value, frac)}, {bounds});"]
         else:
-            code = [f"{state} = {self.p}sat({state} + {self.align(value, frac)}, {bounds});"]
+            code = [f"{state} = {self.p}sat_add({state}, {self.align(value, frac)}, {bounds});"]
         guard = frac - frac_for(lo, hi)
         base = frac - guard              # the state rounded back to 31 bits
         read = f"{self.p}shr({state}, {guard})" if guard else state

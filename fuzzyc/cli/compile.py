@@ -4,6 +4,7 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
+from ..errors import Diagnostic, FuzzycError
 from ..formats.tool_semantics import with_tool_semantics
 from .common import RULE_FILE_HELP, add_semantics, check_output
 
@@ -24,6 +25,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--resolution", type=int, default=33,
                    help="grid points per input (target lut)")
     add_semantics(p)
+    p.add_argument("--prove", action="store_true",
+                   help="prove the header free of run-time errors with Frama-C's EVA over "
+                        "every input (NaN and infinities too), see docs/c-proofs.md")
     p.set_defaults(run=run)
 
 
@@ -45,8 +49,13 @@ def _entry_points(name: str, target: str) -> list[str]:
 def run(args) -> int:
     from ..api import compile_c, compile_lut, load
     from ..backends.cload import STRICT_FLAGS, footprint
+    from ..backends.c_proof import frama_c
     from ..escape import c_identifier
     check_output(args.output, folder=True)
+    if args.prove and frama_c() is None:     # before writing anything
+        raise FuzzycError([Diagnostic(None, "--prove needs Frama-C, which is not installed "
+                                            "(`frama-c` on PATH; Debian: apt-get install "
+                                            "frama-c-base); nothing was written")])
     model = with_tool_semantics(load(args.file), args.semantics, "compile")
     name = c_identifier(model.name)
     if args.target == "lut":
@@ -59,7 +68,7 @@ def run(args) -> int:
         header = compile_c(model, args.numeric)
     path = Path(args.output) / header.filename
     # Built before it is published: a header gcc rejects is an error and never lands in DIR.
-    kind = args.numeric if args.target == "c" and args.numeric.startswith("q") else args.target
+    kind = args.numeric if args.target == "c" else "lut"
     if shutil.which("gcc") is None:
         header.write(args.output)
         print(f"wrote {path} (not test-built: no C compiler `gcc` on PATH)")
@@ -71,4 +80,10 @@ def run(args) -> int:
     print(f"wrote {path} (test-built with gcc {' '.join(STRICT_FLAGS)})")
     for level, (code, stack) in sizes.items():
         print(f"  gcc {level}: {code} bytes code + constant data, {stack} bytes stack")
+    if args.prove:
+        from ..backends.c_proof import prove
+        proof = prove(model, kind, (header.filename, header.text))
+        print(proof.summary())
+        if not proof.proved:
+            return 1
     return 0
