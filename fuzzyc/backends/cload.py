@@ -198,11 +198,14 @@ MEASURE = """\
 
 
 def footprint(header_name: str, header: str, entry_points: list[str],
-              flags: tuple[str, ...] = ("-O2",), failure: str = "") -> tuple[int, int]:
-    """(code + constant data bytes, worst-case stack bytes) of the header's entry points.
+              flags: tuple[str, ...] = ("-O2",), failure: str = "",
+              toolchain: str = "") -> tuple[int, int, int]:
+    """(code + constant data bytes, static RAM bytes, worst-case stack bytes) of the header's
+    entry points, compiled by `{toolchain}gcc` (e.g. toolchain "arm-none-eabi-").
 
-    `entry_points` are full C definitions calling the header.  Code and constants are `size`'s
-    text (rodata included); stack is the sum over every function gcc reports with
+    `entry_points` are full C definitions calling the header (and any globals, e.g. a state
+    instance, whose bytes count as RAM).  Code and constants are `size`'s text (rodata
+    included), RAM its data + bss; stack is the sum over every function gcc reports with
     -fstack-usage, an upper bound for any call chain among them.  A header gcc rejects is a
     FuzzycError with gcc's messages and `failure` (what the caller did not do).
     """
@@ -213,8 +216,9 @@ def footprint(header_name: str, header: str, entry_points: list[str],
         obj = Path(work, "measure.o")
         # No unwind tables (a firmware build has none; they would count as code here) and, on
         # x86-64, no red zone, which -fstack-usage would not count.
-        red_zone = ["-mno-red-zone"] if platform.machine() in ("x86_64", "AMD64") else []
-        cmd = ["gcc", *STRICT_FLAGS, *flags, "-fno-asynchronous-unwind-tables", *red_zone,
+        red_zone = ["-mno-red-zone"] if not toolchain and platform.machine() in (
+            "x86_64", "AMD64") else []
+        cmd = [f"{toolchain}gcc", *STRICT_FLAGS, *flags, "-fno-asynchronous-unwind-tables", *red_zone,
                "-fstack-usage", "-c", "-o", str(obj),
                str(Path(work, "measure.c"))]
         result = subprocess.run(cmd, capture_output=True, text=True, cwd=work)
@@ -222,8 +226,9 @@ def footprint(header_name: str, header: str, entry_points: list[str],
             raise FuzzycError([Diagnostic(None, "the C compiler rejected the generated code"
                                                 + (f" ({failure})" if failure else "") + ":\n"
                                                 + result.stderr)])
-        size = subprocess.run(["size", str(obj)], capture_output=True, text=True, check=True)
-        text_bytes = int(size.stdout.splitlines()[1].split()[0])
+        size = subprocess.run([f"{toolchain}size", str(obj)], capture_output=True, text=True,
+                              check=True)
+        text_bytes, data, bss = map(int, size.stdout.splitlines()[1].split()[:3])
         stack = sum(int(line.split("\t")[1])
                     for line in Path(work, "measure.su").read_text().splitlines() if line)
-    return text_bytes, stack
+    return text_bytes, data + bss, stack

@@ -31,7 +31,7 @@ def add_parser(subparsers) -> None:
     p.set_defaults(run=run)
 
 
-def _entry_points(name: str, target: str) -> list[str]:
+def measured_entry_points(name: str, target: str) -> list[str]:
     if target in ("q15", "q31"):   # the whole chain, like the float header's init and step
         io = "int16_t" if target == "q15" else "int32_t"
         p = f"{name}_{target}_"
@@ -73,12 +73,12 @@ def run(args) -> int:
         header.write(args.output)
         print(f"wrote {path} (not test-built: no C compiler `gcc` on PATH)")
         return 0
-    sizes = {level: footprint(header.filename, header.text, _entry_points(name, kind), (level,),
+    sizes = {level: footprint(header.filename, header.text, measured_entry_points(name, kind), (level,),
                               failure=f"nothing was written to {path}")
              for level in ("-O2", "-Os")}
     header.write(args.output)
     print(f"wrote {path} (test-built with gcc {' '.join(STRICT_FLAGS)})")
-    for level, (code, stack) in sizes.items():
+    for level, (code, _, stack) in sizes.items():
         print(f"  gcc {level}: {code} bytes code + constant data, {stack} bytes stack")
     if args.prove:
         from ..backends.c_proof import prove
