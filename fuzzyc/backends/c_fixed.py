@@ -240,11 +240,15 @@ def output_guard(tables: FixedTables, o: int, numeric: str) -> int:
     return -1
 
 
-def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
+def derived_error_bound(model: Model, numeric: str, input_error=None,
+                        wide: bool = False) -> np.ndarray | None:
     """Per rule-base output, a worst-case |C - engine| as a fraction of its range, derived from
     the arithmetic (the engine at the dequantized input, clipped to the output's range), or
     None where the argument below does not apply (weights with a ratio defuzzifier, weights
-    <= 0, or an input point where no rule concludes the output):
+    <= 0, or an input point where no rule concludes the output).  With `input_error` (per
+    input, in LSBs of the I/O scale) the C's inputs are that far from the engine's, which moves
+    each membership by at most that over the C's narrowest piece; `wide` bounds
+    NAME_rulebase_wide, whose result keeps the guard bits (no final rounding to the LSB):
 
     - a membership of a piece of scaled width w (input LSBs; anchor, width and break point
       rounded to r = 0.5 2^-GI LSB, GI the input guard bits; each also moved by m LSB where
@@ -261,7 +265,7 @@ def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
       combinations x rules per cell); center of area y = sum alpha_j z_j / S moves by
       sum |delta_j| |z_j - y'| / S' <= D Z / (S_min - D), Z the spread of the peaks; peaks
       rounded (0.5 2^-g LSB), the division rounded to nearest (0.5 2^-g LSB) and the result
-      to the LSB (0.5): + 1 / FULL;
+      to the LSB (0.5, not when wide): + (2^-g + 0.5) / FULL;
     - weighted sum y = sum_r act_r w_r z_r (weights w_r > 0): act_r w_r is off by
       eps_act w_r (+ 2^-MF for the rounded weight and the rounded product), so y by
       sum_r that * |z_r|, the sum over the rules that can fire in one cell of the input grid
@@ -284,13 +288,14 @@ def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
     n_in = len(rb.inputs)
     eps = 0.0
     tops = []
-    for var, part, moved in zip(rb.inputs, tables.partitions, tables.moved):
+    shift = np.zeros(n_in) if input_error is None else np.asarray(input_error, dtype=float)
+    for var, part, moved, e in zip(rb.inputs, tables.partitions, tables.moved, shift):
         widths = np.abs(part.table[:, 2:4])
         widths = widths[np.isfinite(widths)] * full / (var.hi - var.lo)
         m = moved * full
         r = 0.5 * 2.0 ** -tables.input_guard
         if len(widths):
-            eps = max(eps, (3 * r + 2 * m) / (widths.min() - r - m))
+            eps = max(eps, (3 * r + 2 * m + e) / (widths.min() - r - m))
         tops.append(_least_top(var, part))
     eps += 2.0 ** -mf
     product = rb.inference.and_ == TNorm.PRODUCT
@@ -316,14 +321,16 @@ def derived_error_bound(model: Model, numeric: str) -> np.ndarray | None:
             err = (eps_act * w + rounding * (w > 0)) * np.abs(z) / span
             total_w = w[cell_rules].sum(axis=1).max()
             bounds.append(err[cell_rules].sum(axis=1).max()
-                          + (total_w + 2) * 0.5 * 2.0 ** -g / full + 0.5 / full)
+                          + (total_w + 2) * 0.5 * 2.0 ** -g / full + (0 if wide else 0.5 / full))
             continue
         d = eps_act * (tables.candidates if summed else min(var.n_terms, tables.candidates))
         if s_min <= d:
             return None
         peaks = var.peaks()
         spread = (max(peaks) - min(peaks)) / span
-        bounds.append(d * spread / (s_min - d) + 1.0 / full)
+        # peaks and division at 2^-g of an LSB; then the result to the LSB, unless wide
+        g = output_guard(tables, o, numeric)
+        bounds.append(d * spread / (s_min - d) + (2.0 ** -g + (0 if wide else 0.5)) / full)
     return np.array(bounds)
 
 
