@@ -27,9 +27,14 @@ def test_wedm_float_footprint_meets_the_targets(tmp_path, capsys):
     assert [p.name for p in tmp_path.iterdir()] == ["wedm_three_region.h"]   # no temp left
 
 
-def test_fixed_point_header_names(tmp_path):
+def test_fixed_point_header_names(tmp_path, capsys):
     for numeric in ("q15", "q31"):
         assert cli_main(["compile", str(WEDM), "--numeric", numeric, "-o", str(tmp_path)]) == 0
+        # the derived bounds the header states are printed too (values: c_fixed's tests)
+        printed = capsys.readouterr().out
+        assert "derived worst case of the rule base: du1 " in printed
+        assert re.search(r"derived worst case of the chain after 1 / 10,000 steps: feed "
+                         r"[0-9.e-]+ / [0-9.e-]+, t_off ", printed)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["wedm_three_region_q15.h",
                                                           "wedm_three_region_q31.h"]
 

@@ -14,7 +14,9 @@ import pytest
 import sympy
 
 from fuzzyc.backends.c_fixed import (CHAIN_ERROR_BOUND, ERROR_BOUND, FORMATS,
-                                     derived_error_bound, generate_fixed_header, io_frac)
+                                     chain_error_bound, derived_error_bound,
+                                     generate_fixed_header, io_frac)
+from fuzzyc.backends.c_fixed_chain import const_error, drop_error
 from fuzzyc.backends.cload import compile_shared
 from fuzzyc.controller import Controller
 from fuzzyc.engine import evaluate
@@ -259,7 +261,13 @@ def test_fixed_point_chain_follows_the_controller(name):
         shift = np.array([io_frac(s.lo, s.hi, numeric) for s in model.signals]) - in_frac
         out_frac = np.array([io_frac(o.lo, o.hi, numeric) for o in model.outputs])
         got = chain_runner(model, numeric)(xq * 2.0 ** shift) / 2.0 ** out_frac
-        assert (np.abs(got - expected) / span).max() <= CHAIN_ERROR_BOUND[numeric], numeric
+        error = np.abs(got - expected) / span
+        assert error.max() <= CHAIN_ERROR_BOUND[numeric], numeric
+        # and within the bound derived from the rounding of every operation (no output is
+        # 'not derived' on the paper chains)
+        derived = np.array(list(chain_error_bound(model, numeric, CHAIN_STEPS).values()))
+        assert np.all(np.isfinite(derived)) and np.all(error.max(axis=(0, 1)) <= derived), \
+            (numeric, error.max(axis=(0, 1)), derived)
 
 
 def test_q15_chain_hand_computed_first_steps():
@@ -301,3 +309,22 @@ def test_q15_chain_hand_computed_corner_and_milling():
     milling = chain_runner(model, "q15", batch=1)
     out = milling([[[4800]], [[4800]]])[:, 0, 0]
     assert np.all(np.abs(out - [512, 1024]) <= 1)
+
+
+def test_chain_rounding_errors_by_hand():
+    # 0.1 at 4 fraction bits is round(1.6) = 2, 2/16 = 0.125: off by 0.025
+    assert const_error(0.1, 4) == pytest.approx(0.025)
+    # 10 -> 4 fraction bits rounds to nearest: half the new LSB, 0.5/16; adding bits is exact
+    assert drop_error(10, 4) == 0.03125 and drop_error(4, 10) == 0.0
+
+
+@pytest.mark.parametrize("numeric", sorted(FORMATS))
+def test_derived_chain_bound_grows_with_the_run_only_through_integrators(numeric):
+    # EDM sinking's velocity is a direct output (a low-pass and a delta before the rule
+    # base): its bound does not depend on the run length.  Milling's feed integrates du:
+    # init rounding + N x the increment's error, linear in N.
+    edm = shipped("edm_sink_gap")
+    assert chain_error_bound(edm, numeric, 1) == chain_error_bound(edm, numeric, 10_000)
+    milling = shipped("milling_neurofuzzy")
+    e1, e2, e3 = (chain_error_bound(milling, numeric, n)["feed"] for n in (1, 2, 3))
+    assert e1 < e2 < e3 and e3 - e2 == pytest.approx(e2 - e1, rel=1e-9)

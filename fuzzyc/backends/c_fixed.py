@@ -56,6 +56,8 @@ ERROR_BOUND = {"q15": 2.0 ** -11, "q31": 2.0 ** -24}
 # see c_fixed_chain.STATE_GUARD) -- not derived: an integrator sums the per-step errors, so
 # the bound grows with the run length.
 CHAIN_ERROR_BOUND = {"q15": 2.0 ** -12, "q31": 2.0 ** -24}
+# The run length the header states the derived chain bound for (chain_error_bound).
+CHAIN_STEPS = 10_000
 # assumption: break points of one input closer than 2^-40 of its range are one break point.
 # A partition written by hand or imported (computed as peak +- step, say) can put a shared
 # break point of two neighbouring terms 1 ulp apart (the builder's `uniform` did, -1/3 as
@@ -334,6 +336,15 @@ def derived_error_bound(model: Model, numeric: str, input_error=None,
     return np.array(bounds)
 
 
+def chain_error_bound(model: Model, numeric: str, steps: int = CHAIN_STEPS) -> dict[str, float]:
+    """Per chain output, a worst-case |C step - the engine's Controller| as a fraction of its
+    range after `steps` steps, derived from the rounding of every operation (see
+    c_fixed_chain's docstring), for inputs within their declared ranges; inf where the
+    argument does not apply (a rule-base input outside the rule base's range, or
+    derived_error_bound not applying).  The engine's Controller is taken as exact."""
+    return FixedPointWriter(model, numeric).chain_errors_after(steps)
+
+
 def io_frac(lo: float, hi: float, numeric: str) -> int:
     """Fraction bits of a chain input or output of range [lo, hi] in the I/O arrays."""
     return frac_for(lo, hi, 15 if numeric == "q15" else 31)
@@ -376,6 +387,15 @@ class FixedPointWriter:
                     "point where no rule concludes an output)")
         return "; ".join(f"{v.name} {e:.3g}" for v, e in zip(self.rb.outputs, bound)) + \
             " of the output's range"
+
+    def chain_text(self) -> str:
+        after = [self.chain_errors_after(n) for n in (1, CHAIN_STEPS)]
+        return "; ".join(f"{c_comment(o.name)} {after[0][o.name]:.3g}, {after[1][o.name]:.3g}"
+                         for o in self.model.outputs)
+
+    def chain_errors_after(self, steps: int) -> dict[str, float]:
+        self.chain(steps)
+        return {o.name: self.chain_errors[o.name] / (o.hi - o.lo) for o in self.model.outputs}
 
     def q(self, value: float, var, guard: int = 0) -> int:
         """A position in var's range as an integer of the I/O scale, at 2^-guard of its LSB
@@ -439,6 +459,10 @@ class FixedPointWriter:
                " * against the engine's Controller within "
                f"{CHAIN_ERROR_BOUND[self.numeric]:.3g} of each output's range over",
                " * 10,000 steps (measured on the shipped chains; integrators sum per-step errors).",
+               " * Derived worst case of the chain (interval reasoning over every rounding, see",
+               " * fuzzyc.backends.c_fixed.chain_error_bound; inputs within their ranges), as a "
+               "fraction of the range,",
+               " * after 1 and after 10,000 steps: " + self.chain_text() + ".",
                " * static inline: self-contained, no heap, no recursion, constant loop bounds.",
                " */",
                f"#ifndef {guard}", f"#define {guard}", "", "#include <stdint.h>", "",
@@ -481,11 +505,17 @@ class FixedPointWriter:
         out += ["", f"#endif /* {guard} */", ""]
         return "\n".join(out)
 
-    def chain(self) -> list[str]:
-        """State, init and step of the whole signal chain on integers (see c_fixed_chain)."""
+    def chain(self, steps: int = CHAIN_STEPS) -> list[str]:
+        """State, init and step of the whole signal chain on integers (see c_fixed_chain);
+        the outputs' derived error bounds after `steps` steps are left in self.chain_errors
+        (absolute, inf where not derived)."""
         m, p, P, io = self.model, self.p, self.P, self.io
         chain = FixedChain(m, p)
         chain.io = io
+        chain.steps = steps
+        chain.rulebase_error = lambda errors: derived_error_bound(m, self.numeric, errors,
+                                                                  wide=True)
+        self.chain_errors = chain.output_errors
         body = []
         for k, sig in enumerate(m.signals):
             frac = io_frac(sig.lo, sig.hi, self.numeric)

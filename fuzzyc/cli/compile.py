@@ -46,6 +46,21 @@ def measured_entry_points(name: str, target: str) -> list[str]:
             f"{{ {name}_step(s, in, out); }}"]
 
 
+def _print_fixed_point_bounds(model, numeric: str) -> None:
+    """The derived worst cases the header states, as fractions of each output's range."""
+    from ..backends.c_fixed import CHAIN_STEPS, chain_error_bound, derived_error_bound
+    rb_bound = derived_error_bound(model, numeric)
+    if rb_bound is not None:
+        print("derived worst case of the rule base: " + ", ".join(
+            f"{v.name} {e:.3g}" for v, e in zip(model.rulebase.outputs, rb_bound))
+            + " of the output's range")
+    after_one = chain_error_bound(model, numeric, 1)
+    after_run = chain_error_bound(model, numeric, CHAIN_STEPS)
+    print(f"derived worst case of the chain after 1 / {CHAIN_STEPS:,} steps: " + ", ".join(
+        f"{name} {after_one[name]:.3g} / {after_run[name]:.3g}" for name in after_one)
+        + " of the output's range")
+
+
 def run(args) -> int:
     from ..api import compile_c, compile_lut, load
     from ..backends.cload import STRICT_FLAGS, footprint
@@ -66,6 +81,8 @@ def run(args) -> int:
                   f"({e / (var.hi - var.lo):.3e} of its range)")
     else:
         header = compile_c(model, args.numeric)
+        if args.numeric in ("q15", "q31"):
+            _print_fixed_point_bounds(model, args.numeric)
     path = Path(args.output) / header.filename
     # Built before it is published: a header gcc rejects is an error and never lands in DIR.
     kind = args.numeric if args.target == "c" else "lut"
