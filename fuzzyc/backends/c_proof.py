@@ -34,7 +34,7 @@ from ..errors import Diagnostic, FuzzycError
 from ..escape import c_identifier
 from ..model import Model
 
-KINDS = ("float", "q15", "q31", "lut")     # what the tests prove; "double" is proved alike
+KINDS = ("float", "double", "q15", "q31", "lut")     # every header fuzzyc compile writes
 FLOATING = ("float", "double")
 # assumption: precision 3 (loops unrolled enough that a partition's break-point count and the
 # 2**I term tuples stay exact) proves every shipped header in about a second each; higher
@@ -51,6 +51,7 @@ class Proof:
     alarms: list[str] = field(default_factory=list)     # each "file:line: what"
     assertions: tuple[int, int] = (0, 0)                 # (valid, total) of the harness's
     claims: list[str] = field(default_factory=list)      # what the assertions say
+    assumptions: list[str] = field(default_factory=list)  # what the proof takes as given
     seconds: float = 0.0
 
     @property
@@ -62,7 +63,8 @@ class Proof:
             return (f"{self.header}: PROVED by Frama-C EVA in {self.seconds:.1f} s: no run-time "
                     "error (overflow, division by zero, out-of-bounds access, uninitialized "
                     "read, invalid shift or conversion) for any input, and "
-                    + "; ".join(self.claims))
+                    + "; ".join(self.claims) + ".\n  Assuming " + "; ".join(self.assumptions)
+                    + " (docs/c-proofs.md)")
         lines = [f"{self.header}: NOT PROVED ({len(self.alarms)} alarm(s), "
                  f"{self.assertions[0]} of {self.assertions[1]} assertions valid)"]
         return "\n".join(lines + [f"  {a[:300]}" for a in self.alarms])
@@ -135,6 +137,21 @@ def harness(model: Model, kind: str, header_name: str) -> tuple[str, list[str]]:
     return "\n".join(lines), claims
 
 
+def assumptions(model: Model, kind: str) -> list[str]:
+    """What a proof of this kind of header takes as given (docs/c-proofs.md says why)."""
+    if kind == "lut":
+        return ["IEEE 754 arithmetic (C99 Annex F: no -ffast-math or -ffinite-math-only)"]
+    if kind in FLOATING:
+        p = f"{c_identifier(model.name)}_"
+        said = ["IEEE 754 arithmetic (C99 Annex F: no -ffast-math or -ffinite-math-only)",
+                "<math.h> as Frama-C's libc specifies it"]
+    else:
+        p = f"{c_identifier(model.name)}_{kind}_"
+        said = ["`>>` of a negative integer arithmetic (implementation-defined in C99 6.5.7; "
+                "arithmetic on GCC, Clang, IAR and Keil)"]
+    return said + [f"the state initialised by {p}init and written by nothing but {p}step"]
+
+
 def _output_bounds(o, kind: str) -> tuple[str, str]:
     """The declared range of a chain output as C literals of out[]'s scale."""
     if kind in FLOATING:
@@ -182,4 +199,5 @@ def prove(model: Model, kind: str, header: tuple[str, str] | None = None) -> Pro
     main, claims = harness(model, kind, header_name)
     start = time.perf_counter()
     alarms, assertions = run_eva(header_name, header, main)
-    return Proof(header_name, alarms, assertions, claims, time.perf_counter() - start)
+    return Proof(header_name, alarms, assertions, claims, assumptions(model, kind),
+                 time.perf_counter() - start)
