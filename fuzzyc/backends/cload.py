@@ -190,6 +190,23 @@ class CController:
         return y
 
 
+def measured_entry_points(name: str, target: str) -> list[str]:
+    """Out-of-line definitions of what a firmware calls in the header of `target` (float,
+    double, q15, q31 or lut), for `footprint` to measure."""
+    if target in ("q15", "q31"):   # the whole chain, like the float header's init and step
+        io = "int16_t" if target == "q15" else "int32_t"
+        p = f"{name}_{target}_"
+        return [f"void measure_init({p}state *s) {{ {p}init(s); }}",
+                f"void measure_step({p}state *s, const {io} *in, {io} *out) "
+                f"{{ {p}step(s, in, out); }}"]
+    if target == "lut":
+        return [f"void measure_lut(const float *x, float *y) {{ {name}_lut(x, y); }}"]
+    # What a firmware calls: init and step (the bare rule base is inlined inside step).
+    return [f"void measure_init({name}_state *s) {{ {name}_init(s); }}",
+            f"void measure_step({name}_state *s, const {name}_real *in, {name}_real *out) "
+            f"{{ {name}_step(s, in, out); }}"]
+
+
 MEASURE = """\
 #include "{header}"
 /* Out-of-line instances of the header's entry points, so size and stack can be measured. */

@@ -31,21 +31,6 @@ def add_parser(subparsers) -> None:
     p.set_defaults(run=run)
 
 
-def measured_entry_points(name: str, target: str) -> list[str]:
-    if target in ("q15", "q31"):   # the whole chain, like the float header's init and step
-        io = "int16_t" if target == "q15" else "int32_t"
-        p = f"{name}_{target}_"
-        return [f"void measure_init({p}state *s) {{ {p}init(s); }}",
-                f"void measure_step({p}state *s, const {io} *in, {io} *out) "
-                f"{{ {p}step(s, in, out); }}"]
-    if target == "lut":
-        return [f"void measure_lut(const float *x, float *y) {{ {name}_lut(x, y); }}"]
-    # What a firmware calls: init and step (the bare rule base is inlined inside step).
-    return [f"void measure_init({name}_state *s) {{ {name}_init(s); }}",
-            f"void measure_step({name}_state *s, const {name}_real *in, {name}_real *out) "
-            f"{{ {name}_step(s, in, out); }}"]
-
-
 def _print_fixed_point_bounds(model, numeric: str) -> None:
     """The derived worst cases the header states, as fractions of each output's range."""
     from ..backends.c_fixed import CHAIN_STEPS, chain_error_bound, derived_error_bound
@@ -63,7 +48,7 @@ def _print_fixed_point_bounds(model, numeric: str) -> None:
 
 def run(args) -> int:
     from ..api import compile_c, compile_lut, load
-    from ..backends.cload import STRICT_FLAGS, footprint
+    from ..backends.cload import STRICT_FLAGS, footprint, measured_entry_points
     from ..backends.c_proof import frama_c
     from ..escape import c_identifier
     check_output(args.output, folder=True)
