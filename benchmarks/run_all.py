@@ -4,7 +4,8 @@ import subprocess
 import sys
 
 HERE = pathlib.Path(__file__).resolve().parent
-SCRIPTS = ["bench_engine.py", "bench_wide.py", "bench_c.py", "bench_loop.py", "bench_verify.py"]
+SCRIPTS = ["bench_engine.py", "bench_wide.py", "bench_c.py", "bench_loop.py", "bench_verify.py",
+           "bench_arm.py", "bench_c_proofs.py"]
 
 if __name__ == "__main__":
     for script in SCRIPTS:
