@@ -1,10 +1,19 @@
-"""The generated C on the ARM instruction set: every shipped rule base built with
-arm-linux-gnueabihf-gcc (static, Thumb-2, -O2 and the strict flags) and run under qemu-arm,
-against the x86-64 build and the engine: q15/q31 bit-exact with x86-64 (the bare rule base on
-random inputs and every edge, the whole chain over 10,000 steps); float within the stated
-tolerances of the engine (FLOAT_TOLERANCE of each output's range for the rule base,
-CHAIN_TOLERANCE for the chain).  Skipped, each test with its reason, without the cross tools
-(Debian: gcc-arm-linux-gnueabihf, qemu-user)."""
+"""The generated C on a controller's CPU, run under QEMU: every shipped rule base's header with
+its batch shim compiled by arm-none-eabi-gcc for the Cortex-M it targets (float: Cortex-M4F,
+-mfloat-abi=hard -mfpu=fpv4-sp-d16; q15/q31: Cortex-M0, Thumb-1 only; -Os and the strict
+flags, `c_arm.CORTEX_M`), partially linked with that CPU's libgcc (the M0's 64-bit multiply and
+divide helpers, the M4F's software doubles), then linked into a static ARM Linux program
+(arm-linux-gnueabihf-gcc: the reading and writing of the data) and run by qemu-arm, whose ARMv7
+CPU executes the Cortex-M instructions unchanged.  The object's .ARM.attributes section goes
+(the linker refuses to mix M- and A-profile objects by those tags alone; the interfaces pass
+only pointers, and the M4F's hard-float calling convention is the program's).  Against the
+x86-64 build and the engine: q15/q31 bit-exact with x86-64 (the bare rule base on random
+inputs and every edge, the whole chain over 10,000 steps); float within the stated tolerances
+of the engine (FLOAT_TOLERANCE of each output's range for the rule base, CHAIN_TOLERANCE for
+the chain).  Skipped, each test with its reason, without the cross tools (Debian:
+gcc-arm-none-eabi, libnewlib-arm-none-eabi, gcc-arm-linux-gnueabihf, qemu-user).
+Debian's qemu-arm 7.2 cannot load an M-profile program itself (it aborts mapping its commpage),
+hence the A-profile wrapper."""
 from __future__ import annotations
 
 import shutil
@@ -14,6 +23,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from fuzzyc.backends.c_arm import CORTEX_M, TOOLCHAIN
 from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header, io_frac
 from fuzzyc.backends.cload import STRICT_FLAGS, controller_sources
 from fuzzyc.controller import Controller
@@ -24,11 +34,13 @@ from test_c_chain import BATCH, CHAIN_TOLERANCE, N_STEPS, random_sequences, run_
 from test_c_fixed import CHAIN_SHIM, SHIM, chain_runner, fixed_point_runner
 
 CROSS, QEMU = "arm-linux-gnueabihf-gcc", "qemu-arm"
+TOOLS = (f"{TOOLCHAIN}gcc", f"{TOOLCHAIN}ld", f"{TOOLCHAIN}objcopy", CROSS, QEMU)
 # every file of rulebases/ (the untrained milling one with test weights, see `shipped`)
 ON_ARM = SHIPPED + ["milling_neurofuzzy_learned"]
 pytestmark = pytest.mark.skipif(
-    shutil.which(CROSS) is None or shutil.which(QEMU) is None,
-    reason=f"needs {CROSS} and {QEMU} (Debian: gcc-arm-linux-gnueabihf, qemu-user)")
+    any(shutil.which(tool) is None for tool in TOOLS),
+    reason=f"needs {', '.join(TOOLS)} (Debian: gcc-arm-none-eabi, libnewlib-arm-none-eabi, "
+           "gcc-arm-linux-gnueabihf, qemu-user)")
 
 # Reads n x `inputs` values, calls CALL, writes n x `outputs` values (binary, the host's byte
 # order: both are little-endian).
@@ -51,16 +63,31 @@ int main(int argc, char **argv) {{
 """
 
 
-def run_on_arm(tmp: Path, sources: dict[str, str], value: str, declarations: str, call: str,
-               x: np.ndarray, n_out: int) -> np.ndarray:
-    """Build sources + MAIN for ARM, run it under QEMU on x (n, n_in), return (n, n_out)."""
+def build_for_cortex_m(tmp: Path, numeric: str) -> Path:
+    """shim.c (which includes the header) compiled for the Cortex-M of `numeric`, with the
+    libgcc helpers it calls from that CPU's multilib, attributes dropped."""
+    flags = CORTEX_M[numeric][1]
+    gcc = f"{TOOLCHAIN}gcc"
+    libgcc = subprocess.run([gcc, *flags, "-print-libgcc-file-name"], check=True,
+                            capture_output=True, text=True).stdout.strip()
+    for cmd in ([gcc, *STRICT_FLAGS, *flags, "-c", "-o", "shim.o", "shim.c"],
+                [f"{TOOLCHAIN}ld", "-r", "-o", "cortex_m.o", "shim.o", libgcc],
+                [f"{TOOLCHAIN}objcopy", "-R", ".ARM.attributes", "cortex_m.o"]):
+        subprocess.run(cmd, check=True, capture_output=True, text=True, cwd=tmp)
+    return tmp / "cortex_m.o"
+
+
+def run_on_arm(tmp: Path, numeric: str, sources: dict[str, str], value: str,
+               declarations: str, call: str, x: np.ndarray, n_out: int) -> np.ndarray:
+    """Build sources (shim.c and the header) for the Cortex-M of `numeric` and MAIN around it,
+    run it under QEMU on x (n, n_in), return (n, n_out)."""
     for name, text in sources.items():
         (tmp / name).write_text(text)
     (tmp / "main.c").write_text(MAIN.format(value=value, declarations=declarations, call=call))
     exe = tmp / "arm.elf"
-    subprocess.run([CROSS, *STRICT_FLAGS, "-mthumb", "-static", "-o", str(exe),
-                    str(tmp / "shim.c"), str(tmp / "main.c"), "-lm"], check=True,
-                   capture_output=True, text=True)
+    subprocess.run([CROSS, *STRICT_FLAGS, "-static", "-Wl,-z,noexecstack", "-o", str(exe),
+                    str(tmp / "main.c"), str(build_for_cortex_m(tmp, numeric)), "-lm"],
+                   check=True, capture_output=True, text=True)
     dtype = np.int64 if value == "long long" else np.float64
     x = np.ascontiguousarray(x, dtype=dtype)
     x.tofile(tmp / "in.bin")
@@ -87,7 +114,7 @@ def test_fixed_point_rule_base_is_bit_exact_on_arm(name, numeric, tmp_path):
     xq = grid_inputs(rb, numeric)
     shim = SHIM.format(io=FORMATS[numeric][0], n_in=len(rb.inputs), n_out=len(rb.outputs),
                        name=model.name, numeric=numeric)
-    got = run_on_arm(tmp_path, {"fixed.h": generate_fixed_header(model, numeric), "shim.c": shim},
+    got = run_on_arm(tmp_path, numeric, {"fixed.h": generate_fixed_header(model, numeric), "shim.c": shim},
                      "long long", "void run(int n, const long long *x, long long *y);",
                      "run((int)n, x, y)", xq, len(rb.outputs))
     np.testing.assert_array_equal(got, fixed_point_runner(model, numeric)(xq))
@@ -105,7 +132,7 @@ def test_fixed_point_chain_is_bit_exact_on_arm(name, numeric, tmp_path):
     shim = CHAIN_SHIM.format(p=f"{model.name}_{numeric}_", batch=BATCH, io=FORMATS[numeric][0],
                              ns=len(model.signals), no=len(model.outputs))
     flat = xq.reshape(N_STEPS * BATCH, -1)
-    got = run_on_arm(tmp_path, {"fixed.h": generate_fixed_header(model, numeric), "shim.c": shim},
+    got = run_on_arm(tmp_path, numeric, {"fixed.h": generate_fixed_header(model, numeric), "shim.c": shim},
                      "long long", "void run(int steps, int batch, const long long *x, "
                      "long long *y);", f"run((int)n / {BATCH}, {BATCH}, x, y)", flat,
                      len(model.outputs))
@@ -126,7 +153,7 @@ def test_float_rule_base_on_arm_within_tolerance(name, tmp_path):
     model = shipped(name)
     rb = model.rulebase
     x = inputs_for(rb, n_random=20_000)
-    got = run_on_arm(tmp_path, controller_sources(model, "float"), "double",
+    got = run_on_arm(tmp_path, "float", controller_sources(model, "float"), "double",
                      FLOAT_DECLARATIONS, "fz_rulebase((int)n, x, y)", x, len(rb.outputs))
     span = np.array([v.hi - v.lo for v in rb.outputs])
     assert np.all(np.abs(got - evaluate(rb, x)) / span <= FLOAT_TOLERANCE)
@@ -139,7 +166,7 @@ def test_float_chain_on_arm_within_tolerance(name, tmp_path):
     call = (f"{{ void *s = malloc((size_t)fz_state_size() * {BATCH}); long k; "
             f"fz_init(s, {BATCH}); for (k = 0; k < n / {BATCH}; ++k) "
             f"fz_step(s, {BATCH}, x + k * {BATCH} * n_in, y + k * {BATCH} * n_out); }}")
-    got = run_on_arm(tmp_path, controller_sources(model, "float"), "double",
+    got = run_on_arm(tmp_path, "float", controller_sources(model, "float"), "double",
                      FLOAT_DECLARATIONS, call, x.reshape(N_STEPS * BATCH, -1),
                      len(model.outputs)).reshape(N_STEPS, BATCH, -1)
     expected = run_chain(Controller(model, BATCH), model, x)
