@@ -74,14 +74,15 @@ def run(args) -> int:
     if shutil.which("gcc") is None:
         header.write(args.output)
         print(f"wrote {path} (not test-built: no C compiler `gcc` on PATH)")
-        return 0
-    sizes = {level: footprint(header.filename, header.text, measured_entry_points(name, kind), (level,),
-                              failure=f"nothing was written to {path}")
-             for level in ("-O2", "-Os")}
-    header.write(args.output)
-    print(f"wrote {path} (test-built with gcc {' '.join(STRICT_FLAGS)})")
-    for level, (code, _, stack) in sizes.items():
-        print(f"  gcc {level}: {code} bytes code + constant data, {stack} bytes stack")
+    else:
+        entry_points = measured_entry_points(name, kind)
+        sizes = {level: footprint(header.filename, header.text, entry_points, (level,),
+                                  failure=f"nothing was written to {path}")
+                 for level in ("-O2", "-Os")}
+        header.write(args.output)
+        print(f"wrote {path} (test-built with gcc {' '.join(STRICT_FLAGS)})")
+        for level, (code, _, stack) in sizes.items():
+            print(f"  gcc {level}: {code} bytes code + constant data, {stack} bytes stack")
     if args.prove:
         from ..backends.c_proof import prove
         proof = prove(model, kind, (header.filename, header.text))
