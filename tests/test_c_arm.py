@@ -36,7 +36,7 @@ from test_c_fixed import CHAIN_SHIM, SHIM, chain_runner, fixed_point_runner
 CROSS, QEMU = "arm-linux-gnueabihf-gcc", "qemu-arm"
 TOOLS = (f"{TOOLCHAIN}gcc", f"{TOOLCHAIN}ld", f"{TOOLCHAIN}objcopy", CROSS, QEMU)
 # every file of rulebases/ (the untrained milling one with test weights, see `shipped`)
-ON_ARM = SHIPPED + ["milling_neurofuzzy_learned"]
+ON_ARM = SHIPPED + ["milling_neurofuzzy_learned", "fopdt_pi"]
 pytestmark = pytest.mark.skipif(
     any(shutil.which(tool) is None for tool in TOOLS),
     reason=f"needs {', '.join(TOOLS)} (Debian: gcc-arm-none-eabi, libnewlib-arm-none-eabi, "

@@ -265,7 +265,7 @@ def chain_errors(model) -> dict[str, np.ndarray]:
 
 
 @pytest.mark.parametrize("name", ["wedm_three_region", "edm_sink_gap", "wedm_corner",
-                                  "milling_neurofuzzy"])
+                                  "milling_neurofuzzy", "fopdt_pi"])
 def test_fixed_point_chain_follows_the_controller(name):
     # every output within CHAIN_ERROR_BOUND of its range, for q15 and q31, and within the
     # bound derived from the rounding of every operation (no output is 'not derived' on the
@@ -317,6 +317,22 @@ def test_q15_chain_hand_computed_corner_and_milling():
     milling = chain_runner(model, "q15", batch=1)
     out = milling([[[4800]], [[4800]]])[:, 0, 0]
     assert np.all(np.abs(out - [512, 1024]) <= 1)
+
+
+def test_q15_chain_with_parameter_powers_hand_computed():
+    # fopdt_pi: e = clamp((r - y) / GE) and ce = clamp(-delta(y) / GCE) divide by parameters,
+    # which the header holds as constants.  y = 0.5 (in = 0.5 * 2^11 = 1024; y in [-10, 10]
+    # has 11 fraction bits), r = 1, GE = 1: e = 0.5, halfway between Z and P; first delta 0:
+    # ce = 0 (Z).  Product: (Z, Z) -> ZO = 0 and (P, Z) -> PS = 0.5 fire at 0.5 each; center
+    # of area du = (0.5 * 0 + 0.5 * 0.5) / 1 = 0.25; u = 0 + du * GU 0.1 = 0.025, out = 0.025 *
+    # 2^11 = 51.2 -> 51; y held, a second 0.025: 0.05 * 2^11 = 102.4 -> 102.
+    fopdt = chain_runner(shipped("fopdt_pi"), "q15", batch=1)
+    assert np.all(np.abs(fopdt([[[1024]], [[1024]]])[:, 0, 0] - [51, 102]) <= 1)
+    # with GE = 0 the division has no value: a diagnostic naming it, not a header
+    model = copy.deepcopy(shipped("fopdt_pi"))
+    model.params["GE"].value = 0.0
+    with pytest.raises(FuzzycError, match="`1/GE` in `let e` is not a finite real number"):
+        generate_fixed_header(model, "q15")
 
 
 def test_chain_rounding_errors_by_hand():

@@ -193,6 +193,17 @@ class FixedChain:
         err = self.align_error(v, frac) + max(const_error(lo, frac), const_error(hi, frac))
         return Fx(code, frac, max(lo, min(v.lo, hi)), min(hi, max(v.hi, lo)), err)
 
+    def constant_power(self, e: sympy.Expr, base: float, exponent: float) -> float:
+        """A power of parameters (`1/GE`) is a constant of the header."""
+        try:
+            value = base ** exponent
+        except ZeroDivisionError:
+            value = math.inf
+        if not isinstance(value, float) or not math.isfinite(value):
+            raise _fail(f"`{e}` in {self.where} is not a finite real number with the "
+                        f"parameters' values")
+        return value
+
     # -- sympy expressions --------------------------------------------------------------------
 
     def expr(self, e: sympy.Expr) -> Fx | float:
@@ -209,9 +220,11 @@ class FixedChain:
             return self.mul(args)
         if isinstance(e, (sympy.Min, sympy.Max)):
             return self.extremum(args, isinstance(e, sympy.Min))
+        if isinstance(e, sympy.Pow) and all(isinstance(a, float) for a in args):
+            return self.constant_power(e, *args)
         raise _fail(f"the fixed-point chain does not emit `{e}` ({type(e).__name__}) in "
-                    f"{self.where}; supported: + - * by constants and signals, min, max, "
-                    f"clamp, delta, prev, lowpass")
+                    f"{self.where}; supported: + - * by constants and signals, powers of "
+                    f"parameters, min, max, clamp, delta, prev, lowpass")
 
     # -- the chain ----------------------------------------------------------------------------
 
