@@ -169,6 +169,7 @@ def main() -> None:
                 f"horizons x {scale:g}; spark noise not covered: --noise-sigmas 0)\n\n"
                 f"{bench_proofs(args.loops, boxes, scale)}")
         stem = "proofs" if args.loops == SHIPPED_LOOPS else "proofs-" + "-".join(args.loops)
+        stem += "-quick" if args.quick else ""     # never over the full run's table
         write_result(ROOT / "benchmarks" / "results" / f"{stem}.md", text)
         print(text)
         return
