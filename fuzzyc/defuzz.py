@@ -112,6 +112,8 @@ def term_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
     """alpha (N, T): the aggregation of act over the candidates concluding each term."""
     if aggregation in FOLDED:
         return _folded_strengths(act, J, n_terms, aggregation)
+    if n_terms == 0:        # an output without terms (legal in FIS/FLL): nothing to aggregate
+        return np.zeros((act.shape[0], 0))
     scatter = SCATTERS[aggregation]
     if J.ndim == 1:        # the same consequents for every sample: a matrix product / gather
         onehot = J[:, None] == np.arange(n_terms)

@@ -49,7 +49,7 @@ def draw_variable(var: Variable):
             ax.plot(x, mu[:, t], lw=1.6, color=term_colour(t), label=plot_text(name))
     ax.set(xlabel=axis_label(var.name, var.unit), ylabel=MEMBERSHIP_LABEL, ylim=(-0.03, 1.08),
            xlim=(var.lo, var.hi))
-    if var.n_terms <= 12:
+    if 0 < var.n_terms <= 12:      # a variable may have no terms (read by linear consequents)
         ax.legend(loc="upper center", ncol=min(var.n_terms, 7), fontsize=7, frameon=False,
                   bbox_to_anchor=(0.5, 1.25))
     fig.tight_layout()

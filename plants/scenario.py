@@ -251,7 +251,12 @@ class Scenario:
         path = split_block(ref)[0]
         if not path.is_absolute():
             path = Path(__file__).resolve().parents[1] / "rulebases" / path
-        if not path.exists():
+        try:
+            found = path.is_file()
+        except OSError as exc:     # a name too long for the file system, ...
+            raise self.error("controller.rulebase",
+                             f"cannot read {path}: {exc.strerror or exc}") from None
+        if not found:
             raise self.error("controller.rulebase", f"no rule base file {path}")
         return path
 

@@ -71,6 +71,13 @@ def test_version(capsys):
      "--max-examples: must be at least 1"),
     (["verify", str(RULES / "wedm_three_region.fz"), "--seed", "-1"],
      "--seed: must be at least 0"),
+    # --noise-sigmas nan gave a PROVED that stated "covered to nan sigma"
+    (["verify", str(RULES / "fopdt_pi.fz"), "--prove", "--noise-sigmas", "nan"],
+     "--noise-sigmas: must be a finite number, got nan"),
+    (["verify", str(RULES / "fopdt_pi.fz"), "--prove", "--noise-sigmas=-1"],
+     "--noise-sigmas: must be at least 0, got -1"),
+    (["verify", str(RULES / "fopdt_pi.fz"), "--prove", "--prove-boxes", "0"],
+     "--prove-boxes: must be at least 1, got 0"),
     # --eta nan trained the whole run, then failed on writing a NaN table
     (["learn", str(RULES / "milling_neurofuzzy.fz"), "--scenario", "milling_step", "-o", "x.fz",
       "--eta", "nan"], "--eta: must be a finite number, got nan"),
@@ -98,18 +105,32 @@ def test_a_scheduler_address_dask_cannot_use_is_a_clean_error(address, words, tm
     assert f"error: {words}" in no_traceback(capsys.readouterr().err)
 
 
-@pytest.mark.parametrize("argv", [
+NAMED_INPUTS = [
     ["check", "IN.fz"], ["convert", "IN.fz", "OUT/x.fll"], ["compile", "IN.fz", "-o", "OUT"],
     ["eval", "IN.fz", "x=1"], ["eval", "{base}", "--csv", "IN.csv"],
     # found by the fuzzer: simulate FILE made the name absolute first (pathlib: ValueError)
     ["simulate", "IN.fz", "--scenario", "wedm_finish", "-o", "OUT"],
     ["learn", "IN.fz", "--scenario", "milling_step", "-o", "OUT/x.fz"],
-], ids=lambda argv: " ".join(argv[:3]))
+]
+
+
+@pytest.mark.parametrize("argv", NAMED_INPUTS, ids=lambda argv: " ".join(argv[:3]))
 def test_an_input_name_with_a_nul_cannot_be_read(argv, base, tmp_path, capsys):
     argv = [a.format(base=base).replace("IN", "a\0b").replace("OUT", str(tmp_path))
             for a in argv]
     assert main(argv) == 2
     assert "error: cannot read a\0b." in no_traceback(capsys.readouterr().err)
+
+
+@pytest.mark.parametrize("argv", NAMED_INPUTS, ids=lambda argv: " ".join(argv[:3]))
+def test_an_input_name_too_long_for_the_file_system_is_a_clean_error(argv, base, tmp_path,
+                                                                      capsys):
+    # found by the fuzzer: simulate's Path.exists() raised ENAMETOOLONG (exists() only
+    # swallows "not found")
+    argv = [a.format(base=base).replace("IN", "9" * 400).replace("OUT", str(tmp_path))
+            for a in argv]
+    assert main(argv) == 2
+    assert "File name too long" in no_traceback(capsys.readouterr().err)
 
 
 # ---------------------------------------------------------------- eval --csv

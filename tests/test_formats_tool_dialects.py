@@ -272,6 +272,23 @@ def test_empty_sugeno_range_and_terms_less_variables_import():
     assert any("empty range" in note for note in model.notes)
 
 
+@pytest.mark.parametrize("aggregation", ["max", "sum", "probor"])
+def test_an_output_without_terms_gives_its_no_rule_default(aggregation):
+    # found by `make fuzz`: a FIS output with NumMFs=0 under max aggregation raised ValueError.
+    # No rule can conclude it, so every sample takes MATLAB's no-rule value, the middle of
+    # the range: (0 + 30) / 2 = 15.
+    text = ("[System]\nName='t'\nType='mamdani'\nNumInputs=1\nNumOutputs=1\nNumRules=0\n"
+            f"AndMethod='min'\nOrMethod='max'\nImpMethod='min'\nAggMethod='{aggregation}'\n"
+            "DefuzzMethod='centroid'\n\n[Input1]\nName='a'\nRange=[0 10]\nNumMFs=1\n"
+            "MF1='lo':'trimf',[0 0 10]\n\n[Output1]\nName='y'\nRange=[0 30]\nNumMFs=0\n\n"
+            "[Rules]\n")
+    got = evaluate(read_fis(text, "t.fis").rulebase, [[0.0], [5.0], [10.0]])
+    assert got[:, 0].tolist() == [15.0, 15.0, 15.0]
+    # the C back end has no empty arrays: it refuses by name instead of writing invalid C
+    with pytest.raises(FuzzycError, match="at least one rule"):
+        check_supported(read_fis(text, "t.fis").rulebase)
+
+
 def test_fz_written_from_an_import_reads_back_terms_less_inputs_and_peaks_past_the_range():
     # MATLAB's slcp1 (inputs read only by linear consequents) and invkine1 (a term peaking
     # past its input's range): convert used to write a .fz that eval refused

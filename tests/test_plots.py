@@ -120,6 +120,18 @@ def test_plot_command_writes_the_raw_surfaces(tmp_path, capsys):
     assert all(n.endswith(".png") for n in names)           # nothing else (no temporaries)
 
 
+def test_plot_draws_a_variable_without_terms(tmp_path, capsys):
+    # found by `make fuzz`: a FIS output with NumMFs=0 made the legend call raise
+    fis = tmp_path / "t.fis"
+    fis.write_text("[System]\nName='t'\nType='mamdani'\nNumInputs=1\nNumOutputs=1\n"
+                   "NumRules=0\nAndMethod='min'\nOrMethod='max'\nImpMethod='min'\n"
+                   "AggMethod='max'\nDefuzzMethod='centroid'\n\n[Input1]\nName='a'\n"
+                   "Range=[0 10]\nNumMFs=1\nMF1='lo':'trimf',[0 0 10]\n\n[Output1]\n"
+                   "Name='y'\nRange=[0 30]\nNumMFs=0\n\n[Rules]\n")
+    assert main(["plot", str(fis), "-o", str(tmp_path / "out")]) == 0
+    assert "t_y_terms.png" in {p.name for p in (tmp_path / "out").iterdir()}
+
+
 def test_eval_plot_writes_the_rule_viewer(tmp_path, capsys):
     out = tmp_path / "view.png"
     assert main(["eval", str(RULEBASES / "wedm_three_region.fz"), "spark_freq=26",

@@ -82,6 +82,11 @@ SUMMED_PER_RULE = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)  # no
 def _check_constructs(rb: RuleBase) -> None:
     """The norms, hedges and term shapes the C back end emits (the engine has more)."""
     inf = rb.inference
+    if rb.n_rules == 0:     # C has no empty arrays
+        raise _fail("the C back end needs at least one rule; this rule base has none")
+    for var in rb.outputs:
+        if var.n_terms == 0:
+            raise _fail(f"the C back end needs a term on every output; `{var.name}` has none")
     if inf.defuzzifier == Defuzzifier.TSUKAMOTO:
         raise _fail("the C back end does not emit the tsukamoto defuzzifier")
     own = [(name, choice) for name, choice in rb.output_choices.items()

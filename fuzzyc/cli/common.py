@@ -42,6 +42,14 @@ def finite(text: str) -> float:
     return value
 
 
+def non_negative(text: str) -> float:
+    """An argparse type: a finite number >= 0 (`--noise-sigmas nan` would reach a proof)."""
+    value = finite(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be at least 0, got {text}")
+    return value
+
+
 def check_output(path: str | Path, folder: bool = False) -> None:
     """Before any work: FuzzycError `cannot write to PATH: reason` unless PATH can be written,
     a folder (folder=True) or a file, made with its missing parent folders. Tried for real,

@@ -15,7 +15,7 @@ import sys
 
 from ..formats.tool_semantics import with_tool_semantics
 from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, at_least,
-                     check_output, cluster_from)
+                     check_output, cluster_from, non_negative)
 from ..errors import FuzzycError
 
 
@@ -34,9 +34,9 @@ def add_parser(subparsers) -> None:
     p.add_argument("--prove", action="store_true",
                    help="closed loops: compute sound reachable sets first (PROVED, or UNKNOWN "
                         "with the bound and horizon reached), then search (see docs/proofs.md)")
-    p.add_argument("--prove-boxes", type=int, default=64, metavar="N",
+    p.add_argument("--prove-boxes", type=at_least(1), default=64, metavar="N",
                    help="branch-and-bound budget: boxes of the vary ranges per closed loop")
-    p.add_argument("--noise-sigmas", type=float, default=0.0, metavar="K",
+    p.add_argument("--noise-sigmas", type=non_negative, default=0.0, metavar="K",
                    help="cover Gaussian plant noise up to K standard deviations (0: not at "
                         "all; the proof states it)")
     add_campaign_arguments(p)

@@ -14,6 +14,7 @@ box, and where splitting stopped.
 """
 from __future__ import annotations
 
+import math
 import time as _time
 from dataclasses import dataclass
 
@@ -35,6 +36,13 @@ DEFAULT_SIGMAS = 0.0   # Gaussian plant noise covered up to this many standard d
 class Settings:
     max_boxes: int = DEFAULT_MAX_BOXES
     sigmas: float = DEFAULT_SIGMAS
+
+    def __post_init__(self):
+        # a NaN bound would make a proof that states "covered to nan sigma"
+        if not (isinstance(self.max_boxes, (int, np.integer)) and self.max_boxes >= 1):
+            raise ValueError(f"prove_boxes must be an integer of at least 1, got {self.max_boxes}")
+        if not (math.isfinite(self.sigmas) and self.sigmas >= 0):
+            raise ValueError(f"noise_sigmas must be a finite number >= 0, got {self.sigmas}")
 
 
 def _names(expr: sympy.Expr) -> set[str]:
