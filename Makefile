@@ -17,7 +17,7 @@ demo: $(STAMP)
 	$(PY) -m fuzzyc.demo
 
 test: $(STAMP)
-	$(PY) -m pytest -q -n 2 --dist loadfile
+	$(PY) -m pytest -q -n 2 --dist loadfile -rs
 
 # What CI proves beyond `make test`: every header of the corpora under EVA, and every shipped
 # closed loop on sets at a tenth of its horizon (box budget 8; a smoke run of the machinery).
@@ -41,7 +41,7 @@ $(PYFL_VENV)/.installed:
 # toolkit against the tools themselves), then the live oracle tests.
 conformance: $(STAMP) $(PYFL_VENV)/.installed
 	$(PY) -m fuzzyc.conformance
-	$(PY) -m pytest -q -m conformance
+	$(PY) -m pytest -q -m conformance -rs
 
 # 10,000 hostile inputs (docs/fuzzing.md); fails on any traceback or unlocated rejection
 fuzz: $(STAMP)

@@ -38,6 +38,8 @@ import numpy as np
 
 
 INPUTS = ("velocity",)
+# the inputs it has no fallback for: a loop must drive them (runtime.simulate.build checks)
+REQUIRED_INPUTS = INPUTS
 OUTPUTS = ("measured_voltage", "mean_voltage", "gap", "velocity_actual", "removal", "short")
 # every signal's unit, for plot axes ("-": a 0/1 flag)
 UNITS = {"velocity": "mm/s", "measured_voltage": "V", "mean_voltage": "V", "gap": "um",

@@ -69,7 +69,7 @@ class GymPlant:
 
     def __init__(self, params: GymParams, error: Callable[[str, str], Exception]):
         self.params, self.error = params, error
-        self.INPUTS = tuple(params.action)
+        self.INPUTS = self.REQUIRED_INPUTS = tuple(params.action)
         self.OUTPUTS = (*params.observations.values(), *EPISODE)
 
     # --- the plant contract ------------------------------------------------------------------

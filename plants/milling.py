@@ -44,6 +44,8 @@ import numpy as np
 
 
 INPUTS = ("feed",)
+# the inputs it has no fallback for: a loop must drive them (runtime.simulate.build checks)
+REQUIRED_INPUTS = INPUTS
 OUTPUTS = ("force", "feed_actual", "position", "done", "cutting")
 # every signal's unit, for plot axes ("-": a 0/1 flag)
 UNITS = {"feed": "mm/min", "force": "N", "feed_actual": "mm/min", "position": "mm", "done": "-",

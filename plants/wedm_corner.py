@@ -119,6 +119,8 @@ TABLE4_CONDITIONS = np.array([[50, 160], [50, 120], [50, 80], [50, 40],
                               [21, 175], [21, 125], [21, 75], [21, 40]], float)
 
 INPUTS = ("reduction",)
+# the inputs it has no fallback for: a loop must drive them (runtime.simulate.build checks)
+REQUIRED_INPUTS = INPUTS
 # the mean error of the corners passed so far at each angle of Table 2, so a run reads like one
 # row of Table 2 or Table 4: `error_30` ... `error_150`, and beside them what normal machining
 # leaves at the same corners (`normal_30` ...) and the normal machining time of the whole path

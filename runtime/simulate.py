@@ -192,7 +192,23 @@ def build(scenario, controller: Any, batch: int = 1, seed: int = 0,
     followed = _followed_params(scenario, controller)
     control = ControllerBlock(controller, followed, expose=list(expose))
     _check_observer_inputs(scenario, module, observers, control)
+    _check_plant_inputs(scenario, module, observers, control)
     return [*schedules, plant, *observers, control]
+
+
+def _check_plant_inputs(scenario, module, observers: list, control) -> None:
+    """The plant inputs it has no fallback for (REQUIRED_INPUTS) come from the controller, a
+    schedule, `initial` or an observer; otherwise a FuzzycError at the plant, not a KeyError
+    in its first step (a baseline of another process drives none of them)."""
+    offered = {*scenario.schedules, *(scenario.data.get("initial") or {}), *control.output_names}
+    for block in observers:
+        offered |= set(getattr(block, "output_names", []))
+    missing = [n for n in getattr(module, "REQUIRED_INPUTS", ()) if n not in offered]
+    if missing:
+        raise scenario.error("plant.model",
+                             f"the plant needs `{missing[0]}` from the controller, a schedule or "
+                             f"`initial`; the controller gives "
+                             f"{', '.join(control.output_names) or 'nothing'}")
 
 
 def _check_observer_inputs(scenario, module, observers: list, control) -> None:

@@ -109,6 +109,27 @@ def test_unsupported_constructs_are_reported(reader, text, words):
     assert all(d.loc is not None for d in info.value.diagnostics)
 
 
+FIS_TWO_INPUTS = ("[System]\nName='t'\nType='mamdani'\nNumInputs=2\nNumOutputs=1\n"
+                  "NumRules=1\n\n[Input1]\nName='a'\nRange=[0 10]\nNumMFs=1\n"
+                  "MF1='lo':'trimf',[0 0 10]\n\n[Input2]\nName='b'\nRange=[0 10]\nNumMFs=1\n"
+                  "MF1='lo':'trimf',[0 0 10]\n\n[Output1]\nName='y'\nRange=[0 30]\n"
+                  "NumMFs=1\nMF1='lo':'trimf',[0 0 10]\n\n[Rules]\n")   # the rule: line 27
+
+
+@pytest.mark.parametrize("row, words", [
+    # found by the fuzzer: the weight pattern took `1e`, then float() raised ValueError
+    ("1 1, 1 (1e) : 1", "expected a rule row"),
+    ("1.2.3 1, 1 (1) : 1", "rule index `1.2.3` is not a number"),
+    ("- 1, 1 (1) : 1", "rule index `-` is not a number"),
+])
+def test_a_fis_rule_row_with_a_malformed_number_is_located(row, words):
+    with pytest.raises(FuzzycError) as info:
+        read_fis(FIS_TWO_INPUTS + row + "\n", "t.fis")
+    diagnostic = info.value.diagnostics[0]
+    assert (diagnostic.loc.line, diagnostic.loc.col) == (27, 1)
+    assert words in diagnostic.message
+
+
 def test_unreadable_and_unknown_files(tmp_path, capsys):
     assert main(["convert", str(tmp_path / "missing.fll"), str(tmp_path / "o.fz")]) == 2
     assert "cannot read" in capsys.readouterr().err

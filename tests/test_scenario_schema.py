@@ -135,3 +135,20 @@ def test_an_observer_reading_a_signal_nobody_writes_is_located(tmp_path, baselin
     assert (diagnostic.loc.line, diagnostic.loc.col) == (5, 5), diagnostic.format()
     assert "`observers.0`: reads `measured_voltage`, which is not on the bus" in \
         diagnostic.message
+
+
+def test_a_baseline_that_drives_none_of_the_plants_inputs_is_located(tmp_path):
+    # found by the fuzzer: the milling plant spliced with the corner scenario's baseline
+    # (which gives `reduction`, not `feed`): a KeyError in the plant's first step.
+    # `model` follows "plant: {" (8 characters) on line 1: column 9
+    from fuzzyc.runtime.simulate import simulate
+    path = tmp_path / "bad.yaml"
+    path.write_text("plant: {model: milling}\n"
+                    "baseline: {make: wedm_corner.NoCornerControl}\nduration: 2\n",
+                    encoding="utf-8")
+    with pytest.raises(FuzzycError) as info:
+        simulate(S.load(path), baseline=True)
+    diagnostic = info.value.diagnostics[0]
+    assert (diagnostic.loc.line, diagnostic.loc.col) == (1, 9), diagnostic.format()
+    assert diagnostic.message == ("`plant.model`: the plant needs `feed` from the controller, "
+                                  "a schedule or `initial`; the controller gives reduction")

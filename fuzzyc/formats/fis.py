@@ -65,7 +65,8 @@ SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")
 KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$")
 FIS_NAME = re.compile(r"[^'%\x00-\x1f\x7f]*")   # quoted in '...'; % starts a comment
 MF = re.compile(r"'([^']*)'\s*:\s*'([^']*)'\s*,\s*\[([^\]]*)\]\s*$")
-RULE = re.compile(r"\s*([-\d.\s]+?)\s*,\s*([-\d.\s]+?)\s*\(\s*([-+\d.eE]+)\s*\)\s*:\s*(\d+)\s*$")
+RULE = re.compile(r"\s*([-\d.\s]+?)\s*,\s*([-\d.\s]+?)\s*"
+                  r"\(\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*\)\s*:\s*(\d+)\s*$")
 SETTINGS = {
     "AndMethod": ("and_", {"min": TNorm.MIN, "prod": TNorm.PRODUCT}),
     "OrMethod": ("or_", {"max": SNorm.MAX, "probor": SNorm.PROBSUM}),
@@ -334,6 +335,9 @@ class _FisReader:
 
 def _index_and_hedge(text: str) -> tuple[int, Hedge]:
     """A rule index as the Octave toolkit reads it: `-2.2` -> (-2, VERY) (see FIS_HEDGES)."""
+    if not re.fullmatch(r"-?(?:\d+\.?\d*|\.\d+)", text):
+        raise ValueError(f"rule index `{text}` is not a number (a term index, `-` negates, "
+                         "a fraction is a hedge)")
     value = float(text)
     index = int(abs(value))
     exponent = round(100 * (abs(value) - index)) / 10 if index else 0.0
