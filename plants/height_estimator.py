@@ -42,6 +42,8 @@ on dN_w), so beta = gamma_ref / H again. Without it the estimator is the paper's
 """
 from __future__ import annotations
 
+import dataclasses
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -88,6 +90,15 @@ class HeightEstimator:
         return {"height_est": "mm", "height_raw": "mm", "forgetting": "-"}
 
     def __post_init__(self) -> None:
+        # a scenario's params: a text or NaN here would fail in the first step (make() reports
+        # this ValueError at the params)
+        for f in dataclasses.fields(self):
+            value = getattr(self, f.name)
+            if f.name == "correct" or (f.name == "ratio_ref" and value is None):
+                continue
+            if isinstance(value, bool) or not isinstance(value, (int, float)) \
+                    or not math.isfinite(value):
+                raise ValueError(f"`{f.name}` must be a finite number, got {value!r}")
         self.input_names = ["spark_freq", "feed_actual"] + (
             [] if self.ratio_ref is None else ["abnormal_ratio"])
 

@@ -225,8 +225,7 @@ class Scenario:
         module_name, _, attr = str(spec.get("make", "")).rpartition(".")
         factory = _plant_attr(self, f"{dotted}.make", module_name, attr)
         given = spec.get("params") or {}
-        _check_types(self, f"{dotted}.params", given,
-                     {name: p.default for name, p in inspect.signature(factory).parameters.items()})
+        _check_types(self, f"{dotted}.params", given, _typical_values(factory))
         try:
             return factory(**given)
         except (TypeError, ValueError) as exc:
@@ -274,6 +273,18 @@ def _plant_attr(scenario: Scenario, dotted: str, module_name: str, attr: str | N
     if not hasattr(module, attr):
         raise scenario.error(dotted, f"plant module `{module_name}` has no `{attr}`")
     return getattr(module, attr)
+
+
+# a required param (no default) of these annotations is checked as if it had such a default
+_ANNOTATED = {"float": 0.0, "int": 0, "bool": False, float: 0.0, int: 0, bool: False}
+
+
+def _typical_values(factory) -> dict:
+    """Per parameter of `factory`, its default, or for a required one a value of its annotated
+    type (`gamma: float` of an observer was passed a string to its first step)."""
+    return {name: (p.default if p.default is not inspect.Parameter.empty
+                   else _ANNOTATED.get(p.annotation))
+            for name, p in inspect.signature(factory).parameters.items()}
 
 
 def _check_types(scenario: Scenario, dotted: str, given: dict, defaults: dict) -> None:

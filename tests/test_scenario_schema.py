@@ -152,3 +152,24 @@ def test_a_baseline_that_drives_none_of_the_plants_inputs_is_located(tmp_path):
     assert (diagnostic.loc.line, diagnostic.loc.col) == (1, 9), diagnostic.format()
     assert diagnostic.message == ("`plant.model`: the plant needs `feed` from the controller, "
                                   "a schedule or `initial`; the controller gives reduction")
+
+
+@pytest.mark.parametrize("params, col, words", [
+    # found by the fuzzer: a text for the estimator's gamma (a required param, no default to
+    # compare with) reached its first step, a TypeError in a division. On line 4,
+    # "  - {" is 5 characters, "make: height_estimator.HeightEstimator, " 40: `params` starts
+    # in column 46, "params: {gamma: " is 16 more: the value in column 62.
+    ("{gamma: x1, ratio_ref: 0.389}", 62, "`observers.0.params.gamma`: must be a finite number"),
+    ("{gamma: 2.0e-5, ratio_ref: abc}", 46, "`ratio_ref` must be a finite number, got 'abc'"),
+])
+def test_an_observer_param_of_the_wrong_type_is_located(tmp_path, params, col, words):
+    from fuzzyc.runtime.simulate import simulate
+    path = tmp_path / "bad.yaml"
+    path.write_text(HEAD + "observers:\n"
+                    f"  - {{make: height_estimator.HeightEstimator, params: {params}}}\n"
+                    "duration: 0.2\n", encoding="utf-8")
+    with pytest.raises(FuzzycError) as info:
+        simulate(S.load(path))
+    diagnostic = info.value.diagnostics[0]
+    assert (diagnostic.loc.line, diagnostic.loc.col) == (4, col), diagnostic.format()
+    assert words in diagnostic.message
