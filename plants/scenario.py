@@ -315,15 +315,24 @@ def _params_class(scenario: Scenario, module):
     return classes[0]
 
 
+class _NotAMapping(Exception):
+    """A --set path runs through a key of the file whose value is no mapping."""
+
+    def __init__(self, dotted: str):
+        self.dotted = dotted
+
+
 def _apply_override(data: dict, key: str, value: Any) -> None:
     parts = key.split(".")
     node = data
-    for part in parts[:-1]:
+    for i, part in enumerate(parts[:-1]):
         if isinstance(node, dict) and part not in node and isinstance(node.get("params"), dict):
             node = node["params"]
         if not isinstance(node, dict):
             raise KeyError(key)
         node = node.setdefault(part, {})
+        if not isinstance(node, dict):
+            raise _NotAMapping(".".join(parts[:i + 1]))
     last = parts[-1]
     if isinstance(node, dict) and last not in node and isinstance(node.get("params"), dict):
         node = node["params"]
@@ -346,6 +355,9 @@ def load(name_or_path: str | Path, overrides: dict[str, str] | None = None) -> S
     for key, raw in (overrides or {}).items():
         try:
             _apply_override(data, key, yaml.safe_load(str(raw)))
+        except _NotAMapping as exc:    # e.g. `controller:` left empty, FILE sets its rule base
+            raise scenario.error(exc.dotted, f"must be a mapping: `{key}` is set inside it "
+                                             "(by FILE or --set)") from None
         except (KeyError, yaml.YAMLError):
             raise FuzzycError([Diagnostic(None, f"--set {key}={raw}: `{key}` does not name a "
                                                 f"scenario setting of {path}")]) from None

@@ -173,3 +173,18 @@ def test_an_observer_param_of_the_wrong_type_is_located(tmp_path, params, col, w
     diagnostic = info.value.diagnostics[0]
     assert (diagnostic.loc.line, diagnostic.loc.col) == (4, col), diagnostic.format()
     assert words in diagnostic.message
+
+
+def test_a_section_left_empty_that_file_sets_a_key_in_is_located(tmp_path):
+    # found by the fuzzer: `controller:` with no value, and FILE given on the command line
+    # (it sets controller.rulebase): an error with no place before
+    from fuzzyc import api
+    path = tmp_path / "bad.yaml"
+    path.write_text("plant: {model: wedm_gap}\ncontroller:\nduration: 0.2\n", encoding="utf-8")
+    rules = Path(__file__).parents[1] / "rulebases" / "wedm_three_region.fz"
+    with pytest.raises(FuzzycError) as info:
+        api.simulate(path, rules)
+    diagnostic = info.value.diagnostics[0]
+    assert (diagnostic.loc.line, diagnostic.loc.col) == (2, 1), diagnostic.format()
+    assert diagnostic.message == ("`controller`: must be a mapping: `controller.rulebase` is "
+                                  "set inside it (by FILE or --set)")
