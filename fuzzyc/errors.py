@@ -98,7 +98,7 @@ def shown_char(char: str) -> str:
 
 def suggest(name: str, known: list[str] | tuple[str, ...]) -> str:
     """' — did you mean `X`?' when a close match exists, else the list of known names."""
-    close = difflib.get_close_matches(name, list(known), n=1, cutoff=0.5)
+    close = difflib.get_close_matches(str(name), list(known), n=1, cutoff=0.5)  # a YAML key: 1.5
     if close:
         return f"did you mean `{close[0]}`?"
     if known:

@@ -93,6 +93,8 @@ def step_cut(air: float = 2.0, first: float = 20.0, second: float = 20.0,
 
 def workpiece_from_spec(spec: dict) -> Workpiece:
     """From a scenario's `workpiece: {start: mm, pieces: [[length, b, a_r], ...]}`."""
+    if "pieces" not in spec:
+        raise ValueError("workpiece needs `pieces: [[length, axial depth, radial depth], ...]`")
     pieces = np.asarray(spec["pieces"], float)
     if pieces.ndim != 2 or pieces.shape[1] != 3:
         raise ValueError("workpiece pieces are [length, axial depth, radial depth] triples")
@@ -118,6 +120,9 @@ class MillingParams:
     def __post_init__(self) -> None:
         if isinstance(self.workpiece, dict):   # from a scenario file
             self.workpiece = workpiece_from_spec(self.workpiece)
+        elif not isinstance(self.workpiece, Workpiece):
+            raise ValueError("workpiece is a mapping {start: mm, pieces: [[length, axial depth, "
+                             f"radial depth], ...]}}, got {type(self.workpiece).__name__}")
 
     @property
     def radius(self) -> float:

@@ -154,7 +154,7 @@ def test_a_baseline_that_drives_none_of_the_plants_inputs_is_located(tmp_path):
                                   "a schedule or `initial`; the controller gives reduction")
 
 
-@pytest.mark.parametrize("params, col, words", [
+@pytest.mark.parametrize("params, line, col, words", [
     # found by the fuzzer: a text for the estimator's gamma (a required param, no default to
     # compare with) reached its first step, a TypeError in a division. On line 4,
     # "  - {" is 5 characters, "make: height_estimator.HeightEstimator, " 40: `params` starts
@@ -188,3 +188,25 @@ def test_a_section_left_empty_that_file_sets_a_key_in_is_located(tmp_path):
     assert (diagnostic.loc.line, diagnostic.loc.col) == (2, 1), diagnostic.format()
     assert diagnostic.message == ("`controller`: must be a mapping: `controller.rulebase` is "
                                   "set inside it (by FILE or --set)")
+
+
+@pytest.mark.parametrize("params, line, col, words", [
+    # found by the fuzzer: a list for the milling workpiece reached the first step
+    # (AttributeError), a mapping without pieces a KeyError: reported at `params` (line 3,
+    # column 3); a number as a param name made the suggestion of a close name raise
+    # TypeError: reported at the key (line 4, column 5).
+    ("    workpiece: [[20, 6, 6]]\n", 3, 3, "workpiece is a mapping {start: mm, pieces: "),
+    ("    workpiece: {start: 1.0}\n", 3, 3, "workpiece needs `pieces: "),
+    ("    0.3: feed\n", 4, 5, "`plant.params.0.3`: MillingParams has no field `0.3`"),
+])
+def test_plant_params_of_the_wrong_shape_are_located(tmp_path, params, line, col, words):
+    from fuzzyc.runtime.simulate import simulate
+    path = tmp_path / "bad.yaml"
+    path.write_text("plant:\n  model: milling\n  params:\n" + params
+                    + "controller: {rulebase: milling_neurofuzzy_learned.fz}\nduration: 1\n",
+                    encoding="utf-8")
+    with pytest.raises(FuzzycError) as info:
+        simulate(S.load(path))
+    diagnostic = info.value.diagnostics[0]
+    assert (diagnostic.loc.line, diagnostic.loc.col) == (line, col), diagnostic.format()
+    assert words in diagnostic.message

@@ -180,7 +180,8 @@ def nonfinite_output(run: Run) -> str | None:
 def _nonfinite_csv(run: Run) -> str | None:
     """Output columns (those the input CSV has not) with a value that is not finite."""
     table = Path(run.argv[run.argv.index("--csv") + 1])
-    first = table.read_text(encoding="utf-8", errors="replace").partition("\n")[0]
+    # the header as eval reads it: without a byte-order mark
+    first = table.read_text(encoding="utf-8-sig", errors="replace").partition("\n")[0]
     inputs = {name.strip() for name in first.split(",")}
     rows = list(csv.reader(io.StringIO(run.stdout)))
     columns = [i for i, name in enumerate(rows[0]) if name not in inputs] if rows else []
