@@ -154,7 +154,7 @@ def test_a_baseline_that_drives_none_of_the_plants_inputs_is_located(tmp_path):
                                   "a schedule or `initial`; the controller gives reduction")
 
 
-@pytest.mark.parametrize("params, line, col, words", [
+@pytest.mark.parametrize("params, col, words", [
     # found by the fuzzer: a text for the estimator's gamma (a required param, no default to
     # compare with) reached its first step, a TypeError in a division. On line 4,
     # "  - {" is 5 characters, "make: height_estimator.HeightEstimator, " 40: `params` starts
