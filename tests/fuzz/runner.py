@@ -311,6 +311,9 @@ def _compare_with_console_script(tally: Tally, run: Run, kind: str, tmp: Path, b
                                  out: Path, seconds: float) -> None:
     """The installed `fuzzyc`, run on `before` (a copy of the folder as it was before the
     in-process run), gives the in-process exit status and prints no traceback."""
+    if any("\0" in a for a in run.argv):     # no process can be given a NUL in its arguments
+        shutil.rmtree(before, ignore_errors=True)
+        return
     tally.subprocess_runs += 1
     try:
         code, stderr = run_console_script([a.replace(str(tmp), str(before)) for a in run.argv],
