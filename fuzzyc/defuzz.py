@@ -159,6 +159,9 @@ class OutputDefuzzifier:
             self.reads = self.linear[:, 1:] != 0          # (T, I): the inputs each term weights
             self.input_lo = np.array([v.lo for v in inputs], dtype=float)
             self.input_hi = np.array([v.hi for v in inputs], dtype=float)
+        # FUNCTION terms of a Takagi-Sugeno output: values of the inputs and earlier outputs
+        self.functions = {t: f for t, f in (var.formulas or {}).items()
+                          if method in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)}
         self.tsukamoto = method == Defuzzifier.TSUKAMOTO
         self.use_peaks = not self.tsukamoto and (
             method in PEAK_BASED or bool(np.all(kinds == TermKind.SINGLETON)))
@@ -249,13 +252,21 @@ class OutputDefuzzifier:
                 else self.inference.aggregation
         return self.inference.aggregation if self._static_items() else None
 
-    def _values(self, x: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
+    def _values(self, x: np.ndarray | None, env: dict | None = None,
+                keep_nonfinite: bool = False) -> tuple[np.ndarray, np.ndarray | None]:
         """The terms' values z: the peaks (T,), or (N, T) with linear terms at the inputs x,
         and where a linear term has no value (None when every term has one).
 
         A linear term reads its inputs clamped to their ranges (a local linear model of the
         range: past it the nearest edge holds, so z stays finite), and has no value where an
-        input it weights is NaN."""
+        input it weights is NaN.  A function term is its formula over `env` (the inputs and
+        earlier outputs by name) and has no value where that is not finite, unless
+        `keep_nonfinite` (fuzzylite's arithmetic, which carries NaN and inf on)."""
+        if self.functions:
+            return self._function_values(x, env, keep_nonfinite)
+        return self._plain_values(x)
+
+    def _plain_values(self, x: np.ndarray | None) -> tuple[np.ndarray, np.ndarray | None]:
         if self.linear is None:
             return self.peaks, None
         clamped = np.clip(x, self.input_lo, self.input_hi)
@@ -266,12 +277,28 @@ class OutputDefuzzifier:
             return z, None
         return z, (missing.astype(float) @ self.reads.T.astype(float)) > 0
 
-    def from_strengths(self, alpha: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
+    def _function_values(self, x: np.ndarray, env: dict | None,
+                         keep_nonfinite: bool) -> tuple[np.ndarray, np.ndarray | None]:
+        z, void = self._plain_values(x)
+        n = x.shape[0]
+        z = np.array(np.broadcast_to(z, (n, self.var.n_terms)), dtype=float)
+        for t, formula in self.functions.items():
+            z[:, t] = np.broadcast_to(formula.evaluate(env), (n,))
+        if keep_nonfinite:
+            return z, void
+        bad = ~np.isfinite(z)
+        if not bad.any():
+            return z, void
+        return np.where(bad, 0.0, z), bad if void is None else (void | bad)
+
+    def from_strengths(self, alpha: np.ndarray, x: np.ndarray | None = None,
+                       env: dict | None = None, keep_nonfinite: bool = False) -> np.ndarray:
         """The crisp output from the terms' strengths alpha (N, T) (see strength_aggregation);
-        x (N, I), the rule base's inputs, is needed only by linear terms."""
+        x (N, I), the rule base's inputs, is needed only by linear terms, env (name -> (N,))
+        only by function terms."""
         var, method = self.var, self.inference.defuzzifier
         if self.use_peaks:
-            z, void = self._values(x)
+            z, void = self._values(x, env, keep_nonfinite)
             if void is not None:        # a term without a value does not count
                 alpha = np.where(void, 0.0, alpha)
             num = alpha @ z if z.ndim == 1 else (alpha * z).sum(axis=1)
@@ -288,10 +315,12 @@ class OutputDefuzzifier:
         x, f = self._aggregated(alpha, np.arange(var.n_terms))
         return _area_defuzzify(method, x, f, var.default)
 
-    def __call__(self, act: np.ndarray, J: np.ndarray, x: np.ndarray | None = None) -> np.ndarray:
+    def __call__(self, act: np.ndarray, J: np.ndarray, x: np.ndarray | None = None,
+                 env: dict | None = None, keep_nonfinite: bool = False) -> np.ndarray:
         aggregation = self.strength_aggregation()
         if aggregation is not None:
-            return self.from_strengths(term_strengths(act, J, self.var.n_terms, aggregation), x)
+            return self.from_strengths(term_strengths(act, J, self.var.n_terms, aggregation), x,
+                                       env, keep_nonfinite)
         # every candidate rule is its own item (SUM of MIN-clipped terms, PROBSUM, BOUNDED_SUM)
         levels = np.where(J >= 0, act, 0.0)
         if self.tsukamoto:

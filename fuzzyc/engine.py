@@ -21,7 +21,7 @@ processed in chunks so memory stays flat in the batch size.
 from __future__ import annotations
 
 import weakref
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -30,6 +30,7 @@ from .grid import GridStrengths, lookup_rows
 from .membership import LocalPartition, apply_hedges, memberships
 from .model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
 from .norms import combine, firing
+from .ordered import EXACT, Held, Policy, finish_output, locked, reads_values, refuse_stateless
 
 MAX_LOOKUP_CELLS = 1 << 21     # a direct cell table up to here, sorted cell codes beyond
 MAX_SPARSE_INPUTS = 6          # the C back ends' cell tables stop here; the engine goes on
@@ -113,7 +114,9 @@ def _fingerprint(rb: RuleBase) -> tuple:
                    np.array([v.lo, v.hi, v.default], dtype=float)]
         arrays += [np.append(float(t), row)
                    for t, row in sorted((v.coefficients or {}).items())]
-    return (rb.inference.describe(), tuple(sorted(rb.output_choices.items()))) + \
+    formulas = tuple((v.lock_previous, tuple((t, f.text) for t, f in (v.formulas or {}).items()))
+                     for v in rb.inputs + rb.outputs)
+    return (rb.inference.describe(), tuple(sorted(rb.output_choices.items())), formulas) + \
         tuple(np.ascontiguousarray(a).tobytes() for a in arrays)
 
 
@@ -131,6 +134,11 @@ class CompiledRuleBase:
             d.use_peaks and d.inference.defuzzifier != Defuzzifier.WEIGHTED_SUM
             for d in self.defuzzifiers)
         self.defaults = np.array([[float(v.default)] for v in rb.outputs])
+        # outputs read by function terms or holding their value: in order, NaN where nothing
+        # with a value fired, finished by fuzzyc.ordered
+        self.ordered = [OutputDefuzzifier(replace(v, default=np.nan), rb.inference_of(o),
+                                          rb.inputs)
+                        for o, v in enumerate(rb.outputs)] if reads_values(rb) else None
         self.partitions = self._sparse_partitions(rb) if allow_sparse else None
         self.sparse = self.partitions is not None
         n_candidates = rb.n_rules
@@ -138,7 +146,7 @@ class CompiledRuleBase:
         if self.sparse:
             self._build_lookup(rb)
             n_candidates = self.lookup.shape[1] << len(rb.inputs)
-            self.grid = self._grid(rb)
+            self.grid = None if self.ordered else self._grid(rb)
         if self.grid is not None:
             work = max([d.work_per_sample(self.grid.width) for d in self.defuzzifiers]
                        + [self.grid.work_per_sample()])
@@ -216,8 +224,12 @@ class CompiledRuleBase:
             mu = np.repeat(mu, self.lookup.shape[1], axis=1)
         return firing(mu if self.unit_weights else mu * self.weights[rid]), rid
 
-    def evaluate_chunk(self, x: np.ndarray) -> np.ndarray:
-        """x (N, I) -> y (N, O)."""
+    def evaluate_chunk(self, x: np.ndarray, held: Held | None = None,
+                       policy: Policy = EXACT) -> np.ndarray:
+        """x (N, I) -> y (N, O); `held` and `policy` for outputs evaluated in order (see
+        fuzzyc.ordered; a rule base with outputs that hold their value needs `held`)."""
+        if self.ordered:
+            return self._evaluate_ordered(x, held, policy)
         y = np.empty((x.shape[0], len(self.defuzzifiers)))
         if self.grid is not None:
             alpha = self.grid(x)
@@ -230,11 +242,25 @@ class CompiledRuleBase:
             y[:, o] = defuzzify(act, J, x)
         return y
 
-    def evaluate_rows(self, xt: np.ndarray) -> np.ndarray:
+    def _evaluate_ordered(self, x: np.ndarray, held: Held | None, policy: Policy) -> np.ndarray:
+        if held is None and locked(self.rb):
+            refuse_stateless(self.rb)
+        act, rid = self.candidates(x)
+        env = {v.name: x[:, i] for i, v in enumerate(self.rb.inputs)}
+        y = np.empty((x.shape[0], len(self.ordered)))
+        for o, defuzzify in enumerate(self.ordered):
+            J = self.rb.consequents[:, o] if rid is None else self.consequents[rid, o]
+            value = defuzzify(act, J, x, env, policy.keep_nonfinite)
+            fired = ((J >= 0) & (act > 0)).any(axis=1)
+            y[:, o] = finish_output(policy, self.rb.outputs[o], value, fired, held, o)
+            env[self.rb.outputs[o].name] = y[:, o]
+        return y
+
+    def evaluate_rows(self, xt: np.ndarray, held: Held | None = None) -> np.ndarray:
         """xt (I, N), one row per input -> y (O, N): evaluate_chunk for callers that hold
         their signals as rows (the controller), without transposing on the way in or out."""
         if self.grid is None:
-            return self.evaluate_chunk(xt.T).T
+            return self.evaluate_chunk(xt.T, held).T
         alpha = self.grid.rows(xt)
         if self.peak_ratio:
             return self._peak_ratios(alpha)
@@ -273,8 +299,10 @@ def compiled(rb: RuleBase) -> CompiledRuleBase:
     return entry
 
 
-def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536) -> np.ndarray:
-    """x (N, I) -> y (N, O), in chunks so memory is flat in N."""
+def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536, held: Held | None = None,
+             policy: Policy = EXACT) -> np.ndarray:
+    """x (N, I) -> y (N, O), in chunks so memory is flat in N (`held`, `policy`: see
+    CompiledRuleBase.evaluate_chunk)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     if x.shape[1] != len(rb.inputs):
         raise ValueError(f"expected {len(rb.inputs)} input columns "
@@ -282,10 +310,10 @@ def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536) -> np.ndarray:
     engine = compiled(rb)
     step = max(1, min(chunk, engine.chunk_limit))
     if x.shape[0] <= step:
-        return engine.evaluate_chunk(x)
+        return engine.evaluate_chunk(x, held, policy)
     y = np.empty((x.shape[0], len(rb.outputs)))
     for s in range(0, x.shape[0], step):
-        y[s:s + step] = engine.evaluate_chunk(x[s:s + step])
+        y[s:s + step] = engine.evaluate_chunk(x[s:s + step], held, policy)
     return y
 
 

@@ -247,9 +247,10 @@ def pointwise(kind: TermKind, params: np.ndarray, u: np.ndarray) -> np.ndarray:
 
 
 def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray,
-                points: dict[int, np.ndarray] | None = None) -> np.ndarray:
+                points: dict[int, np.ndarray] | None = None,
+                formulas: dict | None = None) -> np.ndarray:
     """Membership of terms given as (kinds (T,), params (T, 4)) at x (N,) -> (N, T); `points`
-    are the DISCRETE terms' (Variable.points).
+    are the DISCRETE terms' (Variable.points), `formulas` the FUNCTION terms'.
 
     NaN x gives 0 for every term; infinities give the shapes' limits (never NaN).
     """
@@ -265,6 +266,10 @@ def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray,
                     xy = (points or {})[int(t)]
                     mu[:, t] = np.interp(x[:, 0], xy[:, 0], xy[:, 1])
                 continue
+            if kind == TermKind.FUNCTION:
+                for t in cols:
+                    mu[:, t] = function_membership(formulas[int(t)], x[:, 0])
+                continue
             mu[:, cols] = _SHAPES[TermKind(int(kind))](x, params[cols])
     mu[np.isnan(mu)] = 0.0  # NaN x, or an infinite x where a shape has no limit (0 * inf)
     mu[np.isnan(x[:, 0])] = 0.0   # edge shapes' comparisons would read NaN as "beyond the end"
@@ -273,7 +278,16 @@ def term_values(kinds: np.ndarray, params: np.ndarray, x: np.ndarray,
 
 def memberships(var: Variable, x: np.ndarray) -> np.ndarray:
     """x (N,) -> mu (N, T) for the terms of `var`."""
-    return term_values(var.kinds, var.params, x, var.points)
+    return term_values(var.kinds, var.params, x, var.points, var.formulas)
+
+
+def function_membership(formula, x: np.ndarray) -> np.ndarray:
+    """A FUNCTION term's membership at x (N,): the formula of x, 0 where it is not finite; a
+    formula of other variables (a Takagi-Sugeno value) has no shape: 0, as a LINEAR term."""
+    if not formula.names() <= {"x"}:
+        return np.zeros(x.shape[0])
+    mu = np.broadcast_to(formula.evaluate({"x": x}), x.shape)
+    return np.where(np.isfinite(mu), mu, 0.0)
 
 
 @dataclass

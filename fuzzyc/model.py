@@ -48,6 +48,15 @@ Membership of a term at x (params padded to 4 with 0):
                      As a membership it is 0 everywhere (it has no shape).  It reads the
                      inputs clamped to their ranges (a local linear model of the range: past
                      it the nearest edge holds, so z is finite for every input).
+  FUNCTION  a formula (Variable.formulas[term], fuzzyc.formula: a parse tree, params unused):
+                     fuzzylite's Function.  On an input, or an output under an integral
+                     defuzzifier, its membership at x is the formula of x alone (a
+                     non-finite value is membership 0).  On a Takagi-Sugeno output
+                     (WEIGHTED_AVERAGE / WEIGHTED_SUM) its value z is the formula of the rule
+                     base's inputs and of the outputs before it (their values in the same
+                     evaluation: fuzzylite defuzzifies its outputs in order); where z is not
+                     finite (0/0) the term has no value: its rules count as not fired, as a
+                     LINEAR term at a NaN input.
   NaN input: every term of that variable has mu = 0 (so rules that need it do not fire), and a
                      LINEAR term with a non-zero coefficient on it has no value: the rules
                      concluding it count as not fired (so an output whose rules all need it
@@ -109,6 +118,8 @@ from typing import Any
 import numpy as np
 import sympy
 
+from .formula import Formula
+
 
 class TermKind(IntEnum):
     TRAPEZOID = 0
@@ -130,6 +141,7 @@ class TermKind(IntEnum):
     SEMI_ELLIPSE = 16
     ARC = 17
     DISCRETE = 18
+    FUNCTION = 19
 
 
 class Hedge(IntEnum):
@@ -256,6 +268,10 @@ class Variable:
     learnable: np.ndarray | None = None  # (T,) bool, outputs only
     coefficients: dict[int, np.ndarray] | None = None  # LINEAR terms with > 3 inputs
     points: dict[int, np.ndarray] | None = None        # DISCRETE terms: (K, 2) x, y rows
+    formulas: dict[int, Formula] | None = None         # FUNCTION terms
+    # an output that holds its last value where no rule fires (fuzzylite's lock-previous):
+    # state, so a stateless evaluation refuses it (fuzzyc.ordered)
+    lock_previous: bool = False
     loc: SourceLoc | None = None
     term_locs: list[SourceLoc | None] = field(default_factory=list)
 
@@ -294,7 +310,7 @@ class Variable:
                 out[i] = 0.5 * (a + b)
             elif kind == TermKind.ARC:
                 out[i] = b                       # where it reaches 1
-            elif kind == TermKind.LINEAR:
+            elif kind in (TermKind.LINEAR, TermKind.FUNCTION):
                 out[i] = np.nan                  # no fixed value: depends on the inputs
             elif kind == TermKind.DISCRETE:      # the mean of the highest points
                 xy = self.points[i]

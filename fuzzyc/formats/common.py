@@ -13,6 +13,7 @@ import sympy
 from ..builder import PLAIN_SHAPES as BUILDER_SHAPES
 from ..builder import RuleSpec, assemble_rulebase, merge_rules
 from ..errors import Reporter, suggest
+from ..formula import Formula
 from ..membership import discrete_problem, monotonic
 from ..model import (Aggregation, CondOp, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
                      SourceLoc, TermKind, Variable)
@@ -31,6 +32,8 @@ class TermSpec:
     # fuzzylite lets out); resolved once the number of inputs is known.
     coefficients: tuple[float, ...] | None = None
     points: tuple[tuple[float, float], ...] | None = None     # DISCRETE only
+    formula: Formula | None = None                            # FUNCTION only
+    formula_loc: SourceLoc | None = None                      # where its text starts
 
 
 @dataclass
@@ -42,6 +45,7 @@ class VarSpec:
     hi: float | None = None
     terms: list[TermSpec] = field(default_factory=list)
     default: float = 0.0
+    lock_previous: bool = False
 
     def term_names(self) -> list[str]:
         return [t.name for t in self.terms]
@@ -63,7 +67,8 @@ class VarSpec:
         points = [p for t in self.terms
                   for p in (t.params if t.kind == TermKind.TRAPEZOID else
                             [x for x, _ in t.points] if t.kind == TermKind.DISCRETE else
-                            () if t.kind == TermKind.LINEAR else t.params[:1])
+                            () if t.kind in (TermKind.LINEAR, TermKind.FUNCTION) else
+                            t.params[:1])
                   if math.isfinite(p)]
         return (min(points), max(points)) if points and min(points) < max(points) else None
 
@@ -207,6 +212,10 @@ class Collected:
             rb.output_choices = {v.name: self.output_choices[v.name] for v in mine
                                  if v.name in self.output_choices}
             blocks.append(rb)
+        from .functions import check_reads       # functions builds on TermSpec, from here
+        for rb in blocks:
+            check_reads(rb, {**self.inputs, **self.outputs}, self.rep, self.inputs)
+        self.rep.raise_if_any()
         return Model(
             name=self.name, blocks=blocks, title=self.title or f"imported from {path}",
             signals=[Signal(v.name, v.lo, v.hi, loc=v.loc) for v in inputs],
@@ -319,4 +328,6 @@ def _variable(v: VarSpec, is_input: bool, n_inputs: int) -> Variable:
         kinds=np.array([int(t.kind) for t in v.terms], dtype=np.int64), params=params,
         default=float(v.default), learnable=None if is_input else np.zeros(n, dtype=bool),
         loc=v.loc, term_locs=[t.loc for t in v.terms], coefficients=coefficients or None,
-        points=points or None)
+        points=points or None, lock_previous=v.lock_previous,
+        formulas={t: term.formula for t, term in enumerate(v.terms)
+                  if term.kind == TermKind.FUNCTION} or None)

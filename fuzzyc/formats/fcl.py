@@ -18,7 +18,8 @@ fuzzylite's FCL: terms written as in FLL (`TERM low := Triangle 0 0.25 0.5;`, se
   monotonic terms TSUKAMOTO), with an ACCU the centre of the singletons grouped by that
   accumulation (CENTER_OF_AREA).
   Hedges in rules: fuzzylite's (very, somewhat, seldom, extremely; see fll.HEDGES).
-Not carried, reported: other point lists, LM, RM, DEFAULT NC (fuzzylite's lock-previous),
+fuzzylite's `TERM f := Function FORMULA;` and `DEFAULT := nan | NC` (lock-previous) as in FLL.
+Not carried, reported: other point lists, LM, RM,
   COGS over terms other than singletons (fuzzylite's Tsukamoto).
 Several RULEBLOCKs are merged when their operators agree.  Of several FUNCTION_BLOCKs one is
 read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_fcl`).
@@ -26,6 +27,7 @@ read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from lark import Token, Tree
 from lark.exceptions import UnexpectedInput
@@ -39,6 +41,7 @@ from .common import (Collected, TermSpec, VarSpec, discrete_or_none, nan_default
 from .export import (all_singletons, finish, left_out, model_identifier, num, own_output_choices,
                      peaks_instead, rule_sentence, unsayable_hedges, unsayable_names)
 from .fll import HEDGES, fll_term, fuzzylite_shape
+from .functions import function_term
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
 OPERATORS = {
@@ -176,11 +179,10 @@ class _FclReader:
                              item.children[0])
             elif item.data == "default":
                 value = item.children[0]
-                if isinstance(value, Token) and (value.type == "NC" or len(item.children) > 1):
-                    where = self.loc(item.children[-1])   # NC, or `nan | NC`: keep the last output
-                    self.rep.error(where, "DEFAULT := NC (keep the last output when no rule "
-                                          "fires) is not supported: give a value")
-                elif isinstance(value, Token):
+                # NC, or `nan | NC`: keep the last output (fuzzylite's lock-previous)
+                var.lock_previous = isinstance(item.children[-1], Token) and \
+                    item.children[-1].type == "NC"
+                if isinstance(value, Token):
                     var.default = nan_default(var, self.got.notes)
                 else:
                     var.default = float(value.children[0])
@@ -196,6 +198,9 @@ class _FclReader:
         for item in items:
             if item.data == "term":
                 term_name, body = item.children
+                if body.data == "formula":
+                    self._formula(var, term_name, body.children[0])
+                    continue
                 made = self._shape(body)
                 if made is not None:
                     kind, params, *coefficients = made
@@ -204,6 +209,14 @@ class _FclReader:
             elif item.data == "range_item":
                 var.lo, var.hi = self._interval(item.children[0])
         return var
+
+    def _formula(self, var: VarSpec, name: Token, token: Token) -> None:
+        """`TERM name := Function FORMULA;` (fuzzylite's FCL)."""
+        text = token.value[len("Function"):]
+        start = replace(self.loc(token), col=self.loc(token).col + len("Function"))
+        term = function_term(name.value, text.rstrip(), self.loc(name), start, self.rep)
+        if term is not None:
+            var.add(term, self.rep)
 
     def _interval(self, tree: Tree) -> tuple[float, float]:
         return tuple(float(n.children[0]) for n in tree.children)
@@ -335,7 +348,7 @@ class _FclReader:
             defuzzifier = Defuzzifier.TSUKAMOTO        # fuzzylite's, over Ramp, ...
         elif method == "COGS" and accu is None:
             defuzzifier = Defuzzifier.WEIGHTED_AVERAGE        # over the rules
-            self._require_singletons(var, TermKind.LINEAR)
+            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION)
         elif method == "COGS":
             self._require_singletons(var)
         return inf.aggregation, defuzzifier
@@ -345,8 +358,9 @@ class _FclReader:
         method in fuzzylite, which the model does not carry."""
         for term in var.terms:
             if term.kind != TermKind.SINGLETON and term.kind not in also:
-                self.rep.error(term.loc, f"COGS needs singleton{' or Linear' if also else ''}"
-                                         f" terms or monotonic ones (Tsukamoto); "
+                kinds = " or Linear/Function" if also else ""
+                self.rep.error(term.loc, f"COGS needs singleton{kinds} terms or monotonic ones "
+                                         "(Tsukamoto); "
                                          f"`{term.name}` is neither")
 
 

@@ -46,6 +46,7 @@ from __future__ import annotations
 
 import math
 import re
+from dataclasses import replace
 
 import numpy as np
 
@@ -60,6 +61,7 @@ from .common import (Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
 from .export import (finish, left_out, num, own_output_choices, peaks_instead,
                      unsayable_hedges)
 from .fll import fuzzylite_shape
+from .functions import function_term
 
 SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")
 KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$")
@@ -150,7 +152,9 @@ class _FisReader:
                                                f"{self.got.inference.defuzzifier.name.lower()}")
         for var in self.got.outputs.values():
             for term in var.terms:
-                if (term.kind in (TermKind.SINGLETON, TermKind.LINEAR)) != \
+                # a Function term is a value (sugeno) or a membership of x (mamdani)
+                if term.kind != TermKind.FUNCTION and \
+                        (term.kind in (TermKind.SINGLETON, TermKind.LINEAR)) != \
                         (self.type == "sugeno"):
                     self.rep.error(term.loc, f"`{term.name}`: constant output terms belong to "
                                              "sugeno systems, and only they")
@@ -226,6 +230,12 @@ class _FisReader:
 
     def _mf(self, value: str, loc: SourceLoc) -> None:
         match = MF.match(value)
+        if match and match.group(2) == "function":      # fuzzylite's: a formula in [...]
+            start = replace(loc, col=loc.col + match.start(3))
+            term = function_term(match.group(1), match.group(3).rstrip(), loc, start, self.rep)
+            if term is not None:
+                self.var.add(term, self.rep)
+            return
         numbers = _numbers(f"[{match.group(3)}]") if match else None
         if match is None or numbers is None:
             self.rep.error(loc, "expected MFn='name':'type',[parameters]")
@@ -317,7 +327,9 @@ class _FisReader:
         if not conclusions:
             self.rep.error(loc, "a rule needs at least one output index")
             return
-        if not clauses:     # fuzzylite writes a chained rule so: it reads an output
+        if any(_is_any(t) for t in ins) and (connective == 2 or not clauses):
+            clauses = {}    # `x is any`: true, so an or-rule (or a rule of it alone) fires 1
+        elif not clauses:     # fuzzylite writes a chained rule so: it reads an output
             self.rep.error(loc, "a rule needs at least one input index (a rule reading an "
                                 "output, fuzzylite's chained engine, cannot be said in FIS; "
                                 "fuzzylite writes it without a condition and never fires it: "
@@ -331,6 +343,11 @@ class _FisReader:
             self.rep.error(loc, f"`{var.name}` has {len(var.terms)} terms, no term {index}")
             return False
         return True
+
+
+def _is_any(text: str) -> bool:
+    """fuzzylite writes `x is any` as the index 0.99 (and reads it back so)."""
+    return abs(abs(float(text)) - 0.99) < 1e-9
 
 
 def _index_and_hedge(text: str) -> tuple[int, Hedge]:

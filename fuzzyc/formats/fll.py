@@ -27,8 +27,9 @@ Each output keeps its own aggregation and defuzzifier (RuleBase.output_choices w
 from the first output's).  Rule blocks whose operators agree make one rule base; blocks with
 their own operators become rule blocks of the model, each concluding its own outputs (an output
 concluded in two blocks whose operators differ is reported).
-Anything else (Function, Discrete, term heights, activation methods other than General,
-lock-previous, hedges on conclusions) is reported with its place.
+Function terms (a formula: fuzzyc.formula) and lock-previous (fuzzyc.ordered) as the model's
+FUNCTION terms and Variable.lock_previous.  Anything else (term heights, activation methods
+other than General, ...) is reported with its place.
 """
 from __future__ import annotations
 
@@ -48,6 +49,7 @@ from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, discrete_or_non
 from .export import (all_singletons, compound_negations, finish, left_out, model_identifier, num,
                      own_output_choices, peaks_instead, rule_sentence, unsayable_hedges,
                      unsayable_names)
+from .functions import function_term
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
 HEDGES = {"very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT, "seldom": Hedge.SELDOM,
@@ -76,7 +78,7 @@ AGGREGATIONS = {"Maximum": Aggregation.MAX, "UnboundedSum": Aggregation.SUM,
 GROUPING = {k: v for k, v in AGGREGATIONS.items() if v != Aggregation.SUM}
 INTEGRAL = {"Centroid": Defuzzifier.CENTROID, "Bisector": Defuzzifier.BISECTOR,
             "MeanOfMaximum": Defuzzifier.MEAN_OF_MAXIMUM}
-KNOWN_UNSUPPORTED_TERMS = ("Function", "Activated", "Aggregated")
+KNOWN_UNSUPPORTED_TERMS = ("Activated", "Aggregated")
 SECTIONS = ("Engine", "InputVariable", "OutputVariable", "RuleBlock")
 KEYS = {
     "Engine": {"description"},
@@ -181,10 +183,7 @@ class _FllReader:
                                   "outputs to their range but never clamps inputs")
 
     def _lock_previous(self, line: _Line) -> None:
-        if self._word(line) == "true":
-            self.rep.error(self._first(line), "lock-previous: true (hold the last output when "
-                                              "no rule fires) is not supported: the model gives "
-                                              "the output's default")
+        self.var.lock_previous = self._word(line) == "true"
 
     def _default(self, line: _Line) -> None:
         values = self._numbers(line, 1, "default: VALUE")
@@ -198,7 +197,14 @@ class _FllReader:
             self.rep.error(self._first(line), "a term reads `term: NAME Shape PARAMETERS...`")
             return
         (name, name_col), (kind, kind_col), *params = line.tokens
-        if kind in KNOWN_UNSUPPORTED_TERMS:     # said before its parameters (a formula)
+        if kind == "Function":
+            start = kind_col - line.value_col + len(kind)
+            term = function_term(name, line.value[start:].rstrip(), self.loc(line, name_col),
+                                 self.loc(line, kind_col + len(kind)), self.rep)
+            if term is not None:
+                self.var.add(term, self.rep)
+            return
+        if kind in KNOWN_UNSUPPORTED_TERMS:     # said before its parameters
             fuzzylite_shape(kind, [], self.loc(line, kind_col), self.rep)
             return
         values = []
@@ -368,8 +374,8 @@ class _FllReader:
 
     def _require_constants(self, var, defuzz: str) -> None:
         for term in var.terms:
-            if term.kind not in (TermKind.SINGLETON, TermKind.LINEAR):
-                self.rep.error(term.loc, f"{defuzz} needs Constant or Linear terms "
+            if term.kind not in (TermKind.SINGLETON, TermKind.LINEAR, TermKind.FUNCTION):
+                self.rep.error(term.loc, f"{defuzz} needs Constant, Linear or Function terms "
                                          "(Takagi-Sugeno) or monotonic ones (Tsukamoto); "
                                          f"`{term.name}` is neither")
 

@@ -42,6 +42,7 @@ from ..membership import linear_coefficients, pointwise, term_inverse
 from ..model import (Aggregation, CondOp, Defuzzifier, Hedge, Model, RuleBase, TermKind,
                      Variable, aggregation_snorm)
 from ..norms import combine
+from ..ordered import POLICIES, Held, reads_values
 from .fuzzylite_compat import FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
 
 SEMANTICS = ("exact", "fuzzylite", "pyfuzzylite", "matlab", "octave")
@@ -106,8 +107,8 @@ class ToolEngine:
         self.rb = rb
         self.name, self.resolution = parse_semantics(semantics)
 
-    def evaluate_rows(self, xt: np.ndarray) -> np.ndarray:
-        return evaluate_as(self.rb, np.asarray(xt).T, self.name, self.resolution).T
+    def evaluate_rows(self, xt: np.ndarray, held: Held | None = None) -> np.ndarray:
+        return evaluate_as(self.rb, np.asarray(xt).T, self.name, self.resolution, held).T
 
 
 class Chain:
@@ -132,7 +133,9 @@ class Chain:
                 rb = reading_activations(rb, written)
             xb = np.column_stack([env[v.name] for v in rb.inputs])
             points = [resolution[v.name] for v in rb.outputs if v.name in (resolution or {})]
-            y = evaluate_as(rb, xb, semantics, points[0] if points else None)
+            # the rows are one controller's successive samples (fuzzylite's -d inputs.fld)
+            y = evaluate_as(rb, xb, semantics, points[0] if points else None,
+                            Held(sequence=True))
             env.update({v.name: y[:, o] for o, v in enumerate(rb.outputs)})
             env.update(term_activations(rb, xb))
             written.update(v.name for v in rb.outputs)
@@ -196,11 +199,11 @@ def reading_activations(rb: RuleBase, outputs: set[str]) -> RuleBase:
 
 
 def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
-                resolution: int | None = None) -> np.ndarray:
+                resolution: int | None = None, held: Held | None = None) -> np.ndarray:
     """x (N, I) -> y (N, O) as `semantics` computes it; `resolution` is fuzzylite's (the file's
-    `Centroid 200`), by default the tool's own."""
+    `Centroid 200`), by default the tool's own; `held`: the held outputs (fuzzyc.ordered)."""
     if semantics == "exact":
-        return evaluate(rb, x)
+        return evaluate(rb, x, held=held)
     if semantics in ("fuzzylite", "pyfuzzylite"):
         # fuzzylite's `extremely` is the S-curve (SHARPLY): a FIS `.3` (x^3 in the Octave
         # toolkit, EXTREMELY) read by fuzzylite is that
@@ -214,6 +217,8 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
                               _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse)
         if semantics == "fuzzylite" and rb.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA:
             rb = _over_rules(rb)
+        if reads_values(rb):
+            return _in_order(rb, x, semantics, resolution, held)
         y = evaluate_sampled(rb, x, resolution or RESOLUTION[semantics],
                              first_plateau=semantics == "fuzzylite")
         return np.where(fired(rb, x), y, np.nan)
@@ -224,6 +229,29 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
         return evaluate_sampled(rb, x, resolution or OCTAVE_POINTS, Sampling.TRAPEZOID,
                                 methods=(Defuzzifier.CENTROID, Defuzzifier.MEAN_OF_MAXIMUM))
     raise ValueError(f"unknown semantics `{semantics}`: one of {', '.join(SEMANTICS)}")
+
+
+def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: int | None,
+              held: Held | None) -> np.ndarray:
+    """A rule base whose outputs are evaluated in order (fuzzyc.ordered) under fuzzylite's
+    policy; its sampled outputs (which no formula reads and which hold nothing) resampled."""
+    y = evaluate(rb, x, held=held, policy=POLICIES[semantics])
+    read = {n for v in rb.outputs for f in (v.formulas or {}).values() for n in f.names()}
+    sampled = [o for o, v in enumerate(rb.outputs) if rb.inference_of(o).defuzzifier in SAMPLED]
+    for o in sampled:
+        var = rb.outputs[o]
+        if var.lock_previous or var.name in read:
+            raise FuzzycError([Diagnostic(var.loc, f"`{var.name}` is sampled ({semantics}'s "
+                                                   f"{rb.inference_of(o).defuzzifier.name.lower()}"
+                                                   ") and holds its value or is read by a "
+                                                   "Function term: not reproduced yet")])
+    if sampled:
+        stateless = replace(rb, outputs=[replace(v, lock_previous=False) for v in rb.outputs])
+        again = evaluate_sampled(stateless, x, resolution or RESOLUTION[semantics],
+                                 first_plateau=semantics == "fuzzylite",
+                                 held=Held(sequence=True))
+        y[:, sampled] = np.where(fired(rb, x)[:, sampled], again[:, sampled], np.nan)
+    return y
 
 
 def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse) -> np.ndarray:
