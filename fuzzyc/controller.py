@@ -7,6 +7,8 @@ Robustness to bad samples (a NaN or infinite raw input):
 - an output whose expression is not finite for a sample holds its state: an INCREMENT or
   RECIPROCAL_INCREMENT treats a non-finite increment as 0, a DIRECT output keeps its last value
   (its `init` before the first finite one).  Outputs are therefore always finite.
+A rule-base output with lock-previous (fuzzylite's) holds, per loop, its last value where no
+rule fires (its default before any: a fresh controller has nothing to hold).
 `set_consequent_values` changes the rule base of the model in place (the learned parameters
 belong to the model, so exporting it after learning writes the learned values).
 
@@ -27,6 +29,7 @@ import sympy
 from .engine import compiled
 from .expr import clip, compile_value
 from .model import Model, Op, OutputKind, TermKind
+from .ordered import Held
 
 
 class Controller:
@@ -60,6 +63,8 @@ class Controller:
         # per rule block in order: its input names, its (index, output name)s, its engine
         self._blocks = [([v.name for v in rb.inputs], list(enumerate(v.name for v in rb.outputs)),
                          self._engine(rb)) for rb in self.model.blocks]
+        # per block the values its lock-previous outputs hold, per loop (fuzzyc.ordered)
+        self._held = [Held(sequence=False) for _ in self.model.blocks]
 
     def _engine(self, rb):
         if self.semantics == "exact":
@@ -101,10 +106,10 @@ class Controller:
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             for s, value, alias in self._steps:
                 env[s.name] = self._run_step(s, self._column(value(env), n), alias)
-            for inputs, outputs, engine in self._blocks:
+            for (inputs, outputs, engine), held in zip(self._blocks, self._held):
                 # the block's inputs as rows (I, N), its outputs as rows (O, N)
                 x = np.array([env[name] for name in inputs])     # each one (N,) float
-                y = engine.evaluate_rows(x) if n else np.empty((len(outputs), 0))
+                y = engine.evaluate_rows(x, held) if n else np.empty((len(outputs), 0))
                 env.update({name: y[o] for o, name in outputs})
             outputs = {o.name: self._run_output(o, self._column(value(env), n), limits)
                        for o, value, limits in self._outputs}

@@ -357,6 +357,6 @@ def explain(rb: RuleBase, x: np.ndarray) -> Explanation:
     order = [int(r) for r in np.argsort(-act, kind="stable") if act[r] > 0]
     origins = rb.origins if len(rb.origins) == rb.n_rules else [""] * rb.n_rules
     fired = [(r, float(act[r]), rb.describe_rule(r), origins[r]) for r in order]
-    y = evaluate(rb, row)[0]
+    y = evaluate(rb, row, held=Held(sequence=True))[0]    # one step: nothing held yet
     return Explanation({v.name: float(row[0, i]) for i, v in enumerate(rb.inputs)}, mu, fired,
                        {v.name: float(y[o]) for o, v in enumerate(rb.outputs)})

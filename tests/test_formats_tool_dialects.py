@@ -150,14 +150,15 @@ def test_fuzzylite_fcl_dialect_by_hand():
     assert evaluate(rb, [[0.3]])[0, 0] == pytest.approx(0.62 / 0.84, abs=1e-15)
 
 
-def test_fcl_tsukamoto_and_lock_previous_are_refused_with_their_place():
+def test_fcl_tsukamoto_is_refused_with_its_place_and_nc_is_lock_previous():
     tsukamoto = FUZZYLITE_FCL.replace("TERM LOW := 0.250;", "TERM LOW := Ramp 0.6 0.4;")
     with pytest.raises(FuzzycError) as err:
         read_fcl(tsukamoto, "t.fcl")
     assert "t.fcl:19:8" in str(err.value) and "Tsukamoto" in str(err.value)
-    with pytest.raises(FuzzycError) as err:
-        read_fcl(FUZZYLITE_FCL.replace("DEFAULT := nan;", "DEFAULT := nan | NC;"), "l.fcl")
-    assert "l.fcl:23:20" in str(err.value) and "NC" in str(err.value)
+    # `nan | NC`: fuzzylite's lock-previous (the output holds its value; fuzzyc.ordered)
+    locked = read_fcl(FUZZYLITE_FCL.replace("DEFAULT := nan;", "DEFAULT := nan | NC;"), "l.fcl")
+    assert [v.lock_previous for v in locked.rulebase.outputs] == [True]
+    assert not any(v.lock_previous for v in read_fcl(FUZZYLITE_FCL, "f.fcl").rulebase.outputs)
 
 
 def test_fcl_export_is_the_dialect_fuzzylite_reads():

@@ -64,14 +64,13 @@ class Sampling(Enum):
 def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int = 100,
                      sampling: Sampling = Sampling.MIDPOINT,
                      methods: tuple[Defuzzifier, ...] = SAMPLED,
-                     first_plateau: bool = False, held=None) -> np.ndarray:
+                     first_plateau: bool = False) -> np.ndarray:
     """x (N, I) -> y (N, O) as fuzzylite computes it with integral defuzzifiers sampled at
     `resolution` midpoints (or as Octave does, `sampling`); `methods` are the defuzzifiers
     sampled, the others as the engine (every tool is exact there).  `first_plateau`: the
-    mean of maximum over the first run of maximal samples only (fuzzylite 6); `held`: the
-    engine's (fuzzyc.ordered)."""
+    mean of maximum over the first run of maximal samples only (fuzzylite 6)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
-    y = evaluate(rb, x, held=held)
+    y = evaluate(rb, x)
     sampled = [o for o in range(len(rb.outputs)) if _is_sampled(rb, o, methods)]
     if not sampled:
         return y

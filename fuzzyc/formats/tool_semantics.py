@@ -248,8 +248,7 @@ def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: int | Non
     if sampled:
         stateless = replace(rb, outputs=[replace(v, lock_previous=False) for v in rb.outputs])
         again = evaluate_sampled(stateless, x, resolution or RESOLUTION[semantics],
-                                 first_plateau=semantics == "fuzzylite",
-                                 held=Held(sequence=True))
+                                 first_plateau=semantics == "fuzzylite")
         y[:, sampled] = np.where(fired(rb, x)[:, sampled], again[:, sampled], np.nan)
     return y
 
