@@ -101,10 +101,11 @@ def all_singletons(var: Variable) -> bool:
 
 
 def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str,
-                  problems: list[str]) -> str:
+                  problems: list[str], says_any: bool = False) -> str:
     """Rule r as `if x is not very A and ... then y is B<also>z is C with w` (FLL, FCL, .fz
     share this shape; `also` joins conclusions).  Lower-case keywords: FCL's are
-    case-insensitive, and fuzzylite 6 reads FCL rules only in lower case (measured)."""
+    case-insensitive, and fuzzylite 6 reads FCL rules only in lower case (measured).
+    `says_any`: a rule without clauses (it always fires) is `if x is any` (fuzzylite's)."""
     rb = model.rulebase
 
     def clause(i: int, t: int, negated: bool, hedge: Hedge) -> str:
@@ -119,7 +120,9 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
         problems.append(f"rule {r + 1} hedges a compound condition or a hedged clause (read "
                         "from fuzzylite's `very very x` or a hedged conclusion), which the "
                         "format cannot say")
-    if not condition:
+    if not condition and says_any and rb.inputs and "any" not in rb.inputs[0].names:
+        condition = f"{rb.inputs[0].name} is any"
+    elif not condition:
         problems.append(f"rule {r + 1} has no clause, which the format cannot say")
     conclusions = [f"{v.name} is {v.names[int(rb.consequents[r, o])]}"
                    for o, v in enumerate(rb.outputs) if rb.consequents[r, o] >= 0]
@@ -143,7 +146,7 @@ def peaks_instead(model: Model, fmt: str) -> tuple[list[Variable], list[str]]:
     change)."""
     changed, notes = [], []
     for v in model.rulebase.outputs:
-        kept = np.isin(v.kinds, (TermKind.SINGLETON, TermKind.LINEAR))
+        kept = np.isin(v.kinds, (TermKind.SINGLETON, TermKind.LINEAR, TermKind.FUNCTION))
         if np.all(kept):
             changed.append(v)
             continue
@@ -152,11 +155,27 @@ def peaks_instead(model: Model, fmt: str) -> tuple[list[Variable], list[str]]:
         params[:, 0] = peaks
         changed.append(Variable(v.name, v.lo, v.hi, list(v.names),
                                 np.where(kept, v.kinds, int(TermKind.SINGLETON)), params,
-                                default=v.default, coefficients=v.coefficients))
+                                default=v.default, coefficients=v.coefficients,
+                                formulas=v.formulas, lock_previous=v.lock_previous))
         notes.append(f"`{v.name}`'s terms are written as singletons at their peaks "
                      f"({', '.join(num(p) for p in peaks)}): {fmt}'s peak-based defuzzifier "
                      "needs singletons; the outputs are the same, the term shapes are not kept")
     return changed, notes
+
+
+def unsayable_functions(model: Model, fmt: str, formulas: bool, lock: bool) -> list[str]:
+    """Problems for a format that cannot write Function terms (`formulas` False) or an output
+    that holds its value (`lock` False): fuzzylite's FLL, FCL and FIS can say the first."""
+    problems = []
+    for rb in model.blocks:
+        for v in rb.inputs + rb.outputs:
+            for t in (v.formulas or {}) if not formulas else ():
+                problems.append(f"{fmt} has no formula terms: `{v.names[t]}` of `{v.name}` is "
+                                f"Function {v.formulas[t].infix()} (write FLL)")
+            if v.lock_previous and not lock:
+                problems.append(f"{fmt} cannot say that `{v.name}` holds its last value where "
+                                "no rule fires (lock-previous: write FLL or FCL)")
+    return problems
 
 
 def compound_negations(model: Model, fmt: str) -> list[str]:

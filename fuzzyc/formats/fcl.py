@@ -456,11 +456,11 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     for var in outputs:
         lines += [f"DEFUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
                   f"  METHOD : {method};", *([accu_line] if accu_line else []),
-                  f"  DEFAULT := {num(var.default)};",
+                  f"  DEFAULT := {num(var.default)}{' | NC' * var.lock_previous};",
                   f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_DEFUZZIFY", ""]
     lines += ["RULEBLOCK rules", *operators.values()]
     for r in range(rb.n_rules):
-        lines.append(f"  RULE {r + 1} : {rule_sentence(model, r, {}, ' and ', problems)};")
+        lines.append(f"  RULE {r + 1} : {rule_sentence(model, r, {}, ' and ', problems, True)};")
     lines += ["END_RULEBLOCK", "", "END_FUNCTION_BLOCK"]
     return finish(model, "FCL", lines, problems, notes, warnings)
 
@@ -488,7 +488,9 @@ def _fcl_terms(var, problems: list[str], notes: list[str]) -> list[str]:
     for t, (name, kind, p) in enumerate(zip(var.names, var.kinds, var.params)):
         a, b, c, d = (float(x) for x in p)
         kind = TermKind(int(kind))
-        if kind == TermKind.DISCRETE:
+        if kind == TermKind.FUNCTION:
+            body = f"Function {var.formulas[t].infix()}"      # fuzzylite's dialect
+        elif kind == TermKind.DISCRETE:
             body = " ".join(f"({num(x)}, {num(y)})" for x, y in var.points[t])
         elif kind == TermKind.TRAPEZOID:
             points = [(a, 0), (b, 1), (c, 1), (d, 0)]

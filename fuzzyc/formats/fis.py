@@ -59,7 +59,7 @@ from ..membership import linear_coefficients
 from .common import (Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none, tsukamoto_terms)
 from .export import (finish, left_out, num, own_output_choices, peaks_instead,
-                     unsayable_hedges)
+                     unsayable_functions, unsayable_hedges)
 from .fll import fuzzylite_shape
 from .functions import function_term
 
@@ -407,7 +407,8 @@ def write_fis(model: Model, warnings: list[str] | None = None) -> str:
     cannot be said in FIS (see the module docstring for the mapping)."""
     rb = model.rulebase
     notes = left_out(model)
-    problems = unsayable_hedges(model, {}, "FIS") + own_output_choices(model, "FIS")
+    problems = (unsayable_hedges(model, {}, "FIS") + own_output_choices(model, "FIS")
+                + unsayable_functions(model, "FIS", formulas=True, lock=False))
     if rb.conditions:
         problems.append(f"{rb.nested_rules()} has a nested condition; a FIS rule row is one "
                         "connective over one clause per input")
@@ -547,6 +548,12 @@ def _fis_terms(var: Variable, is_input: bool, n_inputs: int, problems: list[str]
             word, values = "constant", (a,)
         elif kind == TermKind.LINEAR:   # MATLAB writes the constant last
             word, values = "linear", (*linear[t, 1:], linear[t, 0])
+        elif kind == TermKind.FUNCTION:     # fuzzylite's; MATLAB and Octave have none
+            lines.append(f"MF{t + 1}={_quote(name, problems)}:'function',"
+                         f"[{var.formulas[t].infix()}]")
+            notes.append(f"term `{name}` of `{var.name}` is written `function`, fuzzylite's "
+                         "word: MATLAB and the Octave toolkit have no such function")
+            continue
         elif kind == TermKind.DISCRETE:
             word, values = "discretemf", var.term_numbers(t)
             notes.append(f"term `{name}` of `{var.name}` is written `discretemf`, fuzzylite's "

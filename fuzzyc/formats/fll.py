@@ -505,14 +505,16 @@ def write_fll(model: Model, warnings: list[str] | None = None) -> str:
         lines += _fll_variable("OutputVariable", var, problems, is_input=False,
                                n_inputs=len(rb.inputs),
                                extra=[f"aggregation: {aggregation}", f"defuzzifier: {defuzzifier}",
-                                      f"default: {num(var.default)}", "lock-previous: false"])
+                                      f"default: {num(var.default)}",
+                                      f"lock-previous: {str(var.lock_previous).lower()}"])
     lines += ["RuleBlock: rules", "  enabled: true"]
     lines += [f"  {key}: {FLL_NAMES[field][getattr(inf, field)]}"
               for key, field in (("conjunction", "and_"), ("disjunction", "or_"),
                                  ("implication", "implication"))]
     lines.append("  activation: General")
     for r in range(rb.n_rules):
-        lines.append("  rule: " + rule_sentence(model, r, FLL_HEDGES, " and ", problems))
+        lines.append("  rule: " + rule_sentence(model, r, FLL_HEDGES, " and ", problems,
+                                                    says_any=True))
     return finish(model, "FLL", lines, problems, notes, warnings)
 
 
@@ -556,6 +558,9 @@ def _fll_variable(section: str, var, problems: list[str], is_input: bool,
             continue
         if kind == TermKind.DISCRETE:
             lines.append(f"  term: {name} Discrete " + " ".join(map(num, var.term_numbers(t))))
+            continue
+        if kind == TermKind.FUNCTION:
+            lines.append(f"  term: {name} Function {var.formulas[t].infix()}")
             continue
         term = fll_term(TermKind(int(kind)), p, is_input)
         if term is None:

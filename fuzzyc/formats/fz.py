@@ -17,7 +17,8 @@ from ..builder.terms import PLAIN_SHAPES, term_core
 from ..escape import one_line
 from ..membership import linear_coefficients
 from .common import OUTPUT_SUFFIX
-from .export import left_out, model_identifier, num, refuse, rule_sentence, unsayable_names
+from .export import (left_out, model_identifier, num, refuse, rule_sentence, unsayable_functions,
+                     unsayable_names)
 
 FZ_HEDGES = {h: h.name.lower() for h in Hedge if h != Hedge.NONE}
 FZ_INFERENCE = (
@@ -31,7 +32,7 @@ FZ_INFERENCE = (
 
 def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     rb = model.rulebase
-    problems = unsayable_names(model, ".fz")
+    problems = unsayable_names(model, ".fz") + unsayable_functions(model, ".fz", False, False)
     lines = [f"controller {model_identifier(model)} {_string(model.title)} {{"
              .replace("  ", " ")]
     ranges = [_holding_peaks(var) for var in rb.inputs]
@@ -93,6 +94,8 @@ def _terms(var: Variable, problems: list[str], n_inputs: int = 0) -> str:
                      if kind == TermKind.LINEAR else
                      f"{name} = discrete({', '.join(map(num, var.term_numbers(t)))})"
                      if kind == TermKind.DISCRETE else
+                     f"{name} = function"      # refused (unsayable_functions): never written
+                     if kind == TermKind.FUNCTION else
                      f"{name} = {_shape(TermKind(int(kind)), p, var.name, name, problems)}"
                      for t, (name, kind, p) in enumerate(zip(var.names, var.kinds, var.params)))
 
