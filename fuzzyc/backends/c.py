@@ -89,6 +89,10 @@ def _check_constructs(rb: RuleBase) -> None:
             raise _fail(f"the C back end needs a term on every output; `{var.name}` has none")
     if inf.defuzzifier == Defuzzifier.TSUKAMOTO:
         raise _fail("the C back end does not emit the tsukamoto defuzzifier")
+    held = [v.name for v in rb.outputs if v.lock_previous]
+    if held:
+        raise _fail(f"the C back end does not emit lock-previous (`{held[0]}` holds its last "
+                    "value where no rule fires: state the header's evaluation has not)")
     own = [(name, choice) for name, choice in rb.output_choices.items()
            if choice != (inf.aggregation, inf.defuzzifier)]
     if own:

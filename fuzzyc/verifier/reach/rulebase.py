@@ -43,6 +43,11 @@ def unsupported(rb: RuleBase) -> str | None:
     for v in rb.outputs:
         if np.any(v.kinds == TermKind.LINEAR):
             return f"the linear (Takagi-Sugeno) terms of `{v.name}`"
+        if v.lock_previous:
+            return f"lock-previous on `{v.name}` (it holds its last value: state)"
+    for v in rb.inputs + rb.outputs:
+        if v.formulas:
+            return f"the Function (formula) terms of `{v.name}`"
     return None
 
 
