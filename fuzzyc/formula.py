@@ -15,7 +15,7 @@ from functools import lru_cache
 
 import numpy as np
 from lark import Lark, Transformer
-from lark.exceptions import UnexpectedInput, VisitError
+from lark.exceptions import UnexpectedEOF, UnexpectedInput, UnexpectedToken, VisitError
 
 MAX_TEXT = 2000       # characters: a formula is one line of a rule file
 MAX_DEPTH = 64        # nesting of parentheses, and of the parsed tree: deeper is refused
@@ -173,11 +173,12 @@ def parse_formula(text: str, known: set[str] | None = None) -> Formula:
             raise FormulaError(f"the formula nests deeper than {MAX_DEPTH} operations", 0)
         tree = _Tree().transform(parsed)
     except UnexpectedInput as exc:
-        got = text[exc.pos_in_stream:exc.pos_in_stream + 1] if exc.pos_in_stream is not None \
-            else ""
-        what = f"unexpected `{got}`" if got else "the formula ends too early"
-        raise FormulaError(f"{what} in the formula: it takes numbers, names, + - * / % ^, "
-                           "parentheses and fuzzylite's functions", exc.pos_in_stream or 0)
+        at_end = isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken)
+                                                     and exc.token.type == "$END")
+        offset = len(text.rstrip()) if at_end else exc.pos_in_stream or 0
+        what = "the formula ends too early" if at_end else f"unexpected `{text[offset]}`"
+        raise FormulaError(f"{what}: a formula takes numbers, names, + - * / % ^, "
+                           "parentheses and fuzzylite's functions", offset) from None
     except VisitError as exc:
         if isinstance(exc.orig_exc, FormulaError):
             raise exc.orig_exc from None

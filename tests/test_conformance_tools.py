@@ -61,3 +61,26 @@ def test_shipped_rule_base_exported_is_read_back_by_the_tool(path, fmt, tool):
     if not done.written:       # the format cannot say the model: refused by name, not written
         pytest.skip(f"not exported as .{fmt}: {done.message}")
     assert done.agrees, (done.message, done.worst)
+
+
+# issue 14: refused until Function terms and lock-previous were read (fuzzylite 6's
+# takagi-sugeno/approximation in its three formats, pyfuzzylite's approximation and function)
+FORMULA_FILES = [(suite, path) for suite in suites() if not suite.missing
+                 for path in suite.files if path.stem in ("approximation", "function")]
+
+
+@pytest.mark.parametrize("suite, path", FORMULA_FILES,
+                         ids=[f"{s.oracle}-{p.name}" for s, p in FORMULA_FILES])
+def test_function_and_lock_previous_examples_agree(suite, path):
+    result = check(path, suite)
+    assert result.imported and result.compared, result.message
+    assert result.worst_tool <= TOLERANCE, (result.worst_tool, result.worst_exact)
+
+
+def test_the_five_formula_examples_are_found():
+    if any(s.missing for s in suites()):
+        pytest.skip("a suite is missing: " + "; ".join(s.missing for s in suites() if s.missing))
+    assert sorted(f"{s.oracle}:{p.name}" for s, p in FORMULA_FILES) == [
+        "fuzzylite:approximation.fcl", "fuzzylite:approximation.fis",
+        "fuzzylite:approximation.fll", "pyfuzzylite:approximation.fll",
+        "pyfuzzylite:function.fll"]

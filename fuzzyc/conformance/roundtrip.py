@@ -13,6 +13,7 @@ from ..errors import FuzzycError
 from ..formats import READERS, WRITERS
 from ..formats.tool_semantics import evaluate_as
 from ..model import Model
+from ..ordered import Held
 from . import oracles
 from .check import TOLERANCE, random_inputs
 
@@ -55,7 +56,8 @@ def round_trip(model: Model, name: str, fmt: str, tool: str) -> RoundTrip:
     if theirs.shape != (x.shape[0], len(rb.outputs)):
         return RoundTrip(name, fmt, tool, True, f"tool gave {theirs.shape[1]} outputs", np.inf)
     # fuzzyc's numbers for the file as written (a FIS file, say, fixes MATLAB's defaults)
-    ours = evaluate_as(READERS[f".{fmt}"](text, name).rulebase, x, tool)
+    # (the tool evaluates the rows in sequence: an output with lock-previous holds over them)
+    ours = evaluate_as(READERS[f".{fmt}"](text, name).rulebase, x, tool, held=Held(True))
     span = np.array([v.hi - v.lo or 1.0 for v in rb.outputs])
     same_nan = np.isnan(ours) == np.isnan(theirs)
     diff = np.where(np.isnan(theirs), 0.0, np.abs(ours - theirs)) / span
