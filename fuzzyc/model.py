@@ -98,7 +98,7 @@ Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives 
   CENTER_OF_AREA   paper eq. 2: sum_j alpha_j peak_j / sum_j alpha_j, alpha_j = AGG of act_r over
              rules concluding term j; peak = (b+c)/2 of a trapezoid, the mean, centre, or value.
   WEIGHTED_AVERAGE  sum_r act_r z_r / sum_r act_r  (Takagi-Sugeno; z_r = peak of the consequent,
-             or the LINEAR term's value at the rule base's inputs)
+             or the LINEAR term's value at the rule base's inputs, or the FUNCTION term's)
   WEIGHTED_SUM      sum_r act_r z_r  (the neuro-fuzzy controller's output; may leave [lo, hi]).
 Per output o the aggregation and defuzzifier are RuleBase.inference_of(o): the rule base's, or
   the output's own (RuleBase.output_choices).
@@ -107,6 +107,10 @@ Rule blocks: a Model holds rule blocks (RuleBase) in evaluation order.  Each sam
   (signals, steps, or outputs of blocks before k: a chain) and writes its outputs, which later
   blocks and the controller outputs read.  An output is written by one block only.
 Rule-base outputs are not clamped; the signal chain's outputs saturate (see Output).
+Held outputs (Variable.lock_previous, fuzzylite's lock-previous): where none of its rules fires
+  (with a value), the output keeps the value it had the last time one did, its default before
+  that: state of a sequence of evaluations (the controller, per loop; `Held` in fuzzyc.ordered),
+  which a stateless evaluation refuses by name.
 """
 from __future__ import annotations
 
