@@ -10,6 +10,7 @@ non-finite value means is the caller's (the engine's policy, fuzzyc.ordered).
 """
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -188,7 +189,7 @@ def parse_formula(text: str, known: set[str] | None = None) -> Formula:
         for name in sorted(formula.names() - set(known) - {"x"}):
             raise FormulaError(f"unknown name `{name}` in the formula: it reads x and the "
                                "variables " + ", ".join(sorted(known)),
-                               _name_offset(text, name))
+                               name_offset(text, name))
     return formula
 
 
@@ -202,7 +203,7 @@ def _depth(tree) -> int:
     return deepest
 
 
-def _name_offset(text: str, name: str) -> int:
-    import re
+def name_offset(text: str, name: str) -> int:
+    """Where `name` first stands as a whole word in `text` (0 if nowhere)."""
     found = re.search(rf"(?<![A-Za-z0-9_]){re.escape(name)}(?![A-Za-z0-9_])", text)
     return found.start() if found else 0

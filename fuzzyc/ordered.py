@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .errors import Diagnostic, FuzzycError
-from .model import Defuzzifier, RuleBase, TermKind
+from .model import Defuzzifier, RuleBase
 
 TAKAGI_SUGENO = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
 
@@ -106,14 +106,3 @@ def finish_output(policy: Policy, var, value: np.ndarray, fired: np.ndarray,
         value = held.hold(o, value, valued, valued)
     return np.where(np.isnan(value), var.default, value)
 
-
-def function_reads(rb: RuleBase) -> list[tuple[str, str, str]]:
-    """(output, term, name) for every name a Takagi-Sugeno function term reads that is neither
-    an input nor an output before it (what fuzzyc refuses: the previous evaluation's value)."""
-    bad = []
-    for o, var in enumerate(rb.outputs):
-        known = {v.name for v in rb.inputs} | {v.name for v in rb.outputs[:o]}
-        for t, formula in (var.formulas or {}).items():
-            if var.kinds[t] == TermKind.FUNCTION:
-                bad += [(var.name, var.names[t], n) for n in sorted(formula.names() - known)]
-    return bad

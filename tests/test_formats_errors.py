@@ -15,7 +15,7 @@ CORPUS = Path(__file__).parent / "format_corpus"
 # file -> the diagnostics expected, as (line:col, words of the message)
 EXPECTED = {
     "bad_syntax.fll": [("12:35", "ends too early")],
-    "bad_unsupported.fll": [("4:30", "unexpected `/` in the formula"),
+    "bad_unsupported.fll": [("4:30", "unexpected `/`: a formula takes"),
                             ("9:16", "defuzzifier `LargestOfMaximum` is not supported"),
                             ("12:15", "activation `Highest` is not supported"),
                             ("13:23", "hedge `rather` is not supported"),

@@ -7,7 +7,7 @@ from __future__ import annotations
 from dataclasses import replace
 
 from ..errors import Reporter
-from ..formula import FormulaError, _name_offset, parse_formula
+from ..formula import FormulaError, name_offset, parse_formula
 from ..model import RuleBase, SourceLoc, TermKind
 from ..ordered import TAKAGI_SUGENO
 from .common import TermSpec
@@ -70,5 +70,5 @@ def _only(formula, allowed: set[str], specs, var, t: int, rep: Reporter, why: st
 
 def _name_loc(specs: dict, var, t: int, name: str) -> SourceLoc | None:
     term = specs[var.name].terms[t]
-    return _at(term.formula_loc, _name_offset(term.formula.text, name)) if term.formula_loc \
+    return _at(term.formula_loc, name_offset(term.formula.text, name)) if term.formula_loc \
         else term.loc
