@@ -161,7 +161,7 @@ class OutputDefuzzifier:
             self.input_hi = np.array([v.hi for v in inputs], dtype=float)
         # FUNCTION terms of a Takagi-Sugeno output: values of the inputs and earlier outputs
         self.functions = {t: f for t, f in (var.formulas or {}).items()
-                          if method in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)}
+                          if method in PEAK_BASED}
         self.tsukamoto = method == Defuzzifier.TSUKAMOTO
         self.use_peaks = not self.tsukamoto and (
             method in PEAK_BASED or bool(np.all(kinds == TermKind.SINGLETON)))

@@ -29,7 +29,10 @@ import numpy as np
 from .errors import Diagnostic, FuzzycError
 from .model import Defuzzifier, RuleBase
 
-TAKAGI_SUGENO = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
+# the defuzzifiers that read a term's value (fuzzylite's WeightedAverage/WeightedSum, grouped
+# or not), where a Function term is a value of other variables, not a membership of x
+TAKAGI_SUGENO = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM,
+                 Defuzzifier.CENTER_OF_AREA)
 
 
 @dataclass(frozen=True)

@@ -217,3 +217,19 @@ def test_exports_write_formulas_where_the_format_can():
         with pytest.raises(FuzzycError) as err:
             WRITERS[fmt](model, [])
         assert words in str(err.value)
+
+
+def test_grouped_weighted_average_reads_the_function_value():
+    """WeightedAverage grouped by Maximum (the center of area) over a Function term of an
+    input: at a = 1.5, lo = 0.25 and hi = 0.75, twice = 2 * 1.5 = 3:
+    (0.25 * 3 + 0.75 * 5) / (0.25 + 0.75) = 4.5 (pyfuzzylite 8 and the fuzzylite 6 CLI say so
+    too, measured)."""
+    text = MAMDANI.replace("  term: half Function 1 - x / 2",
+                           "  term: lo Triangle 0 0 2\n  term: hi Triangle 0 2 2")
+    text = text.replace("  defuzzifier: Centroid\n  term: up Function x",
+                        "  defuzzifier: WeightedAverage\n  term: twice Function 2 * a\n"
+                        "  term: five Constant 5")
+    text = text.replace("if a is half then y is up",
+                        "if a is lo then y is twice\n  rule: if a is hi then y is five")
+    model = READERS[".fll"](text.replace("range: 0 1", "range: 0 10"), "g.fll")
+    assert evaluate(model.rulebase, np.array([[1.5]]))[0, 0] == pytest.approx(4.5)
