@@ -7,6 +7,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from fuzzyc.backends.c import check_supported
 from fuzzyc.controller import Controller
@@ -14,7 +16,7 @@ from fuzzyc.engine import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import READERS, WRITERS
 from fuzzyc.formats.tool_semantics import Chain
-from fuzzyc.formula import FormulaError, parse_formula
+from fuzzyc.formula import Formula, FormulaError, parse_formula
 from fuzzyc.verifier.reach.rulebase import unsupported
 
 # fuzzylite 6's approximation example (takagi-sugeno/approximation.fll), cut to three terms:
@@ -233,3 +235,25 @@ def test_grouped_weighted_average_reads_the_function_value():
                         "if a is lo then y is twice\n  rule: if a is hi then y is five")
     model = READERS[".fll"](text.replace("range: 0 1", "range: 0 10"), "g.fll")
     assert evaluate(model.rulebase, np.array([[1.5]]))[0, 0] == pytest.approx(4.5)
+
+
+LEAVES = st.one_of(st.floats(0, 1e6, allow_nan=False).map(lambda v: ("num", v)),
+                   st.sampled_from(["x", "a", "b"]).map(lambda n: ("name", n)))
+TREES = st.recursive(LEAVES, lambda sub: st.one_of(
+    st.tuples(st.sampled_from(["+", "-", "*", "/", "%", "^"]), sub, sub),
+    st.tuples(st.just("neg"), sub),
+    st.tuples(st.just("call"), st.sampled_from(["sin", "fabs", "sqrt"]), sub),
+    st.tuples(st.just("call"), st.sampled_from(["min", "atan2", "lt"]), sub, sub)),
+    max_leaves=12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(TREES)
+def test_a_formula_written_back_reads_back_the_same(tree):
+    """infix() parenthesises by precedence and associativity: the text parses to the same tree
+    and the same numbers (NaN where the formula is NaN)."""
+    text = Formula("", tree).infix()
+    again = parse_formula(text)
+    assert again.tree == tree, text
+    env = {"x": np.array([0.0, 0.5, -3.0]), "a": 2.0, "b": 1e-3}
+    np.testing.assert_array_equal(again.evaluate(env), Formula("", tree).evaluate(env))
