@@ -6,7 +6,9 @@ the premise's term indices, and the output is the center of area (eq. 2).  Micro
 evaluation at batch 1 and batch 1,000, median of repeats; the engine path that ran (grid with
 per-cell tables, grid with tables per term tuple, sparse or dense); the CPU time of the batch
 alongside its wall time; and the dense reference `activations` on the same batch for comparison
-(only where it stays under a few seconds).  Writes benchmarks/results/wide.md.
+(only where it stays under a few seconds); the generated float C header's CPU time per call
+on the same batch and the way it finds the rules (its cell table of term tuples, or every rule),
+up to 9 inputs.  Writes benchmarks/results/wide.md.
 
     python3 benchmarks/bench_wide.py [--quick]
 """
@@ -25,9 +27,13 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
 
 from common import markdown_table, median_seconds, write_result  # noqa: E402
+from fuzzyc.backends.c import HeaderWriter  # noqa: E402
+from fuzzyc.backends.c_expr import REAL_TYPES  # noqa: E402
+from fuzzyc.backends.cload import CController  # noqa: E402
 from fuzzyc.builder import RuleSpec, assemble_rulebase  # noqa: E402
 from fuzzyc.engine import activations, compiled, evaluate  # noqa: E402
-from fuzzyc.model import Connective, Defuzzifier, Inference, SourceLoc, TermKind, Variable  # noqa: E402
+from fuzzyc.model import (Connective, Defuzzifier, Inference, Model, SourceLoc,  # noqa: E402
+                          TermKind, Variable)
 
 TERMS = ["N", "Z", "P"]
 OUT = ["NB", "NS", "ZO", "PS", "PB"]
@@ -60,6 +66,15 @@ def path_of(rb) -> str:
     return "sparse" if engine.sparse else "dense"
 
 
+def c_header_cost(rb, x: np.ndarray) -> str:
+    """CPU us per call of the float header over the batch x, and how it finds the rules."""
+    model = Model.of_rulebase(rb, f"wide{len(rb.inputs)}")
+    table = HeaderWriter(model, REAL_TYPES["float"]).sparse
+    controller = CController(model)
+    us = median_seconds(lambda: controller.evaluate(x), 5, time.process_time) * 1e6 / len(x)
+    return f"{us:.2f} ({'cell table' if table else 'every rule'})"
+
+
 def main(quick: bool = False) -> str:
     rng = np.random.default_rng(0)
     rows = []
@@ -74,13 +89,15 @@ def main(quick: bool = False) -> str:
         dense = ""
         if rb.n_rules <= 3 ** 8:
             dense = f"{median_seconds(lambda: activations(rb, xk), 3) * 1e6 / len(xk):.2f}"
+        c_cost = c_header_cost(rb, xk) if n_in <= 9 else ""
         row = [n_in, f"{rb.n_rules:,}", path_of(rb), f"{one:.1f}", f"{batch:.2f}",
-               f"{batch_cpu:.2f}", dense]
+               f"{batch_cpu:.2f}", dense, c_cost]
         rows.append(row)
         print(" | ".join(map(str, row)), flush=True)
     load_after = os.getloadavg()[0]
     header = ["inputs", "rules", "engine path", "batch 1: us/eval", "batch 1000: us/eval",
-              "batch 1000: CPU us/eval", "dense activations only, batch 1000: us/eval"]
+              "batch 1000: CPU us/eval", "dense activations only, batch 1000: us/eval",
+              "C float header, batch 1000: CPU us/call"]
     text = ("# Engine cost against the number of inputs\n\n"
             "Full-grid rule bases: three uniform triangles per input, one AND rule per term "
             "combination (3^I rules), center of area over five singletons. Median of repeats; "

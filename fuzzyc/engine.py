@@ -33,8 +33,9 @@ from .norms import combine, firing
 from .ordered import EXACT, Held, Policy, finish_output, locked, reads_values, refuse_stateless
 
 MAX_LOOKUP_CELLS = 1 << 21     # a direct cell table up to here, sorted cell codes beyond
-MAX_SPARSE_INPUTS = 6          # the C back ends' cell tables stop here; the engine goes on
-                               # while a sample's 2**I candidates are fewer than the rules
+MAX_SPARSE_INPUTS = 6          # past this many inputs the grid path is taken only while a
+                               # sample's 2**I candidates are fewer than the rules (the
+                               # fixed-point C cell tables stop here)
 MAX_CELL_CODE = float(1 << 62)  # cell codes are int64
 # assumption: the working set one chunk may use, in float64 values (16 MB).  Measured on a 2-core
 # EPYC (2 MB L2), 100,000-200,000 samples, the paper rule bases: in a fresh process 1 << 22

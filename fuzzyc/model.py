@@ -542,6 +542,14 @@ class Model:
     def symbol_values(self) -> dict[str, float]:
         return {p.name: p.value for p in self.params.values()}
 
+    @classmethod
+    def of_rulebase(cls, rb: RuleBase, name: str) -> "Model":
+        """rb alone as a controller: its inputs read as signals, each output `y` written as it
+        is to `y_out` (the importers' convention; benchmarks and tests of wide rule bases)."""
+        return cls(name, [rb], signals=[Signal(v.name, v.lo, v.hi) for v in rb.inputs],
+                   outputs=[Output(v.name + "_out", OutputKind.DIRECT, sympy.Symbol(v.name),
+                                   v.lo, v.hi, init=v.lo) for v in rb.outputs])
+
     @property
     def rulebase(self) -> RuleBase:
         """The rule base of a one-block model.  A reader that handles one rule block asks for

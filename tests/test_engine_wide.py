@@ -1,7 +1,7 @@
 """Wide rule bases (more than 6 inputs) stay on the sparse path: a sample fires at most 2**I
 term tuples, looked up in a direct cell table or, where that table would be too big, among the
 rules' sorted cell codes.  Both agree with the dense reference; a hand-computed 7-input value;
-the C back end keeps every rule beyond 6 inputs, as before.  Past the grid's per-cell tables the
+the C back end takes its cell table up to 8 inputs of 3 terms and loops over every rule past it.  Past the grid's per-cell tables the
 grid path tables columns per term tuple: the same bits as the sparse candidates' scatter and as
 the per-cell tables, and the dense reference's values, on random wide rule bases."""
 from __future__ import annotations
@@ -14,6 +14,7 @@ import pytest
 from fuzzyc import grid
 from fuzzyc.backends.c import HeaderWriter
 from fuzzyc.backends.c_expr import REAL_TYPES
+from fuzzyc.backends.cload import CController
 from fuzzyc.builder import RuleSpec, assemble_rulebase
 from fuzzyc.defuzz import term_strengths
 from fuzzyc.engine import MAX_LOOKUP_CELLS, CompiledRuleBase, evaluate
@@ -162,8 +163,23 @@ def test_few_rules_over_many_inputs_stay_dense():
     assert not CompiledRuleBase(rb).sparse
 
 
-def test_c_header_keeps_every_rule_beyond_six_inputs():
-    rb = rulebase(7, 3, itertools.product(range(3), repeat=7),
+@pytest.mark.parametrize("n_in", [7, 8])
+def test_c_header_takes_the_cell_table_up_to_eight_inputs(n_in):
+    # issue 14: past 6 inputs the header looped over every rule (4.1 us per call at 7 inputs,
+    # 14 us at 8); the cell table has (3 + 1)**7 = 16,384 and 4**8 = 65,536 cells, within
+    # fuzzyc.limits.MAX_C_TABLE_CELLS, and a call visits the 2**I active term tuples
+    rb = rulebase(n_in, 3, itertools.product(range(3), repeat=n_in),
                   Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
-    writer = HeaderWriter(Model("wide", [rb]), REAL_TYPES["float"])
-    assert not writer.sparse
+    model = Model.of_rulebase(rb, "wide")
+    assert HeaderWriter(model, REAL_TYPES["float"]).sparse
+    x = points(n_in)
+    got = CController(model, numeric="double").evaluate(x)
+    assert np.max(np.abs(got - evaluate(rb, x))) <= 1e-12 * 10.0    # of the range [0, 10]
+
+
+def test_c_header_keeps_every_rule_past_the_cell_limit():
+    # 9 inputs: 4**9 = 262,144 cells, beyond MAX_C_TABLE_CELLS (gcc took 19 s and 1.9 GB on
+    # a 1.8M-cell table, then refused it): every rule is looped over
+    rb = rulebase(9, 3, itertools.product(range(3), repeat=9),
+                  Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
+    assert not HeaderWriter(Model("wide", [rb]), REAL_TYPES["float"]).sparse

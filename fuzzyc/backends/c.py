@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine import MAX_SPARSE_INPUTS, CompiledRuleBase
+from ..engine import CompiledRuleBase
 from ..errors import Diagnostic, FuzzycError
 from ..escape import c_comment, c_identifier, check_c_names
 from ..limits import MAX_C_TABLE_CELLS
@@ -133,11 +133,12 @@ class HeaderWriter:
         self.name = c_identifier(model.name)
         self.p = self.name + "_"
         self.P = self.name.upper() + "_"
-        # The cell table is the fast path where it is small (up to MAX_SPARSE_INPUTS inputs and
-        # MAX_C_TABLE_CELLS cells); past that every rule is looped over (a 1.8M-cell table took
-        # 19 s, 1.9 GB and gcc rejected it).
-        compiled = CompiledRuleBase(self.rb, len(self.rb.inputs) <= MAX_SPARSE_INPUTS)
-        self.sparse = compiled.sparse and compiled.lookup.shape[0] <= MAX_C_TABLE_CELLS
+        # The cell table is the fast path where it is small (a direct table of at most
+        # MAX_C_TABLE_CELLS cells: 8 inputs of 3 terms); past that every rule is looped over
+        # (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
+        compiled = CompiledRuleBase(self.rb)
+        self.sparse = (compiled.sparse and compiled.codes is None
+                       and compiled.lookup.shape[0] <= MAX_C_TABLE_CELLS)
         self.depth = compiled.lookup.shape[1] if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
         self.items = self.item_writer()
