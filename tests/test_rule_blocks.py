@@ -118,7 +118,7 @@ def test_outside_blocks_an_output_is_not_a_condition():
 
 
 def test_one_block_readers_refuse_by_name():
-    for step in (generate_header, verify_model, write_fz):
+    for step in (generate_header, verify_model):
         with pytest.raises(FuzzycError, match=r"`chain` has 2 rule blocks \(`first`, `second`\)"):
             step(chain())
 

@@ -11,9 +11,8 @@ import numpy as np
 
 from ..errors import FuzzycError
 from ..formats import READERS, WRITERS
-from ..formats.tool_semantics import evaluate_as
+from ..formats.tool_semantics import Chain
 from ..model import Model
-from ..ordered import Held
 from . import oracles
 from .check import TOLERANCE, random_inputs
 
@@ -37,10 +36,10 @@ class RoundTrip:
 def round_trip(model: Model, name: str, fmt: str, tool: str) -> RoundTrip:
     """Write `model` as `fmt`, let `tool` evaluate the file on random inputs, compare."""
     try:
-        rb = model.rulebase
         text = WRITERS[f".{fmt}"](model, [])
     except FuzzycError as exc:
         return RoundTrip(name, fmt, tool, False, str(exc).splitlines()[0])
+    rb = Chain(model)      # every rule block, in order: the file's inputs and outputs
     x = random_inputs(Path(name), rb)
     with tempfile.TemporaryDirectory() as tmp:
         path = Path(tmp) / f"{model.name}.{fmt}"
@@ -56,8 +55,7 @@ def round_trip(model: Model, name: str, fmt: str, tool: str) -> RoundTrip:
     if theirs.shape != (x.shape[0], len(rb.outputs)):
         return RoundTrip(name, fmt, tool, True, f"tool gave {theirs.shape[1]} outputs", np.inf)
     # fuzzyc's numbers for the file as written (a FIS file, say, fixes MATLAB's defaults)
-    # (the tool evaluates the rows in sequence: an output with lock-previous holds over them)
-    ours = evaluate_as(READERS[f".{fmt}"](text, name).rulebase, x, tool, held=Held(True))
+    ours = Chain(READERS[f".{fmt}"](text, name)).evaluate(x, tool)
     span = np.array([v.hi - v.lo or 1.0 for v in rb.outputs])
     same_nan = np.isnan(ours) == np.isnan(theirs)
     diff = np.where(np.isnan(theirs), 0.0, np.abs(ours - theirs)) / span

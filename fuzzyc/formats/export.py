@@ -16,6 +16,7 @@ import sympy
 from ..errors import Diagnostic, FuzzycError
 from ..escape import name_problems
 from ..model import CondOp, Hedge, Model, OutputKind, TermKind, Variable
+from .blocks import file_variables
 
 
 def num(value: float) -> str:
@@ -35,8 +36,8 @@ def model_identifier(model: Model) -> str:
 def unsayable_names(model: Model, fmt: str) -> list[str]:
     """The variable and term names of the rule base that are not letters, digits and _ (the
     names of .fz, FLL and FCL): written as they are they would read back as something else."""
-    rb = model.rulebase
-    return name_problems([n for v in rb.inputs + rb.outputs for n in (v.name, *v.names)], fmt)
+    inputs, outputs = file_variables(model)
+    return name_problems([n for v in inputs + outputs for n in (v.name, *v.names)], fmt)
 
 
 def refuse(model: Model, fmt: str, problems: list[str]) -> None:
@@ -51,34 +52,34 @@ def finish(model: Model, fmt: str, lines: list[str], problems: list[str], notes:
     the caller's warnings and return the file's text."""
     refuse(model, fmt, problems)
     if warnings is not None:
-        warnings.extend(notes)
+        warnings.extend(dict.fromkeys(notes))     # a note said per block or output once
     return "\n".join(lines) + "\n"
 
 
 def left_out(model: Model) -> list[str]:
     """Everything of the model that a bare rule-base export does not carry, as sentences."""
-    rb = model.rulebase
+    inputs, outputs = file_variables(model)
     lost = []
     signals = {s.name for s in model.signals}
-    derived = [v.name for v in rb.inputs if v.name not in signals]
+    derived = [v.name for v in inputs if v.name not in signals]
     if model.steps:
         shown = ", ".join(s.name for s in model.steps if not s.hidden)
         lost.append(f"the input signal chain ({shown}): the rule base's inputs "
-                    f"{', '.join(v.name for v in rb.inputs)} become the exported inputs")
+                    f"{', '.join(v.name for v in inputs)} become the exported inputs")
     elif derived:
         lost.append(f"inputs {', '.join(derived)} are not raw signals")
-    unused = sorted(signals - {v.name for v in rb.inputs})
+    unused = sorted(signals - {v.name for v in inputs})
     if unused:
         lost.append(f"raw inputs not read by the rule base: {', '.join(unused)}")
     for out in model.outputs:
-        if not _is_plain_output(out, rb.outputs):
+        if not _is_plain_output(out, outputs):
             kind = {OutputKind.INCREMENT: "integrate", OutputKind.RECIPROCAL_INCREMENT:
                     "1/integrate"}.get(out.kind, "")
             lost.append(f"output {out.name} = {kind}({out.expr}) in [{out.lo:g}, {out.hi:g}]: "
                         "the rule-base outputs are exported instead")
     if model.params:
         lost.append("params " + ", ".join(model.params))
-    for v in rb.outputs:
+    for v in outputs:
         if v.learnable is not None and np.any(v.learnable):
             lost.append(f"the learnable flags of `{v.name}`'s terms")
     if model.properties:

@@ -46,9 +46,10 @@ from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, I
 from ..membership import linear_coefficients
 from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, discrete_or_none, nan_default,
                      plain_shape_or_none, shape, trapezoid_or_none, tsukamoto_terms)
+from .blocks import (block_names, block_view, chain_warning, file_variables, linear_on,
+                     one_output)
 from .export import (all_singletons, compound_negations, finish, left_out, model_identifier, num,
-                     own_output_choices, peaks_instead, rule_sentence, unsayable_hedges,
-                     unsayable_names)
+                     peaks_instead, rule_sentence, unsayable_hedges, unsayable_names)
 from .functions import function_term
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
@@ -487,35 +488,41 @@ FLL_AGGREGATIONS = {v: k for k, v in AGGREGATIONS.items()}
 
 
 def write_fll(model: Model, warnings: list[str] | None = None) -> str:
-    """The model's rule base as FLL; what is left out is appended to `warnings`.
-    Raises FuzzycError when the rule base itself cannot be written in FLL."""
-    rb = model.rulebase
-    inf = rb.inference
-    notes = left_out(model)
-    problems = (unsayable_hedges(model, FLL_HEDGES, "FLL") + unsayable_names(model, "FLL")
-                + compound_negations(model, "FLL") + own_output_choices(model, "FLL"))
-    outputs, aggregation, defuzzifier = _fll_defuzzifier(model, problems, notes)
+    """The model's rule blocks as FLL, one RuleBlock each, every output with its own
+    aggregation and defuzzifier; what is left out is appended to `warnings`.
+    Raises FuzzycError when a rule block itself cannot be written in FLL."""
+    inputs, _ = file_variables(model)
+    notes = left_out(model) + chain_warning(model, "FLL")
+    problems = unsayable_names(model, "FLL")
     lines = [f"# {one_line(note)}" for note in model.notes]
     lines.append(f"Engine: {model_identifier(model)}")
     if model.title:
         lines.append(f"description: {one_line(model.title)}")
-    for var in rb.inputs:
+    for var in inputs:
         lines += _fll_variable("InputVariable", var, problems, is_input=True)
-    for var in outputs:
-        lines += _fll_variable("OutputVariable", var, problems, is_input=False,
-                               n_inputs=len(rb.inputs),
-                               extra=[f"aggregation: {aggregation}", f"defuzzifier: {defuzzifier}",
-                                      f"default: {num(var.default)}",
-                                      f"lock-previous: {str(var.lock_previous).lower()}"])
-    lines += ["RuleBlock: rules", "  enabled: true"]
-    lines += [f"  {key}: {FLL_NAMES[field][getattr(inf, field)]}"
-              for key, field in (("conjunction", "and_"), ("disjunction", "or_"),
-                                 ("implication", "implication"))]
-    lines.append("  activation: General")
-    for r in range(rb.n_rules):
-        lines.append("  rule: " + rule_sentence(model, r, FLL_HEDGES, " and ", problems,
-                                                    says_any=True))
-    return finish(model, "FLL", lines, problems, notes, warnings)
+    rule_blocks = []
+    for name, rb in zip(block_names(model), model.blocks):
+        view = block_view(model, rb)
+        problems += unsayable_hedges(view, FLL_HEDGES, "FLL") + compound_negations(view, "FLL")
+        for o in range(len(rb.outputs)):
+            (var,), aggregation, defuzzifier = _fll_defuzzifier(
+                block_view(model, one_output(rb, o)), problems, notes)
+            lines += _fll_variable("OutputVariable", linear_on(var, rb.inputs, inputs, problems),
+                                   problems, is_input=False, n_inputs=len(inputs),
+                                   extra=[f"aggregation: {aggregation}",
+                                          f"defuzzifier: {defuzzifier}",
+                                          f"default: {num(var.default)}",
+                                          f"lock-previous: {str(var.lock_previous).lower()}"])
+        inf = rb.inference
+        rule_blocks += [f"RuleBlock: {name}", "  enabled: true"]
+        rule_blocks += [f"  {key}: {FLL_NAMES[field][getattr(inf, field)]}"
+                        for key, field in (("conjunction", "and_"), ("disjunction", "or_"),
+                                           ("implication", "implication"))]
+        rule_blocks.append("  activation: General")
+        rule_blocks += ["  rule: " + rule_sentence(view, r, FLL_HEDGES, " and ", problems,
+                                                      says_any=True)
+                        for r in range(rb.n_rules)]
+    return finish(model, "FLL", lines + rule_blocks, problems, notes, warnings)
 
 
 def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):

@@ -3,7 +3,9 @@
 Inputs become `input` declarations with their terms, outputs `var` + `terms` and a plain
 `output NAME_out = NAME` each; rules are written one per `rule` statement (tables are a
 reading aid of the source, not part of the model).  A model with a signal chain is written as
-its bare rule base, with warnings naming what was left out.
+its bare rule base, with warnings naming what was left out.  A model of several rule blocks is
+written as `block NAME { ... }`s (each with its full inference), chained blocks included: the
+file evaluates as the model.
 """
 from __future__ import annotations
 
@@ -16,6 +18,7 @@ from ..model import (Aggregation, Defuzzifier, Hedge, Implication, Model, SNorm,
 from ..builder.terms import PLAIN_SHAPES, term_core
 from ..escape import one_line
 from ..membership import linear_coefficients
+from .blocks import block_names, block_view, file_variables, linear_on, read_inputs
 from .common import OUTPUT_SUFFIX
 from .export import (left_out, model_identifier, num, refuse, rule_sentence, unsayable_functions,
                      unsayable_names)
@@ -31,27 +34,52 @@ FZ_INFERENCE = (
 
 
 def write_fz(model: Model, warnings: list[str] | None = None) -> str:
-    rb = model.rulebase
+    inputs, outputs = file_variables(model)
+    several = len(model.blocks) > 1
     problems = unsayable_names(model, ".fz") + unsayable_functions(model, ".fz", False, False)
     lines = [f"controller {model_identifier(model)} {_string(model.title)} {{"
              .replace("  ", " ")]
-    ranges = [_holding_peaks(var) for var in rb.inputs]
+    ranges = [_holding_peaks(var) for var in inputs]
     notes = [*model.notes, *(f"`{var.name}` range [{num(var.lo)}, {num(var.hi)}] widened to "
                              f"[{num(lo)}, {num(hi)}]: a .fz term must peak inside its range"
-                             for var, (lo, hi) in zip(rb.inputs, ranges)
+                             for var, (lo, hi) in zip(inputs, ranges)
                              if (lo, hi) != (var.lo, var.hi))]
     lines += [f"  note {_string(n)}" for n in notes]
-    for var, (lo, hi) in zip(rb.inputs, ranges):
+    for var, (lo, hi) in zip(inputs, ranges):
         lines.append(f"  input {var.name}{_unit(var)} in [{num(lo)}, {num(hi)}]")
-    for var in rb.inputs:
+    for var in inputs:
         lines.append(f"  terms {var.name} : {_terms(var, problems)}".rstrip())
-    for var in rb.outputs:
-        lines.append(f"  var {var.name}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}] "
-                     f"default {num(var.default)}")
-        lines.append(f"  terms {var.name} : {_terms(var, problems, len(rb.inputs))}")
+    for rb in model.blocks:
+        # a block of a .fz file reads the variables its rules name, in declaration order
+        read = read_inputs(rb, inputs + outputs) if several else rb.inputs
+        for var in rb.outputs:
+            var = linear_on(var, rb.inputs, read, problems)
+            lines.append(f"  var {var.name}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}] "
+                         f"default {num(var.default)}")
+            lines.append(f"  terms {var.name} : {_terms(var, problems, len(read))}")
+    if several:
+        for name, rb in zip(block_names(model), model.blocks):
+            lines += [f"  block {name} {{",
+                      *("  " + line for line in _block_lines(block_view(model, rb), problems)),
+                      "  }"]
+    else:
+        lines += _block_lines(model, problems)
+    for var in outputs:
+        lines.append(f"  output {var.name}{OUTPUT_SUFFIX}{_unit(var)} "
+                     f"in [{num(var.lo)}, {num(var.hi)}] = {var.name}")
+    lines.append("}")
+    refuse(model, ".fz", problems)
+    if warnings is not None:
+        warnings.extend(left_out(model))
+    return "\n".join(lines) + "\n"
+
+
+def _block_lines(model: Model, problems: list[str]) -> list[str]:
+    """The inference and rules of the model's one rule block."""
+    rb = model.rulebase
     inf = rb.inference
-    lines.append("  inference " + ", ".join(f"{key} = {words[getattr(inf, field)]}"
-                                            for key, field, words in FZ_INFERENCE))
+    lines = ["  inference " + ", ".join(f"{key} = {words[getattr(inf, field)]}"
+                                        for key, field, words in FZ_INFERENCE)]
     for o, var in enumerate(rb.outputs):
         if var.name in rb.output_choices:
             own = rb.inference_of(o)
@@ -60,14 +88,7 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
                 for key, field, words in FZ_INFERENCE[3:]))    # aggregation, defuzzify
     for r in range(rb.n_rules):
         lines.append("  rule " + rule_sentence(model, r, FZ_HEDGES, ", ", problems))
-    for var in rb.outputs:
-        lines.append(f"  output {var.name}{OUTPUT_SUFFIX}{_unit(var)} "
-                     f"in [{num(var.lo)}, {num(var.hi)}] = {var.name}")
-    lines.append("}")
-    refuse(model, ".fz", problems)
-    if warnings is not None:
-        warnings.extend(left_out(model))
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def _string(text: str) -> str:
