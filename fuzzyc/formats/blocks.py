@@ -14,7 +14,6 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..errors import Diagnostic, FuzzycError
 from ..membership import linear_coefficients
 from ..model import CondOp, Model, RuleBase, TermKind, Variable
 
@@ -117,6 +116,7 @@ def one_rule_base(model: Model, fmt: str) -> Model:
     exact when no block reads another's output and the blocks' and/or/implication agree (each
     output keeps its block's aggregation and defuzzifier as its own choice, which the writer
     then says or refuses).  Else refused by name."""
+    from .export import refuse     # export reads this module's file_variables
     if len(model.blocks) == 1:
         return model
     first = model.blocks[0]
@@ -127,11 +127,10 @@ def one_rule_base(model: Model, fmt: str) -> Model:
             problems.append(f"rule blocks `{first.name}` ({mine}) and `{rb.name}` ({theirs}) "
                             f"differ in operators: {fmt} has one rule list with one AND, OR "
                             "and implication method")
+    refuse(model, fmt, problems)
     inputs, _ = file_variables(model)
     merged = replace(first, inputs=inputs, name="", **_stacked(model.blocks, inputs, problems))
-    if problems:
-        raise FuzzycError([Diagnostic(None, f"cannot export `{model.name}` to {fmt}: {p}")
-                           for p in problems])
+    refuse(model, fmt, problems)
     choice = first.inference_of(0)
     merged.inference = replace(first.inference, aggregation=choice.aggregation,
                                defuzzifier=choice.defuzzifier)

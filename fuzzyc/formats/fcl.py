@@ -38,8 +38,9 @@ from ..model import (Aggregation, Connective, Defuzzifier, Implication, Inferenc
                      SNorm, SourceLoc, TermKind, TNorm)
 from .common import (Collected, TermSpec, VarSpec, discrete_or_none, nan_default, shape,
                      trapezoid_or_none, tsukamoto_terms)
-from .export import (all_singletons, finish, left_out, model_identifier, num, own_output_choices,
-                     peaks_instead, rule_sentence, unsayable_hedges, unsayable_names)
+from .blocks import block_names, block_view, chain_warning, file_variables, one_output
+from .export import (all_singletons, finish, left_out, model_identifier, num, peaks_instead,
+                     rule_sentence, unsayable_hedges, unsayable_names)
 from .fll import HEDGES, fll_term, fuzzylite_shape
 from .functions import function_term
 from .rules import fcl_lark, rule_from_tree, syntax_error
@@ -414,55 +415,66 @@ FCL_OPERATOR_WORDS["aggregation"][1][Aggregation.PROBSUM] = "ASUM"
 
 
 def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
-    """The model's rule base as an FCL function block; what is left out or written with a
-    jFuzzyLogic extension is appended to `warnings`.  Raises FuzzycError when the rule base
+    """The model's rule blocks as one FCL function block, one RULEBLOCK each with its own
+    AND/OR/ACT, every output with its own METHOD and ACCU; what is left out or written with a
+    fuzzylite extension is appended to `warnings`.  Raises FuzzycError when a rule block
     cannot be said in FCL (weighted sum, hedges)."""
-    rb = model.rulebase
-    inf = rb.inference
-    notes = left_out(model)
-    problems = (unsayable_hedges(model, {}, "FCL") + unsayable_names(model, "FCL")
-                + own_output_choices(model, "FCL"))
-    outputs, method = _fcl_method(model, problems, notes)
-    # A weighted average is COGS without ACCU (fuzzylite's reading, and fuzzyc's: see the
-    # module docstring); the center of area is COGS with the ACCU that groups each term's rules.
-    weighted = inf.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE
-    accu = None if weighted else inf.aggregation
-    if accu in FUZZYLITE_ACCU:
-        notes.append(f"ACCU {FUZZYLITE_ACCU[accu]} is {FUZZYLITE}")
-    if method == "MM":
-        notes.append(f"METHOD MM is {FUZZYLITE}")
+    inputs, _ = file_variables(model)
+    notes = left_out(model) + chain_warning(model, "FCL")
+    problems = unsayable_names(model, "FCL")
+    outputs, defuzzify, ruleblocks = [], [], []
+    for name, rb in zip(block_names(model), model.blocks):
+        view = block_view(model, rb)
+        problems += unsayable_hedges(view, {}, "FCL")
+        for o in range(len(rb.outputs)):
+            single = block_view(model, one_output(rb, o))
+            (var,), method = _fcl_method(single, problems, notes)
+            outputs.append(var)
+            defuzzify += _fcl_defuzzify(var, method, single.rulebase.inference, problems, notes)
+        operators = [_fcl_operator(field, getattr(rb.inference, field), problems)
+                     for field in ("and_", "or_", "implication")]
+        ruleblocks += [f"RULEBLOCK {name}", *operators]
+        ruleblocks += [f"  RULE {r + 1} : {rule_sentence(view, r, {}, ' and ', problems, True)};"
+                       for r in range(rb.n_rules)]
+        ruleblocks += ["END_RULEBLOCK", ""]
     # `//` comments, not IEC's (* *): the fuzzylite 6 CLI rejects (* *) (measured), and
     # fuzzylite and jFuzzyLogic both read `//`; each text on its one line.
     comments = [f"// {one_line(text)}" for text in (model.title, *model.notes) if text]
     lines = [*comments, f"FUNCTION_BLOCK {model_identifier(model)}", ""]
-    for section, variables in (("VAR_INPUT", rb.inputs), ("VAR_OUTPUT", outputs)):
+    for section, variables in (("VAR_INPUT", inputs), ("VAR_OUTPUT", outputs)):
         lines += [section, *(f"  {v.name} : REAL;" for v in variables), "END_VAR", ""]
-    for var in rb.inputs:
+    for var in inputs:
         lines += [f"FUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
                   f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_FUZZIFY", ""]
-    operators = {}
-    for field, (key, words) in FCL_OPERATOR_WORDS.items():
-        value = accu if field == "aggregation" else getattr(inf, field)
-        if value is None:
-            continue
-        if value not in words:
-            problems.append(f"{key} {value.name.lower()} has no FCL word (FCL has "
-                            f"{', '.join(words.values())})")
-            continue
-        operators[key] = f"  {key} : {words[value]};"
-    # ACCU in each DEFUZZIFY block, where fuzzylite 6 reads it (it rejects ACCU in a RULEBLOCK,
-    # measured); IEC 61131-7 and jFuzzyLogic put it in the RULEBLOCK; fuzzyc reads both.
-    accu_line = operators.pop("ACCU", None)
-    for var in outputs:
-        lines += [f"DEFUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
-                  f"  METHOD : {method};", *([accu_line] if accu_line else []),
-                  f"  DEFAULT := {num(var.default)}{' | NC' * var.lock_previous};",
-                  f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_DEFUZZIFY", ""]
-    lines += ["RULEBLOCK rules", *operators.values()]
-    for r in range(rb.n_rules):
-        lines.append(f"  RULE {r + 1} : {rule_sentence(model, r, {}, ' and ', problems, True)};")
-    lines += ["END_RULEBLOCK", "", "END_FUNCTION_BLOCK"]
+    lines += [*defuzzify, *ruleblocks, "END_FUNCTION_BLOCK"]
     return finish(model, "FCL", lines, problems, notes, warnings)
+
+
+def _fcl_defuzzify(var, method: str, inf: Inference, problems: list[str],
+                   notes: list[str]) -> list[str]:
+    """An output's DEFUZZIFY block.  A weighted average is COGS without ACCU (fuzzylite's
+    reading, and fuzzyc's: see the module docstring); the center of area is COGS with the ACCU
+    that groups each term's rules.  ACCU stands here, where fuzzylite 6 reads it (it rejects
+    ACCU in a RULEBLOCK, measured); IEC 61131-7 and jFuzzyLogic put it in the RULEBLOCK;
+    fuzzyc reads both."""
+    accu = None if inf.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE else inf.aggregation
+    if accu in FUZZYLITE_ACCU:
+        notes.append(f"ACCU {FUZZYLITE_ACCU[accu]} is {FUZZYLITE}")
+    if method == "MM":
+        notes.append(f"METHOD MM is {FUZZYLITE}")
+    accu_line = [] if accu is None else [_fcl_operator("aggregation", accu, problems)]
+    return [f"DEFUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
+            f"  METHOD : {method};", *accu_line,
+            f"  DEFAULT := {num(var.default)}{' | NC' * var.lock_previous};",
+            f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_DEFUZZIFY", ""]
+
+
+def _fcl_operator(field: str, value, problems: list[str]) -> str:
+    key, words = FCL_OPERATOR_WORDS[field]
+    if value not in words:
+        problems.append(f"{key} {value.name.lower()} has no FCL word (FCL has "
+                        f"{', '.join(words.values())})")
+    return f"  {key} : {words.get(value, '?')};"
 
 
 def _fcl_method(model: Model, problems: list[str], notes: list[str]):

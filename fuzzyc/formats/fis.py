@@ -58,6 +58,7 @@ from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, M
 from ..membership import linear_coefficients
 from .common import (Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none, tsukamoto_terms)
+from .blocks import one_rule_base
 from .export import (finish, left_out, num, own_output_choices, peaks_instead,
                      unsayable_functions, unsayable_hedges)
 from .fll import fuzzylite_shape
@@ -405,6 +406,7 @@ def write_fis(model: Model, warnings: list[str] | None = None) -> str:
     """The model's rule base as a MATLAB/Octave .fis file; what is left out or evaluated
     differently by MATLAB is appended to `warnings`.  Raises FuzzycError when the rule base
     cannot be said in FIS (see the module docstring for the mapping)."""
+    model = one_rule_base(model, "FIS")     # one rule list: blocks merged where exact
     rb = model.rulebase
     notes = left_out(model)
     problems = (unsayable_hedges(model, {}, "FIS") + own_output_choices(model, "FIS")
