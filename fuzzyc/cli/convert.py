@@ -26,6 +26,7 @@ def run(args) -> int:
     from ..api import load, save
     from ..errors import Diagnostic, FuzzycError
     from ..formats import WRITERS
+    from ..formats.blocks import file_variables
 
     check_output(args.output)
     model = load(args.input)
@@ -42,8 +43,10 @@ def run(args) -> int:
                                for w in lost])
     for warning in save(model, args.output):
         print(f"{args.output}: warning: {warning}", file=sys.stderr)
-    print(f"wrote {args.output}: {model.rulebase.n_rules} rules, "
-          f"{len(model.rulebase.inputs)} inputs, {len(model.rulebase.outputs)} outputs")
+    inputs, outputs = file_variables(model)
+    blocks = f"{len(model.blocks)} rule blocks, " if len(model.blocks) > 1 else ""
+    print(f"wrote {args.output}: {blocks}{sum(rb.n_rules for rb in model.blocks)} rules, "
+          f"{len(inputs)} inputs, {len(outputs)} outputs")
     return 0
 
 
