@@ -14,8 +14,10 @@ from fuzzyc.backends.c import generate_header
 from fuzzyc.controller import Controller
 from fuzzyc.engine import evaluate
 from fuzzyc.errors import FuzzycError
-from fuzzyc.formats import read_fll
+from fuzzyc.formats import read_fcl, read_fll
 from fuzzyc.formats.fcl import write_fcl
+from fuzzyc.formats.fis import write_fis
+from fuzzyc.formats.fll import write_fll
 from fuzzyc.formats.fuzzylite_compat import evaluate_sampled
 from fuzzyc.formats.fz import write_fz
 from fuzzyc.model import Aggregation, Defuzzifier, TNorm
@@ -148,16 +150,17 @@ def test_per_output_choices_in_one_rule_base():
     assert evaluate(rb, [[0.8]])[0, 1] == pytest.approx(8.0, abs=1e-12)
 
 
-def test_per_output_choices_fz_follows_c_and_fcl_refuse():
+def test_per_output_choices_fz_fll_fcl_follow_c_and_fis_refuse():
     model = parse(ONE, "one.fz")
-    again = parse(write_fz(model), "again.fz")
-    assert again.rulebase.output_choices == model.rulebase.output_choices
     x = np.linspace(0, 1, 11)[:, None]
-    np.testing.assert_allclose(evaluate(again.rulebase, x), evaluate(model.rulebase, x))
+    for again in (parse(write_fz(model), "again.fz"), read_fll(write_fll(model), "again.fll"),
+                  read_fcl(write_fcl(model), "again.fcl")):
+        assert again.rulebase.output_choices == model.rulebase.output_choices
+        np.testing.assert_array_equal(evaluate(again.rulebase, x), evaluate(model.rulebase, x))
     with pytest.raises(FuzzycError, match=r"output `z` has its own \(sum, mean_of_maximum\)"):
         generate_header(model)
     with pytest.raises(FuzzycError, match="output `z` has its own sum aggregation"):
-        write_fcl(model)
+        write_fis(model)
 
 
 CORPUS = Path(__file__).parent / "format_corpus"
