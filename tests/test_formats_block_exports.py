@@ -16,6 +16,7 @@ from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import READERS, WRITERS, load_any
 from fuzzyc.formats.tool_semantics import Chain
 from fuzzyc.parser import parse
+from test_rule_blocks import CHAIN, M
 
 EXAMPLES = Path("/usr/share/doc/fuzzylite/examples")
 # fuzzylite's several-block engines: two blocks with their own operators (ObstacleAvoidance),
@@ -26,12 +27,8 @@ CORPUS = Path(__file__).parent / "format_corpus"
 
 # Two unchained blocks with the same operators, a Sugeno output with linear terms in the second
 # (its linear terms read b, the block's only input).  L = 1 - x, H = x on [0, 1].
-TWO = """controller two {
-  input a in [0, 1]
-  input b in [0, 1]
-  terms a : L = tri(-1, 0, 1), H = tri(0, 1, 2)
-  terms b : L = tri(-1, 0, 1), H = tri(0, 1, 2)
-  var y in [0, 10]
+AB = CHAIN[CHAIN.index("  input a"):CHAIN.index("  var m")]    # inputs a and b, terms L, H
+TWO = "controller two {\n" + AB + """  var y in [0, 10]
   terms y : singletons lo = 0 hi = 10
   var z in [0, 10]
   terms z : up = linear(1, 2), flat = linear(5, 0)
@@ -108,7 +105,6 @@ def test_fz_blocks_keep_their_own_inference_and_rules():
 def test_fz_chain_by_hand():
     # tests/test_rule_blocks.py's chain: block `second` reads m = .559/1.26 at (.6, .5), and
     # y = 10 m (its arithmetic there); the .fz written and read back gives it again
-    from test_rule_blocks import CHAIN, M
     again = read_back(parse(CHAIN, "chain.fz"), ".fz")
     y = Chain(again).evaluate([[0.6, 0.5]])[0]
     assert [v.name for v in Chain(again).outputs] == ["m", "y", "z"]
