@@ -166,6 +166,8 @@ def run(args) -> int:
 def _explain(model: Model, columns, core: bool):
     """The rules that fired at the rule base's inputs, strongest first."""
     from ..api import Controller, explain
+    if len(model.blocks) > 1 and not core:
+        return _explain_blocks(model, columns)
     if core:
         point = {name: float(column[0]) for name, column in columns.items()}
     else:
@@ -179,6 +181,25 @@ def _explain(model: Model, columns, core: bool):
     return fired, explanation.inputs
 
 
+def _explain_blocks(model: Model, columns):
+    """Every block's fired rules at its inputs (a chained block's are earlier blocks'
+    outputs), strongest first, each rule numbered within its block."""
+    from ..api import Controller
+    from ..engine import explain
+    controller = Controller(model, batch=1)
+    controller.step(columns)
+    fired, inputs = [], {}
+    for rb in model.blocks:
+        point = np.array([float(controller.signals[v.name][0]) for v in rb.inputs])
+        explanation = explain(rb, point)
+        inputs.update(explanation.inputs)
+        fired += [{"block": rb.name, "rule": int(r) + 1, "activation": float(a),
+                   "text": text, "origin": origin}
+                  for r, a, text, origin in explanation.fired]
+    fired.sort(key=lambda f: -f["activation"])
+    return fired, inputs
+
+
 def _print_table(model: Model, rb_inputs, outputs, fired) -> None:
     print(f"{model.name}: rule-base inputs " +
           ", ".join(f"{k} = {v:.6g}" for k, v in rb_inputs.items()))
@@ -187,7 +208,8 @@ def _print_table(model: Model, rb_inputs, outputs, fired) -> None:
     else:
         print(f"  {'rule':>5}  {'act':>6}  rule (origin)")
         for f in fired:
-            print(f"  {f['rule']:>5}  {f['activation']:6.3f}  {f['text']}   [{f['origin']}]")
+            rule = f"{f['block']}:{f['rule']}" if "block" in f else f["rule"]
+            print(f"  {rule:>5}  {f['activation']:6.3f}  {f['text']}   [{f['origin']}]")
     print("outputs: " + ", ".join(f"{k} = {v:.6g}" for k, v in outputs.items()))
 
 
