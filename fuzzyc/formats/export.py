@@ -41,9 +41,9 @@ def unsayable_names(model: Model, fmt: str) -> list[str]:
 
 
 def refuse(model: Model, fmt: str, problems: list[str]) -> None:
-    if problems:
+    if problems:     # a problem found per block or output is said once
         raise FuzzycError([Diagnostic(None, f"cannot export `{model.name}` to {fmt}: {p}")
-                           for p in problems])
+                           for p in dict.fromkeys(problems)])
 
 
 def finish(model: Model, fmt: str, lines: list[str], problems: list[str], notes: list[str],

@@ -422,6 +422,9 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     inputs, _ = file_variables(model)
     notes = left_out(model) + chain_warning(model, "FCL")
     problems = unsayable_names(model, "FCL")
+    fuzzify = [line for var in inputs
+               for line in (f"FUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
+                            f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_FUZZIFY", "")]
     outputs, defuzzify, ruleblocks = [], [], []
     for name, rb in zip(block_names(model), model.blocks):
         view = block_view(model, rb)
@@ -443,10 +446,7 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     lines = [*comments, f"FUNCTION_BLOCK {model_identifier(model)}", ""]
     for section, variables in (("VAR_INPUT", inputs), ("VAR_OUTPUT", outputs)):
         lines += [section, *(f"  {v.name} : REAL;" for v in variables), "END_VAR", ""]
-    for var in inputs:
-        lines += [f"FUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
-                  f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_FUZZIFY", ""]
-    lines += [*defuzzify, *ruleblocks, "END_FUNCTION_BLOCK"]
+    lines += [*fuzzify, *defuzzify, *ruleblocks, "END_FUNCTION_BLOCK"]
     return finish(model, "FCL", lines, problems, notes, warnings)
 
 
