@@ -218,3 +218,13 @@ def test_tools_read_our_merged_and_unmerged_blocks(fmt, tool):
                     "octave-fuzzy-logic-toolkit)")
     done = round_trip(model, "two", fmt, tool)
     assert done.agrees, (done.message, done.worst)
+
+
+@pytest.mark.parametrize("word", ["rule", "AND", "end_ruleblock"])
+def test_fcl_block_named_by_a_keyword_is_renamed(word):
+    # `RULEBLOCK rule` would read as the block's first rule (found trying FCL's keywords)
+    text = (CORPUS / "blocks_mamdani_sugeno.fll").read_text()
+    model = read_fll(text.replace("RuleBlock: mamdani", f"RuleBlock: {word}"), "kw.fll")
+    again = read_back(model, ".fcl")
+    assert [b.name for b in again.blocks] == ["rules", "sugeno"]
+    assert_same_numbers(model, again)

@@ -34,11 +34,13 @@ def file_variables(model: Model) -> tuple[list[Variable], list[Variable]]:
     return [seen[n] for n in order], outputs
 
 
-def block_names(model: Model) -> list[str]:
-    """Each block's name as the formats can say it (letters, digits, _; unique)."""
+def block_names(model: Model, keywords: frozenset[str] = frozenset()) -> list[str]:
+    """Each block's name as the formats can say it (letters, digits, _; unique; none of the
+    format's `keywords`, in lower case)."""
     names: list[str] = []
     for k, rb in enumerate(model.blocks):
-        ok = re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", rb.name) and rb.name not in names
+        ok = re.fullmatch(r"[A-Za-z_][A-Za-z0-9_]*", rb.name) and rb.name not in names \
+            and rb.name.lower() not in keywords
         names.append(rb.name if ok else "rules" if k == 0 else f"rules_{k + 1}")
     return names
 

@@ -414,6 +414,10 @@ FUZZYLITE_ACCU = {Aggregation.SUM: "SUM (unbounded)", Aggregation.PROBSUM: "ASUM
 FCL_OPERATOR_WORDS["aggregation"][1][Aggregation.PROBSUM] = "ASUM"
 
 
+# what may follow RULEBLOCK where its name stands (FCL's keywords are case-insensitive)
+RULEBLOCK_WORDS = frozenset({"rule", "and", "or", "act", "accu", "end_ruleblock"})
+
+
 def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
     """The model's rule blocks as one FCL function block, one RULEBLOCK each with its own
     AND/OR/ACT, every output with its own METHOD and ACCU; what is left out or written with a
@@ -426,7 +430,7 @@ def write_fcl(model: Model, warnings: list[str] | None = None) -> str:
                for line in (f"FUZZIFY {var.name}", *_fcl_terms(var, problems, notes),
                             f"  RANGE := ({num(var.lo)} .. {num(var.hi)});", "END_FUZZIFY", "")]
     outputs, defuzzify, ruleblocks = [], [], []
-    for name, rb in zip(block_names(model), model.blocks):
+    for name, rb in zip(block_names(model, RULEBLOCK_WORDS), model.blocks):
         view = block_view(model, rb)
         problems += unsayable_hedges(view, {}, "FCL")
         for o in range(len(rb.outputs)):
