@@ -1,4 +1,5 @@
 """Exact proofs on small rule bases whose answers are computed by hand."""
+import numpy as np
 import pytest
 
 from fuzzyc.parser import parse
@@ -98,3 +99,55 @@ def test_sum_product_proof_names_the_wedm_critical_region_reversal():
     assert evidence.status == Status.VIOLATED
     assert evidence.point == {"e1": 0.0, "e2": 0.5, "ce2": -0.5}
     assert "by -0.5 from e2=0.5 to 1" in evidence.detail
+
+
+def _first_uncovered_by_every_point(lows, highs, candidates):
+    """The plain method the sweep replaced: every grid point, axis 0 outermost."""
+    import itertools
+    for point in itertools.product(*candidates):
+        p = np.array(point)
+        if not ((p >= lows - 1e-12) & (p <= highs + 1e-12)).all(axis=1).any():
+            return list(point)
+    return None
+
+
+@pytest.mark.parametrize("seed", range(40))
+def test_the_coverage_sweep_finds_what_every_point_finds(seed):
+    # random boxes on 2-4 axes (some covering, some leaving holes): the same first uncovered
+    # grid point, or none, as testing every point of the grid
+    from fuzzyc.verifier.coverage import _first_uncovered
+    rng = np.random.default_rng(seed)
+    n_axes, n_boxes = int(rng.integers(2, 5)), int(rng.integers(1, 30))
+    a, b = rng.choice(np.linspace(0, 1, 6), (2, n_boxes, n_axes))
+    lows, highs = np.minimum(a, b), np.maximum(a, b)
+    lows[0], highs[0] = 0.0, 1.0 if seed % 3 == 0 else highs[0]    # sometimes all covered
+    candidates = [np.unique(np.concatenate([[0.0, 1.0], lows[:, k], highs[:, k]]))
+                  for k in range(n_axes)]
+    candidates = [np.concatenate([c, 0.5 * (c[:-1] + c[1:])]) for c in candidates]
+    assert _first_uncovered(lows, highs, candidates) == \
+        _first_uncovered_by_every_point(lows, highs, candidates)
+
+
+def test_a_seven_input_table_is_proved_covering_and_a_missing_cell_is_found():
+    # 3 triangles per input (peaks -1, 0, 1), every term tuple a rule: each point has a term
+    # >= 0.5 on every axis, so the table covers at 0.5 (the grid had 9**7 = 4.8M points x
+    # 2,187 boxes). Without the rule (P, P, ..., P) the corner x = 1 on every axis fires
+    # no rule at all.
+    import itertools
+    from fuzzyc.formats import read_fll
+    from fuzzyc.verifier.coverage import prove_covers
+    names = ["N", "Z", "P"]
+    head = "Engine: w\n" + "".join(
+        f"InputVariable: x{i}\n  range: -1 1\n  term: N Triangle -2 -1 0\n"
+        f"  term: Z Triangle -1 0 1\n  term: P Triangle 0 1 2\n" for i in range(7)) + \
+        "OutputVariable: y\n  range: 0 1\n  aggregation: Maximum\n  defuzzifier: Centroid\n" \
+        "  term: lo Triangle 0 0.5 1\nRuleBlock: r\n  conjunction: Minimum\n" \
+        "  implication: Minimum\n"
+    rules = ["  rule: if " + " and ".join(f"x{i} is {names[t]}" for i, t in enumerate(c))
+             + " then y is lo\n" for c in itertools.product(range(3), repeat=7)]
+    inputs = [f"x{i}" for i in range(7)]
+    full = read_fll(head + "".join(rules), "w.fll").rulebase
+    assert prove_covers(full, inputs, 0.5).status == Status.PROVED
+    missing = prove_covers(read_fll(head + "".join(rules[:-1]), "w.fll").rulebase, inputs, 0.5)
+    assert missing.status == Status.VIOLATED
+    assert min(missing.point.values()) > 0.5      # in the P corner (N or Z would fire there)
