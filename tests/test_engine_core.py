@@ -4,7 +4,7 @@ import math
 import numpy as np
 import pytest
 
-from fuzzyc.defuzz import GRID_POINTS
+from fuzzyc.defuzz import GRID_POINTS, OutputDefuzzifier
 from fuzzyc.engine import CompiledRuleBase, activations, evaluate, evaluate_one, explain
 from fuzzyc.membership import memberships, term_values
 from fuzzyc.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
@@ -358,3 +358,21 @@ def test_rectangle_output_terms(method, expected):
     from fuzzyc.parser import parse
     rb = parse(RECTANGLES.replace("METHOD", method), "rect.fz").rulebase
     assert evaluate(rb, np.array([[0.25]]))[0, 0] == pytest.approx(expected, abs=1e-12)
+
+
+@pytest.mark.parametrize("aggregation", [Aggregation.MAX, Aggregation.SUM])
+@pytest.mark.parametrize("h", [2.6e-18, 1.27e-14, 1e-6, 0.3])
+def test_a_vertical_edged_term_clipped_at_tiny_levels(aggregation, h):
+    # found by the FIS round-trip property: y = trap(0, 0, 0, 0.5) on [0, 10] (1 at 0,
+    # falling to 0 at 0.5) clipped at a Gaussian tail's 1e-18 gave 1/6, the unclipped
+    # centroid (a + h (b - a) rounds to the foot), and at 1e-14 lost 2.5e-5 (the rounded
+    # crossing lay where the term is already below h). Clipped at h the term is h on [0, w],
+    # w = (1 - h) / 2, then falls to 0 at 0.5: area h w + h^2 / 4, moment
+    # h w^2 / 2 + (h^2 / 4)(w + h / 6), so the centroid is
+    # (w^2 / 2 + (h / 4)(w + h / 6)) / (w + h / 4), 1/4 as h -> 0 (0.3: 0.09125 / 0.425).
+    out = var("y", {"S": ("trap", 0.0, 0.0, 0.0, 0.5)}, lo=0.0, hi=10.0)
+    inference = Inference(implication=Implication.MIN, aggregation=aggregation,
+                          defuzzifier=Defuzzifier.CENTROID)
+    got = OutputDefuzzifier(out, inference)(np.array([[h]]), np.array([0]))[0]
+    w = (1 - h) / 2
+    assert got == pytest.approx((w * w / 2 + h / 4 * (w + h / 6)) / (w + h / 4), abs=1e-12)
