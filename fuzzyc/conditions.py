@@ -16,12 +16,14 @@ from .model import CondOp, Connective, Hedge
 
 Leaf = tuple[str, tuple[int, bool, Hedge]]     # input name, (term, negated, hedge)
 Program = tuple[tuple[CondOp, str, int, Hedge], ...]   # postfix steps by input name
+CONCLUDED = {"concluded": 1, "carried": 0}     # Cond op -> CondOp.CONCLUDED's term column
 
 
 @dataclass
 class Cond:
     """A condition: op "is" (a clause, in `leaf`), "and"/"or" (over `parts`), "not" (one part),
-    "hedge" (`hedge` on one part)."""
+    "hedge" (`hedge` on one part), "concluded"/"carried" (`hedge` said on the rule's own
+    conclusion / an earlier conclusion of its FIS row: CondOp.CONCLUDED)."""
     op: str
     parts: list[Cond] = field(default_factory=list)
     leaf: Leaf | None = None
@@ -32,7 +34,7 @@ def premise(cond: Cond) -> tuple[dict, Connective, Program | None]:
     """(clauses by input, connective, None) when the condition is flat: one connective, `not`
     only on single clauses, each input at most once; else ({}, AND, its clause program)."""
     cond = _simplified(cond)
-    if cond.op == "hedge":
+    if cond.op in ("hedge", *CONCLUDED):
         return {}, Connective.AND, tuple(_postfix(cond))
     leaves = [cond] if cond.op == "is" else cond.parts
     names = [p.leaf[0] for p in leaves if p.op == "is"]
@@ -47,6 +49,8 @@ def _simplified(cond: Cond) -> Cond:
     left to right), `not` moved onto a single clause and double `not` cancelled."""
     if cond.op == "is":
         return cond
+    if cond.op in CONCLUDED:
+        return Cond(cond.op, [_simplified(cond.parts[0])], hedge=cond.hedge)
     if cond.op == "hedge":      # onto a plain clause, where it is the clause's own hedge
         inner = _simplified(cond.parts[0])
         if inner.op == "is" and inner.leaf[1][2] == Hedge.NONE and not inner.leaf[1][1]:
@@ -78,6 +82,9 @@ def _postfix(cond: Cond):
     elif cond.op == "hedge":
         yield from _postfix(cond.parts[0])
         yield CondOp.HEDGE, "", 0, cond.hedge
+    elif cond.op in CONCLUDED:
+        yield from _postfix(cond.parts[0])
+        yield CondOp.CONCLUDED, "", CONCLUDED[cond.op], cond.hedge
     else:
         op = CondOp.AND if cond.op == "and" else CondOp.OR
         yield from _postfix(cond.parts[0])

@@ -27,7 +27,7 @@ import numpy as np
 
 from .defuzz import SCATTERS, OutputDefuzzifier, safe_ratio
 from .grid import GridStrengths, lookup_rows
-from .membership import LocalPartition, apply_hedges, memberships
+from .membership import HEDGE_EXPONENT, LocalPartition, apply_hedges, memberships
 from .model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
 from .norms import combine, firing
 from .ordered import EXACT, Held, Policy, finish_output, locked, reads_values, refuse_stateless
@@ -100,6 +100,9 @@ def run_condition(rb: RuleBase, program: np.ndarray, x: np.ndarray) -> np.ndarra
             stack.append(1.0 - stack.pop())
         elif op == CondOp.HEDGE:
             stack.append(apply_hedges(stack.pop()[:, None], np.array([h]))[:, 0])
+        elif op == CondOp.CONCLUDED:    # the Octave toolkit's: its own hedge inverted
+            v = stack.pop()
+            stack.append(v ** (1.0 / HEDGE_EXPONENT[h]) if t else v)
         else:
             b, a = stack.pop(), stack.pop()
             norm = rb.inference.and_ if op == CondOp.AND else rb.inference.or_

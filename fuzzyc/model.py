@@ -75,8 +75,15 @@ Rule activation: the clauses that are not wildcards (-1) combined with the rule'
   hedged membership of one input's term (term -1: the truth 1 of `is any`); NOT replaces the top
   v by 1 - v; AND pops b, a and pushes T(a, b); OR pushes S(a, b); HEDGE replaces the top v by
   the hedge of v (a hedge on a compound condition, or on a clause already hedged: fuzzylite's
-  `very very x`, and its hedged conclusions, read as rules whose condition is hedged).  An
-  n-ary and/or folds left to right in written order.
+  `very very x`, and its hedged conclusions, read as rules whose condition is hedged);
+  CONCLUDED is a hedge a FIS row says on a conclusion (`t.h` on an output index; the reader
+  gives each concluded output a rule of its own ending in the CONCLUDED steps of the row's
+  conclusions up to it): its own (term column 1) replaces v by v^(1/p), p the hedge's
+  exponent, the earlier ones (term column 0) leave v alone.  That is the Octave
+  fuzzy-logic-toolkit's definition (eval_rules_sugeno.m: height = strength^(1/hedge) per rule
+  and output), the FIS format's owner here: MATLAB's FIS has no consequent hedges.
+  fuzzylite's reading (`--semantics fuzzylite`) differs: tool_semantics.  An n-ary and/or
+  folds left to right in written order.
 T-norms T(a, b): MIN min; PRODUCT ab; BOUNDED_DIFFERENCE max(0, a+b-1); DRASTIC_PRODUCT
   min(a, b) if max(a, b) = 1 else 0; EINSTEIN_PRODUCT ab / (2 - (a+b-ab)); HAMACHER_PRODUCT
   ab / (a+b-ab) (0 at a = b = 0); NILPOTENT_MIN min(a, b) if a+b > 1 else 0.
@@ -169,6 +176,8 @@ class CondOp(IntEnum):
     AND = 2
     OR = 3
     HEDGE = 4     # the hedge (4th column) applied to the top value
+    CONCLUDED = 5  # a hedge said on a conclusion (FIS `t.h` on an output): term column 1 for
+    #                the rule's own conclusion, 0 for an earlier one of the same FIS row
 
 
 class TNorm(IntEnum):
@@ -417,6 +426,10 @@ class RuleBase:
             elif op == CondOp.HEDGE:
                 text, top, leaf = stack.pop()
                 stack.append((f"{Hedge(h).name.lower()} ({text})", CondOp.CLAUSE, None))
+            elif op == CondOp.CONCLUDED:      # said on a conclusion: shown, not a clause word
+                text, top, leaf = stack.pop()
+                said = f"{Hedge(h).name.lower()} on {'this' if t else 'an earlier'} conclusion"
+                stack.append((f"({text}) [FIS: {said}]", CondOp.CLAUSE, None))
             else:
                 (b, top_b, _), (a, top_a, _) = stack.pop(), stack.pop()
                 word = words[0] if op == CondOp.AND else words[1]

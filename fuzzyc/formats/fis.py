@@ -51,6 +51,7 @@ from dataclasses import replace
 import numpy as np
 
 from ..builder import RuleSpec
+from ..conditions import Cond, premise
 from ..errors import Reporter, source_lines
 from ..escape import name_problems
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, SNorm,
@@ -98,8 +99,10 @@ READ_ALSO = {"AndMethod": T_NORM_WORDS, "OrMethod": S_NORM_WORDS,
                            if s.name in Aggregation.__members__} |
              {"algebraic_sum": Aggregation.PROBSUM}}
 # The Octave toolkit's hedges: a rule index `t.h` is term t with its membership raised to the
-# power round(100 h) / 10 (`1.05` somewhat, `1.2` very, `1.3` extremely).
-FIS_HEDGES = {0.0: Hedge.NONE, 0.5: Hedge.SOMEWHAT, 2.0: Hedge.VERY, 3.0: Hedge.EXTREMELY}
+# power round(100 h) / 10 (`1.05` somewhat, `1.2` very, `1.3` extremely, `1.4` very very), as
+# the hedges that make that power, nearest the term first (fuzzylite reads them so too).
+FIS_HEDGES = {0.0: (), 0.5: (Hedge.SOMEWHAT,), 2.0: (Hedge.VERY,), 3.0: (Hedge.EXTREMELY,),
+              4.0: (Hedge.VERY, Hedge.VERY)}
 # fuzzylite's membership functions in FIS -> (its FLL word, FIS parameters -> FLL's order)
 FUZZYLITE_MFS = {"rampmf": ("Ramp", lambda v: v), "rectmf": ("Rectangle", lambda v: v),
                  "concavemf": ("Concave", lambda v: v), "cosinemf": ("Cosine", lambda v: v),
@@ -302,32 +305,34 @@ class _FisReader:
             self.rep.error(loc, str(exc))
             return
         codes = [code for code, _ in split]
-        clauses, conclusions = {}, {}
-        for var, (code, hedge) in zip(inputs, split[:len(ins)]):
-            if code != 0:
-                clauses[var.name] = (abs(code) - 1, code < 0, hedge)
-        for var, (code, hedge) in zip(outputs, split[len(ins):]):
+        if not all(self._in_range(var, abs(code), loc) for var, code in zip(
+                inputs + outputs, codes) if code != 0):
+            return
+        for var, code in zip(outputs, codes[len(ins):]):
             if code < 0:
                 self.rep.error(loc, f"a negated consequent (`{code}` for {var.name}) is not "
                                     "supported")
                 return
-            if hedge != Hedge.NONE:
-                self.rep.error(loc, f"a hedge on a consequent (for {var.name}) is not "
-                                    "supported: the model's consequents are plain terms")
-                return
-            if code != 0:
-                conclusions[var.name] = code - 1
-        if not all(self._in_range(var, abs(code), loc) for var, code in zip(
-                inputs + outputs, codes) if code != 0):
-            return
         weight = float(match.group(3))
         connective = int(match.group(4))
         if not 0.0 <= weight <= 1.0 or connective not in (1, 2):
             self.rep.error(loc, "the weight lies in [0, 1] and the connective is 1 (and) or 2 (or)")
             return
+        conclusions = {var.name: code - 1 for var, code in zip(outputs, codes[len(ins):]) if code}
         if not conclusions:
             self.rep.error(loc, "a rule needs at least one output index")
             return
+        origin = f"{self.path}:{number}"
+        if any(hedges for _, hedges in split[len(ins):]) or \
+                any(len(hedges) > 1 for _, hedges in split[:len(ins)]):
+            if not any(_is_any(t) for t in ins):
+                self._hedged_rule(split, weight, connective, loc, origin)
+            else:
+                self.rep.error(loc, "`any` (0.99) in a row with a hedged consequent or `.4` is "
+                                    "not supported")
+            return
+        clauses = {var.name: (abs(code) - 1, code < 0, hedges[0] if hedges else Hedge.NONE)
+                   for var, (code, hedges) in zip(inputs, split[:len(ins)]) if code != 0}
         if any(_is_any(t) for t in ins) and (connective == 2 or not clauses):
             clauses = {}    # `x is any`: true, so an or-rule (or a rule of it alone) fires 1
         elif not clauses:     # fuzzylite writes a chained rule so: it reads an output
@@ -337,7 +342,47 @@ class _FisReader:
                                 "read the .fll or .fcl)")
             return
         self.got.rules.append(RuleSpec(clauses, Connective.AND if connective == 1 else Connective.OR,
-                                    conclusions, weight, loc, f"{self.path}:{number}"))
+                                    conclusions, weight, loc, origin))
+
+    def _hedged_rule(self, split: list[tuple[int, tuple[Hedge, ...]]], weight: float,
+                     connective: int, loc: SourceLoc, origin: str) -> None:
+        """A row with hedges on its consequents (or `.4`, very very, on an input): one rule per
+        concluded output, its condition ending in the CondOp.CONCLUDED steps of the row's
+        conclusions up to that output (the model's reading in fuzzyc.model, fuzzylite's in
+        tool_semantics); outputs whose steps are the same share a rule."""
+        inputs = [v for is_input, v in self.variables if is_input]
+        outputs = [v for is_input, v in self.variables if not is_input]
+        if weight != 1.0 and any(hedges for _, hedges in split[len(inputs):]):
+            self.rep.error(loc, "a weight other than 1 on a row with a hedged consequent is not "
+                                "supported: both tools hedge the weighted strength, the model "
+                                "weighs the hedged condition")
+            return
+        parts = []
+        for var, (code, hedges) in zip(inputs, split):
+            if code != 0:
+                cond = Cond("is", leaf=(var.name, (abs(code) - 1, False, Hedge.NONE)))
+                for hedge in hedges:            # the membership's power, then `not`
+                    cond = Cond("hedge", [cond], hedge=hedge)
+                parts.append(Cond("not", [cond]) if code < 0 else cond)
+        if not parts:
+            self.rep.error(loc, "a rule needs at least one input index")
+            return
+        condition = Cond("and" if connective == 1 else "or", parts)
+        said: list[tuple[Hedge, bool]] = []     # (hedge, own) steps so far
+        rules: dict[tuple, dict[str, int]] = {}
+        for var, (code, hedges) in zip(outputs, split[len(inputs):]):
+            if code == 0:
+                continue
+            steps = tuple((h, False) for h, _ in said) + tuple((h, True) for h in hedges)
+            rules.setdefault(steps, {})[var.name] = code - 1
+            said += [(h, False) for h in hedges]
+        for steps, conclusions in rules.items():
+            cond = condition
+            for hedge, own in steps:
+                cond = Cond("concluded" if own else "carried", [cond], hedge=hedge)
+            clauses, connective_, program = premise(cond)
+            self.got.rules.append(RuleSpec(clauses, connective_, conclusions, weight, loc, origin,
+                                           program))
 
     def _in_range(self, var: VarSpec, index: int, loc: SourceLoc) -> bool:
         if index > len(var.terms):
@@ -351,8 +396,8 @@ def _is_any(text: str) -> bool:
     return abs(abs(float(text)) - 0.99) < 1e-9
 
 
-def _index_and_hedge(text: str) -> tuple[int, Hedge]:
-    """A rule index as the Octave toolkit reads it: `-2.2` -> (-2, VERY) (see FIS_HEDGES)."""
+def _index_and_hedge(text: str) -> tuple[int, tuple[Hedge, ...]]:
+    """A rule index as the Octave toolkit reads it: `-2.2` -> (-2, (VERY,)) (see FIS_HEDGES)."""
     if not re.fullmatch(r"-?(?:\d+\.?\d*|\.\d+)", text):
         raise ValueError(f"rule index `{text}` is not a number (a term index, `-` negates, "
                          "a fraction is a hedge)")
@@ -361,7 +406,8 @@ def _index_and_hedge(text: str) -> tuple[int, Hedge]:
     exponent = round(100 * (abs(value) - index)) / 10 if index else 0.0
     if exponent not in FIS_HEDGES:
         raise ValueError(f"rule index `{text}`: a hedge exponent of {exponent:g} is not "
-                         "supported: the model carries .05 (somewhat), .2 (very), .3 (extremely)")
+                         "supported: the model carries .05 (somewhat), .2 (very), .3 (extremely), "
+                         ".4 (very very)")
     return (-index if value < 0 else index), FIS_HEDGES[exponent]
 
 

@@ -198,6 +198,23 @@ def reading_activations(rb: RuleBase, outputs: set[str]) -> RuleBase:
                    hedges=np.where(keep, rb.hedges[:, cols], Hedge.NONE))
 
 
+def fuzzylite_hedges(rb: RuleBase) -> RuleBase:
+    """The rule base as fuzzylite reads a FIS file's hedges: `extremely` is its S-curve
+    (SHARPLY; a FIS `.3` is x^3, EXTREMELY, in the Octave toolkit), and a hedge said on a
+    conclusion (CondOp.CONCLUDED) acts on the rule's activation and carries on to the
+    conclusions after it (fuzzylite's Consequent::modify, as its FLL rules say): every such
+    step, the rule's own and the earlier ones, is a plain HEDGE step."""
+    programs = {}
+    for r, p in rb.conditions.items():
+        p = p.copy()
+        concluded = p[:, 0] == CondOp.CONCLUDED
+        p[concluded, 0], p[concluded, 2] = CondOp.HEDGE, 0
+        p[:, 3] = np.where(p[:, 3] == Hedge.EXTREMELY, Hedge.SHARPLY, p[:, 3])
+        programs[r] = p
+    return replace(rb, hedges=np.where(rb.hedges == Hedge.EXTREMELY, Hedge.SHARPLY, rb.hedges),
+                   conditions=programs)
+
+
 def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
                 resolution: int | None = None, held: Held | None = None) -> np.ndarray:
     """x (N, I) -> y (N, O) as `semantics` computes it; `resolution` is fuzzylite's (the file's
@@ -205,13 +222,7 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
     if semantics == "exact":
         return evaluate(rb, x, held=held)
     if semantics in ("fuzzylite", "pyfuzzylite"):
-        # fuzzylite's `extremely` is the S-curve (SHARPLY): a FIS `.3` (x^3 in the Octave
-        # toolkit, EXTREMELY) read by fuzzylite is that
-        sharp = {r: np.column_stack([p[:, :3], np.where(p[:, 3] == Hedge.EXTREMELY,
-                                                        Hedge.SHARPLY, p[:, 3])])
-                 for r, p in rb.conditions.items()}
-        rb = replace(rb, hedges=np.where(rb.hedges == Hedge.EXTREMELY, Hedge.SHARPLY, rb.hedges),
-                     conditions=sharp)
+        rb = fuzzylite_hedges(rb)
         if rb.inference.defuzzifier == Defuzzifier.TSUKAMOTO:
             return _tsukamoto(rb, np.atleast_2d(np.asarray(x, dtype=float)),
                               _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse)
