@@ -226,8 +226,8 @@ def test_fis_refuses_hedges_it_cannot_carry_with_the_row():
         read_fis(OCTAVE_FIS.replace("2.05, 2 (1) : 1", "2.07, 2 (1) : 1"), "h.fis")
     assert "h.fis:31:1" in str(err.value) and "exponent of 0.7" in str(err.value)
     with pytest.raises(FuzzycError) as err:
-        read_fis(OCTAVE_FIS.replace("2.05, 2 (1) : 1", "2, 2.2 (1) : 1"), "c.fis")
-    assert "c.fis:31:1" in str(err.value) and "hedge on a consequent" in str(err.value)
+        read_fis(OCTAVE_FIS.replace("2.05, 2 (1) : 1", "2, 2.2 (0.5) : 1"), "c.fis")
+    assert "c.fis:31:1" in str(err.value) and "hedged consequent" in str(err.value)
 
 
 RAMP_FLL = """Engine: ramp

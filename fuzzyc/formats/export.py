@@ -121,6 +121,10 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
         problems.append(f"rule {r + 1} hedges a compound condition or a hedged clause (read "
                         "from fuzzylite's `very very x` or a hedged conclusion), which the "
                         "format cannot say")
+    if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.CONCLUDED):
+        problems.append(f"rule {r + 1} comes from a FIS row with a hedge on a consequent (the "
+                        "Octave toolkit's strength^(1/p), fuzzylite's hedge carried on to the "
+                        "later conclusions), which the format cannot say")
     if not condition and says_any and rb.inputs and "any" not in rb.inputs[0].names:
         condition = f"{rb.inputs[0].name} is any"
     elif not condition:

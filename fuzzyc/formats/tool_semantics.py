@@ -70,6 +70,8 @@ def exact_equivalent(rb: RuleBase, semantics: str) -> tuple[RuleBase, str | None
     name, _ = parse_semantics(semantics)
     if name == "exact":
         return rb, None
+    if name in ("fuzzylite", "pyfuzzylite"):
+        rb = fuzzylite_hedges(rb)
     for inf in [rb.inference_of(o) for o in range(len(rb.outputs))] or [rb.inference]:
         if inf.defuzzifier in SAMPLED:
             return rb, (f"{name} samples the {inf.defuzzifier.name.lower()} "
