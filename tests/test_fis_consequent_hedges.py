@@ -21,6 +21,8 @@ from fuzzyc.verifier.proof import beyond_proofs
 
 # x in [0, 1]: low = 1 - x, high = x.  y, z: zero = 0, ten = 10.  Sum aggregation: the
 # Octave toolkit's merging of equal Sugeno values is then the plain weighted average.
+OUTPUT = "[Output{n}]\nName='{name}'\nRange=[0 10]\nNumMFs=2\n" \
+         "MF1='zero':'constant',[0]\nMF2='ten':'constant',[10]\n\n"
 HEDGED_FIS = """[System]
 Name='hedged'
 Type='sugeno'
@@ -41,21 +43,7 @@ NumMFs=2
 MF1='low':'trimf',[-1 0 1]
 MF2='high':'trimf',[0 1 2]
 
-[Output1]
-Name='y'
-Range=[0 10]
-NumMFs=2
-MF1='zero':'constant',[0]
-MF2='ten':'constant',[10]
-
-[Output2]
-Name='z'
-Range=[0 10]
-NumMFs=2
-MF1='zero':'constant',[0]
-MF2='ten':'constant',[10]
-
-[Rules]
+""" + OUTPUT.format(n=1, name="y") + OUTPUT.format(n=2, name="z") + """[Rules]
 1, 2.2 2 (1) : 1
 2, 1 1 (1) : 1
 """
@@ -125,21 +113,24 @@ def test_a_weight_on_a_hedged_row_is_refused_at_its_place():
 X = np.linspace(0.0, 1.0, 11)[:, None]
 
 
+def _written(tmp_path: Path):
+    """The file with `.3` on rule 2's input and z (so both readings differ from plain rules)."""
+    path = tmp_path / "hedged.fis"
+    path.write_text(HEDGED_FIS.replace("2, 1 1", "2.3, 1 1.3"))
+    return path, read_fis(path.read_text(), str(path)).rulebase
+
+
 def test_octave_evalfis_agrees(tmp_path: Path):
     if not oracles.have_octave():
         pytest.skip("octave with fuzzy-logic-toolkit not installed")
-    path = tmp_path / "hedged.fis"
-    path.write_text(HEDGED_FIS.replace("2, 1 1", "2.3, 1 1.3"))
-    rb = read_fis(path.read_text(), str(path)).rulebase
+    path, rb = _written(tmp_path)
     assert np.max(np.abs(oracles.octave_outputs(path, X) - evaluate(rb, X))) < 1e-12
 
 
 def test_fuzzylite_cli_agrees(tmp_path: Path):
     if not oracles.have_fuzzylite():
         pytest.skip("fuzzylite not installed")
-    path = tmp_path / "hedged.fis"
-    path.write_text(HEDGED_FIS.replace("2, 1 1", "2.3, 1 1.3"))
-    rb = read_fis(path.read_text(), str(path)).rulebase
+    path, rb = _written(tmp_path)
     names, got = oracles.fuzzylite_outputs(path, X)
     assert names == ["x", "y", "z"]
     ours = evaluate_as(rb, X, "fuzzylite")

@@ -9,13 +9,15 @@ min/prod, max/probor, implication min/prod, aggregation max/sum/probor; centroid
 wtaver, wtsum.  MATLAB evaluates Mamdani outputs on 101 points of the range; the model
 integrates exactly.  Rules: `i1 i2, o1 (w) : c` with 0 = any, a negative index = NOT,
 c = 1 (and) or 2 (or); a fraction on an input index is the Octave toolkit's hedge
-(`t.05` somewhat, `t.2` very, `t.3` extremely: membership^0.5, ^2, ^3).  The Octave toolkit's
+(`t.05` somewhat, `t.2` very, `t.3` extremely, `t.4` very very: membership^0.5, ^2, ^3, ^4);
+on an output index it is kept as said (CondOp.CONCLUDED: the Octave toolkit's strength^(1/p)
+in the exact semantics, fuzzylite's carried hedge under its semantics; see fuzzyc.model).  The Octave toolkit's
 and fuzzylite's further norms (einstein_product, hamacher_sum, ...) and fuzzylite's
 membership functions (rampmf, rectmf, concavemf, cosinemf, spikemf; dsigmf, psigmf, gauss2mf
 as fuzzylite's SigmoidDifference, SigmoidProduct, GaussianProduct) are read too.
 Comments: `%` to the end of the line, and lines starting with `#`.
-Not carried, reported: other MF types (discretemf, custom functions), som/lom, negated or
-hedged consequents, type hybrid (fuzzylite: a defuzzifier per output); type tsukamoto
+Not carried, reported: other MF types (discretemf, custom functions), som/lom, negated
+consequents, a weight other than 1 on a row with a hedged consequent, type hybrid (fuzzylite: a defuzzifier per output); type tsukamoto
 (fuzzylite's: wtaver over monotonic terms) is the model's Tsukamoto defuzzifier.
 When no rule fires, MATLAB's evalfis sets an output to the middle of its range (with a
 warning): the imported output's default is that middle, so both give the same number.

@@ -18,6 +18,9 @@ fuzzyc's own semantics ("exact") integrate the integral defuzzifiers exactly.  T
   weighted average (so `max` takes the strongest rule per term: CENTER_OF_AREA with that
   aggregation), where MATLAB sums over every rule (fuzzyc's WEIGHTED_AVERAGE).
 Peak-based defuzzifiers (weighted average/sum, center of area) are exact in every tool.
+Hedges: fuzzylite's `extremely` is its S-curve, and a FIS hedge on a consequent (CondOp.CONCLUDED,
+the Octave toolkit's strength^(1/p) in the exact semantics) acts on the activation and carries
+on to the row's later conclusions (`fuzzylite_hedges`).
 Tsukamoto (fuzzylite only): pyfuzzylite 8 inverts the terms exactly without clipping (a sigmoid
 at activation 1 gives an infinite output); fuzzylite 6 (measured against its CLI on
 tsukamoto.fll, and read off as these rules) takes a Sigmoid's range end within 1e-6 of
