@@ -96,12 +96,27 @@ def test_the_rules_say_where_the_hedge_was_and_what_cannot_follow_refuses():
     for writer in (write_fll, write_fcl):
         with pytest.raises(FuzzycError, match="hedge on a consequent"):
             writer(model, [])
-    with pytest.raises(FuzzycError, match="nested condition"):
-        write_fis(model, [])
     # compile/verify --semantics fuzzylite get fuzzylite's reading as plain hedge steps
     same, why = exact_equivalent(rb, "fuzzylite")
     assert why is None
     assert evaluate(same, [[0.36]])[0] == pytest.approx([4.096 / 0.7696] * 2, abs=1e-12)
+
+
+def test_the_fis_writer_writes_the_row_back():
+    # rule 2 gets `.3` on its input and z; rule 3 `.4` (very very) and `-` (not) on its input
+    model = _model("1, 2.2 2 (1) : 1\n2.3, 1 1.3 (1) : 1\n-1.4, 2 0 (0.5) : 2")
+    warnings: list[str] = []
+    text = write_fis(model, warnings)
+    # a row whose first conclusion is plain comes back as two rows (the same in both readings)
+    assert text.split("[Rules]\n")[1].splitlines() == [
+        "1, 2.2 2 (1) : 1", "2.3, 1 0 (1) : 1", "2.3, 0 1.3 (1) : 1", "-1.4, 2 0 (0.5) : 1",
+        "2, 1 1 (1) : 1"]
+    assert any("fuzzylite as its S-curve" in w for w in warnings)
+    back = read_fis(text, "back.fis").rulebase
+    x = np.linspace(0.0, 1.0, 11)[:, None]
+    for semantics in ("exact", "fuzzylite"):
+        assert np.array_equal(evaluate_as(back, x, semantics),
+                              evaluate_as(model.rulebase, x, semantics))
 
 
 def test_a_weight_on_a_hedged_row_is_refused_at_its_place():

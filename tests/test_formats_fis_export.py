@@ -133,8 +133,8 @@ def test_refusals_name_why():
     with pytest.raises(FuzzycError, match=r"strongest of the rules that conclude the same term "
                                           r"\(`a` of `y` \(2 rules\)\)"):
         fis(shared)
-    hedged = COA.format(default=5, aggregation="sum", extra="rule if x is very hi then y is a")
-    with pytest.raises(FuzzycError, match="hedge `very` has no equivalent in FIS"):
+    hedged = COA.format(default=5, aggregation="sum", extra="rule if x is sharply hi then y is a")
+    with pytest.raises(FuzzycError, match="hedge `sharply` has no equivalent in FIS"):
         fis(hedged)
     spike = SMALL_FZ.replace("gauss(10, 2)", "spike(10, 2)")
     with pytest.raises(FuzzycError, match=r"term `high` of `x` \(spike\) has no FIS membership"):

@@ -92,7 +92,8 @@ def rule_base(draw, fmt: str):
             else:
                 var.add(TermSpec(f"S{t}", TermKind.SINGLETON, (draw(grid), 0.0, 0.0, 0.0)), rep)
     hedges = {"fz": list(Hedge), "fll": [Hedge.NONE, Hedge.VERY, Hedge.SOMEWHAT],
-              "fcl": [Hedge.NONE], "fis": [Hedge.NONE]}[fmt]
+              "fcl": [Hedge.NONE], "fis": [Hedge.NONE, Hedge.VERY, Hedge.SOMEWHAT,
+                                            Hedge.EXTREMELY]}[fmt]
     for _ in range(draw(st.integers(1, 6))):
         clauses = {}
         for name, var in got.inputs.items():

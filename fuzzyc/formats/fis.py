@@ -36,7 +36,11 @@ Export (`write_fis`) is the exact inverse of that mapping, with these choices:
 - MATLAB evaluates Mamdani outputs on 101 points of the range; fuzzyc integrates exactly, so
   MATLAB's numbers differ by that sampling error (said in a warning).  The round-trip tests
   compare fuzzyc on the re-imported file, not MATLAB.
-- Refused: hedges (the file has none), spike/cosine/concave terms, singleton inputs, rules
+- Hedges are written as the reader reads them (`.05` somewhat, `.2` very, `.3` extremely,
+  `.4` very very; fuzzylite reads `.3` as its S-curve: a warning), and the rules the reader
+  made of a row with hedged consequents as that row again (a row whose first conclusion is
+  plain as two rows, the same numbers in both readings).
+- Refused: seldom and sharply (FIS has no fraction for them), spike/cosine/concave terms, singleton inputs, rules
   without a clause or a conclusion, an and/or operator MATLAB lacks that a rule needs, singleton
   terms beside area terms of a Mamdani output, bounded-sum aggregation (MATLAB's AggMethod is
   max, sum, probor or a custom function: writing one of the first three would give other
@@ -56,8 +60,8 @@ from ..builder import RuleSpec
 from ..conditions import Cond, premise
 from ..errors import Reporter, source_lines
 from ..escape import name_problems
-from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Model, SNorm,
-                     SourceLoc, TermKind, TNorm, Variable)
+from ..model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Implication, Model,
+                     SNorm, SourceLoc, TermKind, TNorm, Variable)
 from ..membership import linear_coefficients
 from .common import (Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none, tsukamoto_terms)
@@ -105,6 +109,9 @@ READ_ALSO = {"AndMethod": T_NORM_WORDS, "OrMethod": S_NORM_WORDS,
 # the hedges that make that power, nearest the term first (fuzzylite reads them so too).
 FIS_HEDGES = {0.0: (), 0.5: (Hedge.SOMEWHAT,), 2.0: (Hedge.VERY,), 3.0: (Hedge.EXTREMELY,),
               4.0: (Hedge.VERY, Hedge.VERY)}
+FIS_FRACTIONS = {hedges: f"{exponent / 10:.2f}"[1:].rstrip("0") if hedges else ""
+                 for exponent, hedges in FIS_HEDGES.items()}     # written back: `.05`, `.2`
+FIS_HEDGE_WORDS = {hedges[0]: text for hedges, text in FIS_FRACTIONS.items() if len(hedges) == 1}
 # fuzzylite's membership functions in FIS -> (its FLL word, FIS parameters -> FLL's order)
 FUZZYLITE_MFS = {"rampmf": ("Ramp", lambda v: v), "rectmf": ("Rectangle", lambda v: v),
                  "concavemf": ("Concave", lambda v: v), "cosinemf": ("Cosine", lambda v: v),
@@ -457,16 +464,19 @@ def write_fis(model: Model, warnings: list[str] | None = None) -> str:
     model = one_rule_base(model, "FIS")     # one rule list: blocks merged where exact
     rb = model.rulebase
     notes = left_out(model)
-    problems = (unsayable_hedges(model, {}, "FIS") + own_output_choices(model, "FIS")
+    problems = (unsayable_hedges(model, FIS_HEDGE_WORDS, "FIS") + own_output_choices(model, "FIS")
                 + unsayable_functions(model, "FIS", formulas=True, lock=False))
-    if rb.conditions:
-        problems.append(f"{rb.nested_rules()} has a nested condition; a FIS rule row is one "
-                        "connective over one clause per input")
+    rows = _fis_rows(rb, problems)
+    if np.any(rb.hedges == Hedge.EXTREMELY) or any(
+            np.any(p[:, 3] == Hedge.EXTREMELY) for p in rb.conditions.values()):
+        notes.append("`extremely` is written `.3`, which the Octave toolkit reads as the "
+                     "model does (x^3; the cube root of the strength on a consequent) and "
+                     "fuzzylite as its S-curve")
     kind, outputs, methods = _fis_system(model, problems, notes)
     lines = [f"% {' '.join(text.split())}" for text in (model.title, *model.notes) if text]
     lines += ["[System]", f"Name={_quote(model.name, problems)}", f"Type='{kind}'",
               "Version=2.0", f"NumInputs={len(rb.inputs)}", f"NumOutputs={len(outputs)}",
-              f"NumRules={rb.n_rules}",
+              f"NumRules={len(rows)}",
               *(f"{key}='{word}'" for key, word in methods), ""]
     for section, variables in (("Input", rb.inputs), ("Output", outputs)):
         for n, var in enumerate(variables, start=1):
@@ -476,7 +486,7 @@ def write_fis(model: Model, warnings: list[str] | None = None) -> str:
             if section == "Output":
                 _fis_default(var, notes)
     lines.append("[Rules]")
-    lines += [_fis_rule(rb, r, problems) for r in range(rb.n_rules)]
+    lines += rows
     return finish(model, "FIS", lines, problems, notes, warnings)
 
 
@@ -652,18 +662,98 @@ def _fis_default(var: Variable, notes: list[str]) -> None:
                      f"none; MATLAB gives the middle of the range, {num(middle)}")
 
 
+def _fis_rows(rb, problems: list[str]) -> list[str]:
+    """The rule rows: a flat rule is one row; the rules the reader made of a row with hedged
+    consequents (consecutive, the same condition, each one's earlier-conclusion steps the
+    hedges said before it) are that row again; any other clause program is refused."""
+    rows, nested, r = [], [], 0
+    while r < rb.n_rules:
+        if r not in rb.conditions:
+            rows.append(_fis_rule(rb, r, problems))
+            r += 1
+            continue
+        first = _program_row(rb, r)
+        if first is None or not all(own for own, _ in first[2]):   # a row starts plain
+            nested.append(r)
+            r += 1
+            continue
+        ins, connective, steps = first
+        outs = {o: _index(int(t) + 1, steps) for o, t in enumerate(rb.consequents[r]) if t >= 0}
+        said = [h for own, h in steps if own]
+        r += 1
+        while r < rb.n_rules and r in rb.conditions and rb.weights[r] == rb.weights[r - 1]:
+            more = _program_row(rb, r)
+            if more is None or more[:2] != (ins, connective) or \
+                    not said or [h for own, h in more[2] if not own] != said or \
+                    min(np.flatnonzero(rb.consequents[r] >= 0)) <= max(outs):
+                break
+            outs |= {o: _index(int(t) + 1, [s for s in more[2] if s[0]])
+                     for o, t in enumerate(rb.consequents[r]) if t >= 0}
+            said += [h for own, h in more[2] if own]
+            r += 1
+        row = [outs.get(o, "0") for o in range(len(rb.outputs))]
+        rows.append(f"{' '.join(ins)}, {' '.join(row)} ({num(rb.weights[r - 1])}) : "
+                    f"{connective}")
+    if nested:
+        more = f" and {len(nested) - 1} more" if len(nested) > 1 else ""
+        problems.append(f"rule {nested[0] + 1} `{rb.describe_rule(nested[0])}`{more} has a "
+                        "nested condition; a FIS rule row is one connective over one clause "
+                        "per input")
+    return rows
+
+
+def _program_row(rb, r: int) -> tuple[list[str], int, list[tuple[bool, int]]] | None:
+    """(input indices as text, connective 1|2, [(own, hedge)] CONCLUDED steps) of rule r's
+    clause program when it is a FIS row: clauses (each with a FIS hedge, then maybe `not`)
+    joined by one connective, then the steps; else None."""
+    ins, connective, steps = ["0"] * len(rb.inputs), None, []
+    program = rb.conditions[r].tolist()
+    k = 0
+    while k < len(program):
+        op, i, t, h = program[k]
+        k += 1
+        if op == CondOp.CONCLUDED:
+            steps.append((bool(t), h))
+        elif steps:
+            return None
+        elif op == CondOp.CLAUSE:
+            hedges = [h] if h else []
+            while k < len(program) and program[k][0] == CondOp.HEDGE:
+                hedges.append(program[k][3])
+                k += 1
+            negated = k < len(program) and program[k][0] == CondOp.NOT
+            k += negated
+            if t < 0 or ins[i] != "0" or tuple(hedges) not in FIS_FRACTIONS:
+                return None
+            ins[i] = _index(-(t + 1) if negated else t + 1, [(True, h) for h in hedges])
+        elif op in (CondOp.AND, CondOp.OR) and connective in (None, op):
+            connective = op
+        else:
+            return None
+    return ins, 2 if connective == CondOp.OR else 1, steps
+
+
+def _index(code: int, steps) -> str:
+    """A rule index with the fraction of its own hedges (`-2` and very: `-2.2`; a hedge FIS
+    has no fraction for is refused by unsayable_hedges)."""
+    return f"{code}{FIS_FRACTIONS.get(tuple(h for own, h in steps if own), '')}"
+
+
 def _fis_rule(rb, r: int, problems: list[str]) -> str:
-    """`i1 i2, o1 (w) : c`: 1-based term indices, 0 = any, negative = NOT; c 1 = and, 2 = or."""
-    ins = [0 if t < 0 else (-(t + 1) if neg else t + 1)
-           for t, neg in zip(rb.antecedents[r].tolist(), rb.negated[r].tolist())]
+    """`i1 i2, o1 (w) : c`: 1-based term indices, 0 = any, negative = NOT, a fraction the
+    hedge; c 1 = and, 2 = or."""
+    ins = ["0" if t < 0 else _index(-(t + 1) if neg else t + 1, [(True, h)] if h else [])
+           for t, neg, h in zip(rb.antecedents[r].tolist(), rb.negated[r].tolist(),
+                                rb.hedges[r].tolist())]
     outs = [t + 1 if t >= 0 else 0 for t in rb.consequents[r].tolist()]
-    if not any(ins) or not any(outs):
-        problems.append(f"rule {r + 1} has no {'clause' if not any(ins) else 'conclusion'}, "
+    if all(i == "0" for i in ins) or not any(outs):
+        problems.append(f"rule {r + 1} has no "
+                        f"{'clause' if all(i == '0' for i in ins) else 'conclusion'}, "
                         "which a FIS rule row cannot say")
     if not 0.0 <= rb.weights[r] <= 1.0:
         problems.append(f"rule {r + 1}'s weight {num(rb.weights[r])} lies outside [0, 1]")
     connective = 2 if rb.connective[r] == Connective.OR else 1
-    return (f"{' '.join(map(str, ins))}, {' '.join(map(str, outs))} "
+    return (f"{' '.join(ins)}, {' '.join(map(str, outs))} "
             f"({num(rb.weights[r])}) : {connective}")
 
 
