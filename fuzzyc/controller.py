@@ -21,6 +21,7 @@ steps and outputs skip their masks: the same arithmetic on the values the masks 
 """
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -60,17 +61,30 @@ class Controller:
                        for s in self.model.steps]
         self._outputs = [(o, compile_value(o.expr), self._state_limits(o))
                          for o in self.model.outputs]
-        # per rule block in order: its input names, its (index, output name)s, its engine
-        self._blocks = [([v.name for v in rb.inputs], list(enumerate(v.name for v in rb.outputs)),
-                         self._engine(rb)) for rb in self.model.blocks]
+        # per rule block in order: its input names, its (index, output name)s, its engine, and
+        # what gives its terms' activations to later blocks (fuzzylite's chains) or None
+        self._blocks = [self._block(k) for k in range(len(self.model.blocks))]
         # per block the values its lock-previous outputs hold, per loop (fuzzyc.ordered)
         self._held = [Held(sequence=False) for _ in self.model.blocks]
 
-    def _engine(self, rb):
+    def _block(self, k: int):
+        """Block k as this controller runs it (see `_blocks`). Under fuzzylite's semantics a
+        later block reads `V is t` of this block's output V as t's activation in V's fuzzy
+        set, not as t's membership of V's value (formats.tool_semantics.reading_activations)."""
+        rb, gives_activations = self.model.blocks[k], None
         if self.semantics == "exact":
-            return compiled(rb)
-        from .formats.tool_semantics import ToolEngine
-        return ToolEngine(rb, self.semantics)
+            engine = compiled(rb)
+        else:
+            from .formats import tool_semantics as tools
+            if self.semantics in ("fuzzylite", "pyfuzzylite"):
+                earlier = {v.name for b in self.model.blocks[:k] for v in b.outputs}
+                rb = tools.reading_activations(rb, earlier)
+                later = {v.name for b in self.model.blocks[k + 1:] for v in b.inputs}
+                if later & {v.name for v in rb.outputs}:
+                    gives_activations = functools.partial(tools.term_activations, rb)
+            engine = tools.ToolEngine(rb, self.semantics)
+        return ([v.name for v in rb.inputs], list(enumerate(v.name for v in rb.outputs)),
+                engine, gives_activations)
 
     @staticmethod
     def _initial_state(out) -> float:
@@ -106,11 +120,16 @@ class Controller:
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
             for s, value, alias in self._steps:
                 env[s.name] = self._run_step(s, self._column(value(env), n), alias)
-            for (inputs, outputs, engine), held in zip(self._blocks, self._held):
+            activations: dict[str, np.ndarray] = {}     # `V.t` of fuzzylite's chains
+            for (inputs, outputs, engine, gives_activations), held in zip(self._blocks,
+                                                                           self._held):
                 # the block's inputs as rows (I, N), its outputs as rows (O, N)
-                x = np.array([env[name] for name in inputs])     # each one (N,) float
+                x = np.array([env[name] if name in env else activations[name]
+                              for name in inputs])     # each one (N,) float
                 y = engine.evaluate_rows(x, held) if n else np.empty((len(outputs), 0))
                 env.update({name: y[o] for o, name in outputs})
+                if gives_activations is not None:
+                    activations.update(gives_activations(x.T))
             outputs = {o.name: self._run_output(o, self._column(value(env), n), limits)
                        for o, value, limits in self._outputs}
         env.update(outputs)
@@ -185,5 +204,4 @@ class Controller:
         if not np.all(np.isfinite(values)):
             raise ValueError(f"{output}: values must be finite")
         var.params[:, 0] = values
-        inputs, outputs, _ = self._blocks[k]
-        self._blocks[k] = (inputs, outputs, self._engine(rb))    # rebuilt for the new values
+        self._blocks[k] = self._block(k)    # rebuilt for the new values

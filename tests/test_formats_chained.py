@@ -134,3 +134,21 @@ def test_two_methods_in_one_defuzzify_are_refused():
     with pytest.raises(FuzzycError, match=r"hybrid.fcl:22:12: error: METHOD COG differs from "
                                           r"COGS at line 21 in the same block"):
         read_fcl(text, "hybrid.fcl")
+
+
+@pytest.mark.parametrize("semantics, z", [("exact", 1.0), ("fuzzylite", 0.75),
+                                          ("pyfuzzylite", 0.75)])
+def test_the_controller_reads_a_chain_as_the_semantics_says(semantics, z):
+    # `eval`, `simulate` and `verify --semantics fuzzylite` run the Controller: it read the
+    # output's value in every semantics (z = 1 at x = 0.25) where fuzzylite reads the term
+    # activations (0.75, the hand values above); on a grid it equals Chain, which the
+    # conformance harness holds against the fuzzylite CLI
+    from fuzzyc.api import Controller
+    model = read_fll(CHAINED_FLL, "chained.fll")
+    x = np.linspace(0, 1, 41)
+    controller = Controller(model, batch=len(x), semantics=semantics)
+    controller.step({"x": x})
+    assert controller.signals["z"][10] == pytest.approx(z, abs=1e-12)     # x = 0.25
+    got = np.column_stack([controller.signals["y"], controller.signals["z"]])
+    np.testing.assert_allclose(got, Chain(model).evaluate(x[:, None], semantics), rtol=0,
+                               atol=1e-12)
