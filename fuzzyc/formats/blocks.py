@@ -81,8 +81,7 @@ def chain_warning(model: Model, fmt: str) -> list[str]:
         return []
     return [f"{'; '.join(reads)}: fuzzyc reads the output's value through its terms, fuzzylite "
             f"reading this {fmt} reads each term's activation in the output's fuzzy set, so "
-            "its numbers differ (`fuzzyc.formats.tool_semantics.Chain` under the `fuzzylite` "
-            "semantics reproduces them)"]
+            "its numbers differ (`fuzzyc eval --semantics fuzzylite` reproduces them)"]
 
 
 def linear_on(var: Variable, block_inputs: list[Variable], inputs: list[Variable],
