@@ -1,7 +1,7 @@
 """Wide rule bases (more than 6 inputs) stay on the sparse path: a sample fires at most 2**I
 term tuples, looked up in a direct cell table or, where that table would be too big, among the
 rules' sorted cell codes.  Both agree with the dense reference; a hand-computed 7-input value;
-the C back end takes its cell table up to 8 inputs of 3 terms and loops over every rule past it.  Past the grid's per-cell tables the
+the C back end keeps its cell table (direct up to 8 inputs of 3 terms, sorted codes past that) and loops over every rule past its limit.  Past the grid's per-cell tables the
 grid path tables columns per term tuple: the same bits as the sparse candidates' scatter and as
 the per-cell tables, and the dense reference's values, on random wide rule bases."""
 from __future__ import annotations
@@ -163,23 +163,27 @@ def test_few_rules_over_many_inputs_stay_dense():
     assert not CompiledRuleBase(rb).sparse
 
 
-@pytest.mark.parametrize("n_in", [7, 8])
-def test_c_header_takes_the_cell_table_up_to_eight_inputs(n_in):
+@pytest.mark.parametrize("n_in, sorted_codes", [(7, False), (8, False), (9, True), (10, True)])
+def test_c_header_takes_the_cell_table(n_in, sorted_codes):
     # issue 14: past 6 inputs the header looped over every rule (4.1 us per call at 7 inputs,
-    # 14 us at 8); the cell table has (3 + 1)**7 = 16,384 and 4**8 = 65,536 cells, within
-    # fuzzyc.limits.MAX_C_TABLE_CELLS, and a call visits the 2**I active term tuples
+    # 14 us at 8, 42 us at 9). Up to 8 inputs the cell table is direct: (3 + 1)**7 = 16,384
+    # and 4**8 = 65,536 cells, within fuzzyc.limits.MAX_C_TABLE_CELLS; at 9 and 10 inputs
+    # (262,144 and 1,048,576 cells) it keeps the 3**9 = 19,683 and 3**10 = 59,049 occupied
+    # cells' codes and finds a tuple's row by binary search. A call visits the 2**I active
+    # term tuples either way.
     rb = rulebase(n_in, 3, itertools.product(range(3), repeat=n_in),
                   Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
     model = Model.of_rulebase(rb, "wide")
-    assert HeaderWriter(model, REAL_TYPES["float"]).sparse
+    writer = HeaderWriter(model, REAL_TYPES["float"])
+    assert writer.sparse and (writer.cells[0] is not None) == sorted_codes
     x = points(n_in)
     got = CController(model, numeric="double").evaluate(x)
     assert np.max(np.abs(got - evaluate(rb, x))) <= 1e-12 * 10.0    # of the range [0, 10]
 
 
 def test_c_header_keeps_every_rule_past_the_cell_limit():
-    # 9 inputs: 4**9 = 262,144 cells, beyond MAX_C_TABLE_CELLS (gcc took 19 s and 1.9 GB on
-    # a 1.8M-cell table, then refused it): every rule is looped over
-    rb = rulebase(9, 3, itertools.product(range(3), repeat=9),
+    # 11 inputs: 3**11 = 177,147 occupied cells, more than MAX_C_TABLE_CELLS (gcc took 19 s
+    # and 1.9 GB on a 1.8M-cell table, then refused it): every rule is looped over
+    rb = rulebase(11, 3, itertools.product(range(3), repeat=11),
                   Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
     assert not HeaderWriter(Model("wide", [rb]), REAL_TYPES["float"]).sparse

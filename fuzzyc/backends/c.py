@@ -51,7 +51,27 @@ def _int_table(rows) -> str:
 
 def _index_type(largest: int) -> str:
     """The smallest unsigned C type holding 0..largest (small tables for small targets)."""
-    return "unsigned char" if largest <= 255 else "unsigned short"
+    return "unsigned char" if largest <= 255 else "unsigned short" if largest <= 65535 \
+        else "unsigned long"
+
+
+def _cell_table(engine: CompiledRuleBase) -> tuple[np.ndarray | None, np.ndarray] | None:
+    """The header's cell table (term tuple -> its rules, padded with rule R): (None, rows)
+    indexed by the cell code itself while there are at most MAX_C_TABLE_CELLS cells; past
+    that (codes, rows): the occupied cells' codes ascending, found by binary search, their
+    rows and a last row without rules for every other code; None where even the occupied
+    cells pass the limit (or a code passes 32 bits, C99's least unsigned long)."""
+    lookup, n_rules = engine.lookup, engine.rb.n_rules
+    if engine.codes is None and lookup.shape[0] <= MAX_C_TABLE_CELLS:
+        return None, lookup
+    if engine.codes is not None:        # the engine's own sorted codes (past 2**21 cells)
+        codes, rows = engine.codes, lookup
+    else:
+        codes = np.flatnonzero(lookup[:, 0] < n_rules)
+        rows = np.vstack([lookup[codes], np.full((1, lookup.shape[1]), n_rules)])
+    if len(rows) > MAX_C_TABLE_CELLS or np.prod(engine.radix.astype(float)) > 2.0 ** 32:
+        return None
+    return codes, rows
 
 
 def _uses_peaks(var, method: Defuzzifier) -> bool:
@@ -133,13 +153,13 @@ class HeaderWriter:
         self.name = c_identifier(model.name)
         self.p = self.name + "_"
         self.P = self.name.upper() + "_"
-        # The cell table is the fast path where it is small (a direct table of at most
-        # MAX_C_TABLE_CELLS cells: 8 inputs of 3 terms); past that every rule is looped over
-        # (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
+        # The cell table is the fast path (_cell_table: direct up to MAX_C_TABLE_CELLS cells,
+        # 8 inputs of 3 terms; sorted codes past that); where it cannot be kept every rule is
+        # looped over (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
         compiled = CompiledRuleBase(self.rb)
-        self.sparse = (compiled.sparse and compiled.codes is None
-                       and compiled.lookup.shape[0] <= MAX_C_TABLE_CELLS)
-        self.depth = compiled.lookup.shape[1] if self.sparse else 0   # rules per cell
+        self.cells = _cell_table(compiled) if compiled.sparse else None
+        self.sparse = self.cells is not None
+        self.depth = self.cells[1].shape[1] if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
         self.items = self.item_writer()
         self.lines: list[str] = []
@@ -402,7 +422,8 @@ class HeaderWriter:
         place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
         inputs = [[k, v.n_terms, int(pl)] for k, v, pl in zip(part_of, self.rb.inputs, place)]
         n_parts = len(parts)
-        cell_type = _index_type(int(engine.lookup.shape[0]))
+        codes, rows = self.cells
+        cell_type = _index_type(int(np.prod(radix)) - 1)
         self.cell_type = cell_type
         self.out("/* Partitions of the inputs: break points and per segment (slope, intercept) "
                  "x 2 with the two term ids. */",
@@ -433,15 +454,37 @@ class HeaderWriter:
                  "    }",
                  "}")
         self.out("/* Per cell (tuple of term ids, n_terms = none): its rules, padded with "
-                 "N_RULES. */",
-                 f"static const {_index_type(self.rb.n_rules)} {P}CELLS[{engine.lookup.shape[0]}]"
-                 f"[{engine.lookup.shape[1]}] = {_int_table(engine.lookup)};")
-        self.engine = engine
+                 "N_RULES. */" if codes is None else
+                 "/* Per occupied cell (tuple of term ids, n_terms = none), in the order of "
+                 "CODES: its rules, padded with N_RULES; the last row, none, for every other "
+                 "cell. */",
+                 f"static const {_index_type(self.rb.n_rules)} {P}CELLS[{rows.shape[0]}]"
+                 f"[{rows.shape[1]}] = {_int_table(rows)};")
+        if codes is not None:
+            n = len(codes)
+            self.out("/* The occupied cells' codes, ascending. */",
+                     f"static const {cell_type} {P}CODES[{n}] = "
+                     "{" + ", ".join(str(int(c)) for c in codes) + "};",
+                     "/* The row of CELLS of a cell code: its rank in CODES (binary search), or "
+                     f"{n}, the row without rules. */",
+                     f"static inline int {p}cell_row({cell_type} code) {{",
+                     "    /* without branches on the data (a conditional move per step): the "
+                     "tuples' codes are unpredictable */",
+                     f"    const {cell_type} *base = {P}CODES;",
+                     f"    int n = {n}, lo;",
+                     "    while (n > 1) {",
+                     "        int half = n / 2;",
+                     "        base = base[half] < code ? base + half : base;",
+                     "        n -= half;",
+                     "    }",
+                     f"    lo = (int)(base - {P}CODES) + (*base < code);",
+                     f"    return lo < {n} && {P}CODES[lo] == code ? lo : {n};",
+                     "}")
 
     def sparse_rules(self) -> list[str]:
         rb, t, P = self.rb, self.real.name, self.P
         n_in = len(rb.inputs)
-        depth = self.engine.lookup.shape[1]
+        depth = self.depth
         code = [f"{t} m[{n_in}][2];",
                 f"{self.cell_type} part[{n_in}][2];   /* term id times place value */",
                 "int i;",
@@ -452,6 +495,8 @@ class HeaderWriter:
         act = f"m[0][{bits[0]}]"
         for i in range(1, n_in):
             act = self.combine(act, f"m[{i}][{bits[i]}]", True)
+        cell = f"{cell}" if self.cells[0] is None else \
+            f"{self.p}cell_row(({self.cell_type})({cell}))"
         code += [f"    int cell = {cell};", f"    {t} act = {act};", "    int d;",
                  f"    for (d = 0; d < {depth}; ++d) {{",
                  f"        int rule = {P}CELLS[cell][d];",
