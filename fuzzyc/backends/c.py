@@ -156,8 +156,8 @@ class HeaderWriter:
         # The cell table is the fast path (_cell_table: direct up to MAX_C_TABLE_CELLS cells,
         # 8 inputs of 3 terms; sorted codes past that); where it cannot be kept every rule is
         # looped over (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
-        compiled = CompiledRuleBase(self.rb)
-        self.cells = _cell_table(compiled) if compiled.sparse else None
+        self.compiled = CompiledRuleBase(self.rb)      # its partitions and radix: sparse_tables
+        self.cells = _cell_table(self.compiled) if self.compiled.sparse else None
         self.sparse = self.cells is not None
         self.depth = self.cells[1].shape[1] if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
@@ -395,7 +395,7 @@ class HeaderWriter:
         """Per distinct partition: break points and, per segment, the two active terms' linear
         pieces; one shared function finds them for every input (one copy of its code, which
         keeps the header small at -O2 too, where per-input copies would be inlined)."""
-        engine = CompiledRuleBase(self.rb)
+        engine = self.compiled
         t, p, P, lit = self.real.name, self.p, self.P, self.real.lit
         parts: list = []
         part_of: list[int] = []
