@@ -469,16 +469,17 @@ class HeaderWriter:
                      f"{n}, the row without rules. */",
                      f"static inline int {p}cell_row({cell_type} code) {{",
                      "    /* without branches on the data (a conditional move per step): the "
-                     "tuples' codes are unpredictable */",
-                     f"    const {cell_type} *base = {P}CODES;",
-                     f"    int n = {n}, lo;",
+                     "tuples' codes are unpredictable. lo + n <= N holds, so the probe never "
+                     "passes N - 1; the clamp says so to a prover (Frama-C EVA). */",
+                     f"    int lo = 0, n = {n}, at;",
                      "    while (n > 1) {",
                      "        int half = n / 2;",
-                     "        base = base[half] < code ? base + half : base;",
+                     f"        int probe = lo + half < {n - 1} ? lo + half : {n - 1};",
+                     f"        lo = {P}CODES[probe] < code ? probe : lo;",
                      "        n -= half;",
                      "    }",
-                     f"    lo = (int)(base - {P}CODES) + (*base < code);",
-                     f"    return lo < {n} && {P}CODES[lo] == code ? lo : {n};",
+                     f"    at = lo + ({P}CODES[lo] < code);",
+                     f"    return at < {n} && {P}CODES[at] == code ? at : {n};",
                      "}")
 
     def sparse_rules(self) -> list[str]:
