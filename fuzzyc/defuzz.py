@@ -65,24 +65,29 @@ PEAK_BASED = (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE,
 @dataclass(frozen=True)
 class Scatter:
     """How an aggregation accumulates activations by scattering them into their terms' slots:
-    the ufunc, the start value, and what goes in and comes out (PROBSUM multiplies 1 - act
-    and returns 1 - the product; BOUNDED_SUM adds and caps the sum at 1)."""
+    the ufunc, the start value, and what goes in and comes out.  PROBSUM adds log(1 - act)
+    and returns 1 - exp(the sum): 1 - prod(1 - act) itself cancels at small activations (1 -
+    1e-14 keeps two digits of the 1e-14), log1p/expm1 keep every digit; BOUNDED_SUM adds and
+    caps the sum at 1."""
     ufunc: np.ufunc
     start: float = 0.0
     complement: bool = False
     bounded: bool = False
 
     def values(self, act: np.ndarray) -> np.ndarray:
-        return 1.0 - act if self.complement else act
+        if not self.complement:
+            return act
+        with np.errstate(divide="ignore"):       # act = 1 gives log 0 = -inf, and 1 at the end
+            return np.log1p(-np.minimum(act, 1.0))
 
     def finish(self, out: np.ndarray) -> np.ndarray:
         if self.complement:
-            return 1.0 - out
+            return -np.expm1(out)
         return np.minimum(out, 1.0) if self.bounded else out
 
 
 SCATTERS = {Aggregation.MAX: Scatter(np.maximum), Aggregation.SUM: Scatter(np.add),
-            Aggregation.PROBSUM: Scatter(np.multiply, 1.0, complement=True),
+            Aggregation.PROBSUM: Scatter(np.add, complement=True),
             Aggregation.BOUNDED_SUM: Scatter(np.add, bounded=True)}
 
 
@@ -117,7 +122,7 @@ def term_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
     scatter = SCATTERS[aggregation]
     if J.ndim == 1:        # the same consequents for every sample: a matrix product / gather
         onehot = J[:, None] == np.arange(n_terms)
-        if scatter.ufunc is np.add:
+        if scatter.ufunc is np.add and not scatter.complement:   # log(1 - 1) * 0 would be nan
             return scatter.finish(act @ onehot.astype(float))
         values = scatter.values(act)
         return scatter.finish(np.stack([
@@ -500,8 +505,9 @@ def _firing(levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray
 
 
 def _probsum(items: np.ndarray) -> np.ndarray:
-    """1 - prod_k (1 - items_k) over the last axis."""
-    return 1.0 - np.prod(1.0 - items, axis=-1)
+    """1 - prod_k (1 - items_k) over the last axis, in logs so small items keep their digits."""
+    probsum = SCATTERS[Aggregation.PROBSUM]
+    return probsum.finish(probsum.values(items).sum(axis=-1))
 
 
 def _gauss_legendre(n_items: int) -> tuple[np.ndarray, np.ndarray]:

@@ -68,6 +68,30 @@ def test_bounded_sum_caps_at_one_where_probsum_does_not():
     assert term_strengths(act, J, 1, Aggregation.SUM)[0, 0] == pytest.approx(1.4, abs=1e-15)
 
 
+
+def test_probsum_keeps_the_digits_of_small_activations():
+    # 1 - (1 - 1e-14)(1 - 3e-14) in doubles keeps about two digits (1 - 1e-14 rounds to a
+    # multiple of 2**-53 ~ 1.1e-16, and it gives 3.9968e-14); the exact value is 4e-14 - 3e-28.
+    act = np.array([[1e-14, 3e-14]])
+    for J in (np.array([0, 0]), np.array([[0, 0]])):
+        assert term_strengths(act, J, 1, PROBSUM)[0, 0] == pytest.approx(4e-14 - 3e-28,
+                                                                          rel=1e-15, abs=0.0)
+    # a full activation still gives 1: log(1 - 1) = -inf, 1 - exp(-inf) = 1
+    assert term_strengths(np.array([[1.0, 0.3]]), np.array([0, 0]), 1, PROBSUM)[0, 0] == 1.0
+
+
+def test_probsum_centroid_of_a_faint_symmetric_term_is_its_middle():
+    # one rule fires the triangle (0, 5, 10) at 1.3e-14 (a Gaussian's tail): product
+    # implication scales it, so its centroid is 5 at any level.  Found by CI's round-trip
+    # search: 1 - prod(1 - g) put it at 5.0018 (the lost digits of g are noise across u, and
+    # the unused term B's break point at 0.5 splits the pieces unevenly, so it does not cancel).
+    out = var("y", {"A": ("tri", 0.0, 5.0, 10.0), "B": ("trap", 0.0, 0.0, 0.0, 0.5)},
+              lo=0.0, hi=10.0)
+    for level in (1.3e-14, 1e-9, 0.5):
+        rb, x = driven([(level, "A")], out, aggregation=PROBSUM,
+                       implication=Implication.PRODUCT, defuzzifier=Defuzzifier.CENTROID)
+        assert evaluate(rb, x)[0, 0] == pytest.approx(5.0, abs=1e-12)
+
 @pytest.mark.parametrize("aggregation, expected", [
     # a third rule concludes B (peak 2) at 0.6: (alpha_A * 1 + 0.6 * 2) / (alpha_A + 0.6)
     (Aggregation.MAX, 1.7 / 1.1), (Aggregation.SUM, 2.1 / 1.5),
