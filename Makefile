@@ -5,7 +5,7 @@ VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
 
-.PHONY: demo test bench proofs c-proofs loop-proofs fuzz clean conformance
+.PHONY: demo test bench proofs c-proofs loop-proofs fuzz explore clean conformance
 
 $(STAMP): pyproject.toml
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV) || { echo "python3 -m venv failed: on Debian install python3-venv (apt-get install python3-venv)"; exit 1; }
@@ -46,6 +46,14 @@ conformance: $(STAMP) $(PYFL_VENV)/.installed
 # 10,000 hostile inputs (docs/fuzzing.md); fails on any traceback or unlocated rejection
 fuzz: $(STAMP)
 	$(PY) -m tests.fuzz --inputs 10000
+
+# The property tests (fixed examples in `make test`) with fresh random seeds, 10 rounds:
+# a search for new counterexamples, not a gate (docs/fuzzing.md)
+PROPERTY_TESTS = $(shell grep -l "@given" tests/test_*.py)
+explore: $(STAMP)
+	for round in 1 2 3 4 5 6 7 8 9 10; do \
+	  FUZZYC_EXPLORE=1 $(PY) -m pytest -q -n 2 --dist loadfile -p no:cacheprovider \
+	    $(PROPERTY_TESTS) || exit 1; done
 
 bench: $(STAMP)
 	$(PY) benchmarks/run_all.py

@@ -1,7 +1,7 @@
 """Wide rule bases (more than 6 inputs) stay on the sparse path: a sample fires at most 2**I
 term tuples, looked up in a direct cell table or, where that table would be too big, among the
 rules' sorted cell codes.  Both agree with the dense reference; a hand-computed 7-input value;
-the C back end keeps its cell table (direct up to 8 inputs of 3 terms, sorted codes past that) and loops over every rule past its limit.  Past the grid's per-cell tables the
+the C back end keeps its cell table (direct up to 10 inputs of 3 terms, sorted codes past that) and loops over every rule past its limit.  Past the grid's per-cell tables the
 grid path tables columns per term tuple: the same bits as the sparse candidates' scatter and as
 the per-cell tables, and the dense reference's values, on random wide rule bases."""
 from __future__ import annotations
@@ -163,20 +163,24 @@ def test_few_rules_over_many_inputs_stay_dense():
     assert not CompiledRuleBase(rb).sparse
 
 
-@pytest.mark.parametrize("n_in, sorted_codes", [(7, False), (8, False), (9, True), (10, True)])
-def test_c_header_takes_the_cell_table(n_in, sorted_codes):
+@pytest.mark.parametrize("n_in, n_terms, sorted_codes", [
+    (7, 3, False), (8, 3, False), (9, 3, False), (10, 3, False), (9, 4, True)])
+def test_c_header_takes_the_cell_table(n_in, n_terms, sorted_codes):
     # issue 14: past 6 inputs the header looped over every rule (4.1 us per call at 7 inputs,
-    # 14 us at 8, 42 us at 9). Up to 8 inputs the cell table is direct: (3 + 1)**7 = 16,384
-    # and 4**8 = 65,536 cells, within fuzzyc.limits.MAX_C_TABLE_CELLS; at 9 and 10 inputs
-    # (262,144 and 1,048,576 cells) it keeps the 3**9 = 19,683 and 3**10 = 59,049 occupied
-    # cells' codes and finds a tuple's row by binary search. A call visits the 2**I active
-    # term tuples either way.
-    rb = rulebase(n_in, 3, itertools.product(range(3), repeat=n_in),
+    # 14 us at 8, 42 us at 9). The cell table has a code per tuple of terms, 3**I for I inputs
+    # of 3 terms (a slot without a term reads term 0 at membership 0): direct up to 10 inputs
+    # (59,049 cells, within fuzzyc.limits.MAX_C_TABLE_CELLS). 9 inputs of 4 terms (262,144
+    # cells) with rules on 3 of them keep the 3**9 = 19,683 occupied cells' codes and find a
+    # tuple's row by binary search. A call visits the 2**I active term tuples either way; the
+    # points include NaN and the outer break points (one term active) and every peak.
+    rb = rulebase(n_in, n_terms, itertools.product(range(3), repeat=n_in),
                   Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
     model = Model.of_rulebase(rb, "wide")
     writer = HeaderWriter(model, REAL_TYPES["float"])
-    assert writer.sparse and (writer.cells[0] is not None) == sorted_codes
+    assert writer.sparse and (writer.cells[1] is not None) == sorted_codes
+    assert writer.cells[2].shape == ((3 ** n_in + 1, 1) if sorted_codes else (3 ** n_in, 1))
     x = points(n_in)
+    x[21:40] = np.random.default_rng(1).choice(np.linspace(0, 1, n_terms), (19, n_in))
     got = CController(model, numeric="double").evaluate(x)
     assert np.max(np.abs(got - evaluate(rb, x))) <= 1e-12 * 10.0    # of the range [0, 10]
 

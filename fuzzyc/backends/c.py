@@ -55,23 +55,34 @@ def _index_type(largest: int) -> str:
         else "unsigned long"
 
 
-def _cell_table(engine: CompiledRuleBase) -> tuple[np.ndarray | None, np.ndarray] | None:
-    """The header's cell table (term tuple -> its rules, padded with rule R): (None, rows)
-    indexed by the cell code itself while there are at most MAX_C_TABLE_CELLS cells; past
-    that (codes, rows): the occupied cells' codes ascending, found by binary search, their
-    rows and a last row without rules for every other code; None where even the occupied
-    cells pass the limit (or a code passes 32 bits, C99's least unsigned long)."""
-    lookup, n_rules = engine.lookup, engine.rb.n_rules
-    if engine.codes is None and lookup.shape[0] <= MAX_C_TABLE_CELLS:
-        return None, lookup
-    if engine.codes is not None:        # the engine's own sorted codes (past 2**21 cells)
-        codes, rows = engine.codes, lookup
-    else:
-        codes = np.flatnonzero(lookup[:, 0] < n_rules)
-        rows = np.vstack([lookup[codes], np.full((1, lookup.shape[1]), n_rules)])
-    if len(rows) > MAX_C_TABLE_CELLS or np.prod(engine.radix.astype(float)) > 2.0 ** 32:
+def _cell_table(rb: RuleBase) -> tuple[np.ndarray, np.ndarray | None, np.ndarray] | None:
+    """The header's cell table (term tuple -> its rules, padded with rule R), as (radix,
+    codes, rows).  The radix of input i is its number of terms, with no code for "no term":
+    a slot without a term (a single term active, or a NaN input) reads term 0 at membership
+    0, so its tuples' rules get activation 0 and add nothing (a third fewer cells than the
+    engine's terms + 1 at 3 terms per input; 3**10 cells fit where 4**8 did).  codes is None
+    while the cells are at most MAX_C_TABLE_CELLS, indexed by the cell code itself; past
+    that the occupied cells' codes ascending, found by binary search, their rows and a last
+    row without rules for every other code; None where even the occupied cells pass the
+    limit (or a code passes 32 bits, C99's least unsigned long)."""
+    radix = np.array([v.n_terms for v in rb.inputs], dtype=np.int64)
+    if np.prod(radix.astype(float)) > 2.0 ** 32:
         return None
-    return codes, rows
+    place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
+    cells = rb.antecedents @ place
+    codes, rank = np.unique(cells, return_inverse=True)
+    rank = rank.ravel()
+    direct = np.prod(radix.astype(float)) <= MAX_C_TABLE_CELLS
+    if not direct and len(codes) + 1 > MAX_C_TABLE_CELLS:
+        return None
+    row_of = cells if direct else rank
+    n_rows = int(np.prod(radix)) if direct else len(codes) + 1
+    counts = np.bincount(row_of, minlength=n_rows)
+    rows = np.full((n_rows, max(1, int(counts.max()))), rb.n_rules)
+    order = np.argsort(row_of, kind="stable")
+    slot = np.arange(rb.n_rules) - np.searchsorted(row_of[order], row_of[order])
+    rows[row_of[order], slot] = order
+    return radix, None if direct else codes, rows
 
 
 def _uses_peaks(var, method: Defuzzifier) -> bool:
@@ -154,12 +165,12 @@ class HeaderWriter:
         self.p = self.name + "_"
         self.P = self.name.upper() + "_"
         # The cell table is the fast path (_cell_table: direct up to MAX_C_TABLE_CELLS cells,
-        # 8 inputs of 3 terms; sorted codes past that); where it cannot be kept every rule is
+        # 10 inputs of 3 terms; sorted codes past that); where it cannot be kept every rule is
         # looped over (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
         self.compiled = CompiledRuleBase(self.rb)      # its partitions and radix: sparse_tables
-        self.cells = _cell_table(self.compiled) if self.compiled.sparse else None
+        self.cells = _cell_table(self.rb) if self.compiled.sparse else None
         self.sparse = self.cells is not None
-        self.depth = self.cells[1].shape[1] if self.sparse else 0   # rules per cell
+        self.depth = self.cells[2].shape[1] if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
         self.items = self.item_writer()
         self.lines: list[str] = []
@@ -416,13 +427,13 @@ class HeaderWriter:
             rows = [self.slope_intercept(r[0::2][:3]) + self.slope_intercept(r[1::2][:3])
                     for r in q.table]
             pieces.append(rows[:-1] + [rows[-1]] * (pad + 1))
-            ids = q.table[:, 6:8].astype(int).tolist()
+            # a slot without a term: term 0 at membership 0 (its piece is 0; _cell_table)
+            ids = np.where(q.table[:, 6:8] < q.n_terms, q.table[:, 6:8], 0).astype(int).tolist()
             active.append(ids[:-1] + [ids[-1]] * (pad + 1))
-        radix = engine.radix
+        radix, codes, rows = self.cells
         place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
-        inputs = [[k, v.n_terms, int(pl)] for k, v, pl in zip(part_of, self.rb.inputs, place)]
+        inputs = [[k, int(pl)] for k, pl in zip(part_of, place)]
         n_parts = len(parts)
-        codes, rows = self.cells
         cell_type = _index_type(int(np.prod(radix)) - 1)
         self.cell_type = cell_type
         self.out("/* Partitions of the inputs: break points and per segment (slope, intercept) "
@@ -433,9 +444,9 @@ class HeaderWriter:
                  f"static const unsigned char {P}ACTIVE[{n_parts}][{nb + 1}][2] = "
                  "{" + ", ".join(_int_table(ids) for ids in active) + "};",
                  "/* Per rule-base input (" + ", ".join(c_comment(v.name) for v in self.rb.inputs)
-                 + "): partition, number of terms, place value in the cell index. */",
+                 + "): partition, place value in the cell index. */",
                  f"static const {_index_type(int(max(np.max(place), n_parts)))} "
-                 f"{P}INPUTS[{P}N_RB_INPUTS][3] = {_int_table(inputs)};",
+                 f"{P}INPUTS[{P}N_RB_INPUTS][2] = {_int_table(inputs)};",
                  "/* The two positive terms of input i at x: memberships m and their place in "
                  "the cell index. */",
                  f"static inline void {p}active(int i, {t} x, {t} m[2], {cell_type} cell[2]) "
@@ -444,18 +455,18 @@ class HeaderWriter:
                  "    /* Outside the outer break points every term is constant: clamp. */",
                  f"    {t} xc = {p}clamp(x, b[0], b[{nb - 1}]);",
                  "    int k = 0, j, s;",
-                 f"    if (x != x) {{ m[0] = m[1] = {lit(0)}; "
-                 f"cell[0] = cell[1] = {P}INPUTS[i][1] * {P}INPUTS[i][2]; return; }}",
+                 "    /* NaN: no term, i.e. term 0 at membership 0 (see ACTIVE) */",
+                 f"    if (x != x) {{ m[0] = m[1] = {lit(0)}; cell[0] = cell[1] = 0; return; }}",
                  f"    for (j = 0; j < {nb}; ++j) k += xc >= b[j];",
                  "    for (s = 0; s < 2; ++s) {",
                  f"        const {t} *q = {P}PIECES[{P}INPUTS[i][0]][k] + 2 * s;",
                  "        m[s] = xc * q[0] + q[1];",
-                 f"        cell[s] = {P}ACTIVE[{P}INPUTS[i][0]][k][s] * {P}INPUTS[i][2];",
+                 f"        cell[s] = {P}ACTIVE[{P}INPUTS[i][0]][k][s] * {P}INPUTS[i][1];",
                  "    }",
                  "}")
-        self.out("/* Per cell (tuple of term ids, n_terms = none): its rules, padded with "
-                 "N_RULES. */" if codes is None else
-                 "/* Per occupied cell (tuple of term ids, n_terms = none), in the order of "
+        self.out("/* Per cell (tuple of term ids): its rules, padded with N_RULES. */"
+                 if codes is None else
+                 "/* Per occupied cell (tuple of term ids), in the order of "
                  "CODES: its rules, padded with N_RULES; the last row, none, for every other "
                  "cell. */",
                  f"static const {_index_type(self.rb.n_rules)} {P}CELLS[{rows.shape[0]}]"
@@ -496,7 +507,7 @@ class HeaderWriter:
         act = f"m[0][{bits[0]}]"
         for i in range(1, n_in):
             act = self.combine(act, f"m[{i}][{bits[i]}]", True)
-        cell = f"{cell}" if self.cells[0] is None else \
+        cell = f"{cell}" if self.cells[1] is None else \
             f"{self.p}cell_row(({self.cell_type})({cell}))"
         code += [f"    int cell = {cell};", f"    {t} act = {act};", "    int d;",
                  f"    for (d = 0; d < {depth}; ++d) {{",
