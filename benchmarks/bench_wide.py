@@ -73,7 +73,7 @@ def c_header_cost(rb, x: np.ndarray) -> str:
     controller = CController(model)
     us = median_seconds(lambda: controller.evaluate(x), 5, time.process_time) * 1e6 / len(x)
     how = "every rule" if not writer.sparse else \
-        "cell table" if writer.cells[0] is None else "cell codes, binary search"
+        "cell table" if writer.cells.codes is None else "cell codes, binary search"
     return f"{us:.2f} ({how})"
 
 

@@ -144,5 +144,5 @@ def test_a_header_searching_its_cell_codes_has_no_run_time_error():
     rb = rulebase(9, 4, itertools.product(range(3), repeat=9),
                   Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
     model = Model.of_rulebase(rb, "wide9")
-    assert HeaderWriter(model, REAL_TYPES["float"]).cells[1] is not None
+    assert HeaderWriter(model, REAL_TYPES["float"]).cells.codes is not None
     assert_proved(prove(model, "float"))

@@ -177,8 +177,8 @@ def test_c_header_takes_the_cell_table(n_in, n_terms, sorted_codes):
                   Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
     model = Model.of_rulebase(rb, "wide")
     writer = HeaderWriter(model, REAL_TYPES["float"])
-    assert writer.sparse and (writer.cells[1] is not None) == sorted_codes
-    assert writer.cells[2].shape == ((3 ** n_in + 1, 1) if sorted_codes else (3 ** n_in, 1))
+    assert writer.sparse and (writer.cells.codes is not None) == sorted_codes
+    assert writer.cells.rows.shape == ((3 ** n_in + 1, 1) if sorted_codes else (3 ** n_in, 1))
     x = points(n_in)
     x[21:40] = np.random.default_rng(1).choice(np.linspace(0, 1, n_terms), (19, n_in))
     got = CController(model, numeric="double").evaluate(x)

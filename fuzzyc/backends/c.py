@@ -14,6 +14,8 @@ own item (c_items).
 """
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from ..engine import CompiledRuleBase
@@ -55,9 +57,14 @@ def _index_type(largest: int) -> str:
         else "unsigned long"
 
 
-def _cell_table(rb: RuleBase) -> tuple[np.ndarray, np.ndarray | None, np.ndarray] | None:
-    """The header's cell table (term tuple -> its rules, padded with rule R), as (radix,
-    codes, rows).  The radix of input i is its number of terms, with no code for "no term":
+class CellTable(NamedTuple):
+    radix: np.ndarray              # per input, its number of terms
+    codes: np.ndarray | None       # the occupied cells' codes ascending, or None: direct
+    rows: np.ndarray               # (cells or occupied cells + 1, depth): rules, padded with R
+
+
+def _cell_table(rb: RuleBase) -> CellTable | None:
+    """The header's cell table (term tuple -> its rules, padded with rule R).  The radix of input i is its number of terms, with no code for "no term":
     a slot without a term (a single term active, or a NaN input) reads term 0 at membership
     0, so its tuples' rules get activation 0 and add nothing (a third fewer cells than the
     engine's terms + 1 at 3 terms per input; 3**10 cells fit where 4**8 did).  codes is None
@@ -82,7 +89,7 @@ def _cell_table(rb: RuleBase) -> tuple[np.ndarray, np.ndarray | None, np.ndarray
     order = np.argsort(row_of, kind="stable")
     slot = np.arange(rb.n_rules) - np.searchsorted(row_of[order], row_of[order])
     rows[row_of[order], slot] = order
-    return radix, None if direct else codes, rows
+    return CellTable(radix, None if direct else codes, rows)
 
 
 def _uses_peaks(var, method: Defuzzifier) -> bool:
@@ -170,7 +177,7 @@ class HeaderWriter:
         self.compiled = CompiledRuleBase(self.rb)      # its partitions and radix: sparse_tables
         self.cells = _cell_table(self.rb) if self.compiled.sparse else None
         self.sparse = self.cells is not None
-        self.depth = self.cells[2].shape[1] if self.sparse else 0   # rules per cell
+        self.depth = self.cells.rows.shape[1] if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
         self.items = self.item_writer()
         self.lines: list[str] = []
@@ -507,7 +514,7 @@ class HeaderWriter:
         act = f"m[0][{bits[0]}]"
         for i in range(1, n_in):
             act = self.combine(act, f"m[{i}][{bits[i]}]", True)
-        cell = f"{cell}" if self.cells[1] is None else \
+        cell = f"{cell}" if self.cells.codes is None else \
             f"{self.p}cell_row(({self.cell_type})({cell}))"
         code += [f"    int cell = {cell};", f"    {t} act = {act};", "    int d;",
                  f"    for (d = 0; d < {depth}; ++d) {{",
