@@ -222,18 +222,18 @@ def _table_file(n_inputs: int, n_terms: int) -> str:
 
 
 @needs_gcc
-@pytest.mark.parametrize("n_terms, direct", [(15, True), (16, False)])
+@pytest.mark.parametrize("n_terms, direct", [(16, True), (17, False)])
 def test_float_cell_table_at_the_limit_and_past_it(n_terms, direct):
-    """4 inputs: (15 + 1)^4 = 65536 = MAX_C_TABLE_CELLS cells, indexed by the cell code;
-    (16 + 1)^4 = 83521 past it: the header keeps the 2 occupied cells' codes and searches
-    them; it agrees with the engine either way (past MAX_C_TABLE_CELLS occupied cells it
-    loops over every rule: tests/test_engine_wide.py)."""
+    """4 inputs: 16^4 = 65536 = MAX_C_TABLE_CELLS cells (a code per tuple of terms), indexed
+    by the cell code; 17^4 = 83521 past it: the header keeps the 2 occupied cells' codes and
+    searches them; it agrees with the engine either way (past MAX_C_TABLE_CELLS occupied
+    cells it loops over every rule: tests/test_engine_wide.py)."""
     from fuzzyc.backends.c import HeaderWriter
     from fuzzyc.backends.c_expr import REAL_TYPES
     from fuzzyc.backends.cload import CController
     model = parse(_table_file(4, n_terms))
     writer = HeaderWriter(model, REAL_TYPES["double"])
-    assert writer.sparse and (writer.cells[0] is None) is direct
+    assert writer.sparse and (writer.cells.codes is None) is direct
     x = np.random.default_rng(1).uniform(0, 0.2, (200, 4))
     np.testing.assert_allclose(CController(model, numeric="double").evaluate(x),
                                engine.evaluate(model.rulebase, x), atol=1e-12)
