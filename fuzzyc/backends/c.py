@@ -64,14 +64,16 @@ class CellTable(NamedTuple):
 
 
 def _cell_table(rb: RuleBase) -> CellTable | None:
-    """The header's cell table (term tuple -> its rules, padded with rule R).  The radix of input i is its number of terms, with no code for "no term":
-    a slot without a term (a single term active, or a NaN input) reads term 0 at membership
-    0, so its tuples' rules get activation 0 and add nothing (a third fewer cells than the
-    engine's terms + 1 at 3 terms per input; 3**10 cells fit where 4**8 did).  codes is None
-    while the cells are at most MAX_C_TABLE_CELLS, indexed by the cell code itself; past
-    that the occupied cells' codes ascending, found by binary search, their rows and a last
-    row without rules for every other code; None where even the occupied cells pass the
-    limit (or a code passes 32 bits, C99's least unsigned long)."""
+    """The header's cell table (term tuple -> its rules, padded with rule R).
+
+    The radix of input i is its number of terms, with no code for "no term": a slot without
+    a term (a single term active, or a NaN input) reads term 0 at membership 0, so its
+    tuples' rules get activation 0 and add nothing.  A grid of 3-term inputs has 3**I cells
+    instead of the engine's 4**I (3**10 fit where 4**8 did).  codes is None while the cells
+    are at most MAX_C_TABLE_CELLS, indexed by the cell code itself; past that they are the
+    occupied cells' codes ascending, found by binary search, with their rows and a last row
+    without rules for every other code.  None where even the occupied cells pass the limit
+    (or a code passes 32 bits, C99's least unsigned long)."""
     radix = np.array([v.n_terms for v in rb.inputs], dtype=np.int64)
     if np.prod(radix.astype(float)) > 2.0 ** 32:
         return None
