@@ -52,7 +52,7 @@ fuzz: $(STAMP)
 PROPERTY_TESTS = $(shell grep -l "@given" tests/test_*.py)
 explore: $(STAMP)
 	for round in 1 2 3 4 5 6 7 8 9 10; do \
-	  FUZZYC_EXPLORE=1 $(PY) -m pytest -q -n 2 --dist loadfile -p no:cacheprovider \
+	  FUZZYC_EXPLORE=1 $(PY) -m pytest -q -n 2 --dist loadfile \
 	    $(PROPERTY_TESTS) || exit 1; done
 
 bench: $(STAMP)
