@@ -143,7 +143,7 @@ class CompiledRuleBase:
         self.ordered = [OutputDefuzzifier(replace(v, default=np.nan), rb.inference_of(o),
                                           rb.inputs)
                         for o, v in enumerate(rb.outputs)] if reads_values(rb) else None
-        self.partitions = self._sparse_partitions(rb) if allow_sparse else None
+        self.partitions = self.sparse_partitions(rb) if allow_sparse else None
         self.sparse = self.partitions is not None
         n_candidates = rb.n_rules
         self.grid = None
@@ -160,7 +160,9 @@ class CompiledRuleBase:
         self.chunk_limit = max(1, CHUNK_FLOATS // max(1, work))   # no rules: no work
 
     @staticmethod
-    def _sparse_partitions(rb: RuleBase) -> list[LocalPartition] | None:
+    def sparse_partitions(rb: RuleBase) -> list[LocalPartition] | None:
+        """The inputs' local partitions where the sparse path applies to rb, else None (the
+        C back end takes its cell table from them too)."""
         n_in = len(rb.inputs)
         plain = (rb.n_rules > 0 and 0 < n_in
                  and (n_in <= MAX_SPARSE_INPUTS or 2 ** n_in <= rb.n_rules)

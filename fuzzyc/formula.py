@@ -158,9 +158,10 @@ def _infix(node: tuple, parent: int = 0, right: bool = False) -> str:
     return f"({text})" if own < parent or (own == parent and right) else text
 
 
-def parse_formula(text: str, known: set[str] | None = None) -> Formula:
-    """The formula of `text`; FormulaError (with the offset) for a syntax error, an unknown
-    function or, when `known` is given, a name that is neither there nor x."""
+def parse_formula(text: str) -> Formula:
+    """The formula of `text`; FormulaError (with the offset) for a syntax error or an unknown
+    function.  The names it reads are checked by the importer (formats.functions.check_reads),
+    once the model's variables are known."""
     if len(text) > MAX_TEXT:
         raise FormulaError(f"a formula of {len(text)} characters (at most {MAX_TEXT})", 0)
     depth = 0
@@ -184,13 +185,7 @@ def parse_formula(text: str, known: set[str] | None = None) -> Formula:
         if isinstance(exc.orig_exc, FormulaError):
             raise exc.orig_exc from None
         raise
-    formula = Formula(text.strip(), tree)
-    if known is not None:
-        for name in sorted(formula.names() - set(known) - {"x"}):
-            raise FormulaError(f"unknown name `{name}` in the formula: it reads x and the "
-                               "variables " + ", ".join(sorted(known)),
-                               name_offset(text, name))
-    return formula
+    return Formula(text.strip(), tree)
 
 
 def _depth(tree) -> int:

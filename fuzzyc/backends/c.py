@@ -176,8 +176,8 @@ class HeaderWriter:
         # The cell table is the fast path (_cell_table: direct up to MAX_C_TABLE_CELLS cells,
         # 10 inputs of 3 terms; sorted codes past that); where it cannot be kept every rule is
         # looped over (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
-        self.compiled = CompiledRuleBase(self.rb)      # its partitions and radix: sparse_tables
-        self.cells = _cell_table(self.rb) if self.compiled.sparse else None
+        self.partitions = CompiledRuleBase.sparse_partitions(self.rb)
+        self.cells = _cell_table(self.rb) if self.partitions is not None else None
         self.sparse = self.cells is not None
         self.depth = self.cells.rows.shape[1] if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
@@ -415,11 +415,10 @@ class HeaderWriter:
         """Per distinct partition: break points and, per segment, the two active terms' linear
         pieces; one shared function finds them for every input (one copy of its code, which
         keeps the header small at -O2 too, where per-input copies would be inlined)."""
-        engine = self.compiled
         t, p, P, lit = self.real.name, self.p, self.P, self.real.lit
         parts: list = []
         part_of: list[int] = []
-        for part in engine.partitions:
+        for part in self.partitions:
             keys = [q.breaks.tobytes() + q.table.tobytes() for q in parts]
             key = part.breaks.tobytes() + part.table.tobytes()
             if key not in keys:
