@@ -1,8 +1,9 @@
 """Wide rule bases (more than 6 inputs) stay on the sparse path: a sample fires at most 2**I
 term tuples, looked up in a direct cell table or, where that table would be too big, among the
 rules' sorted cell codes.  Both agree with the dense reference; a hand-computed 7-input value;
-the C back end keeps its cell table (direct up to 10 inputs of 3 terms, sorted codes past that) and loops over every rule past its limit.  Past the grid's per-cell tables the
-grid path tables columns per term tuple: the same bits as the sparse candidates' scatter and as
+the C back end keeps its cell table (direct up to 10 inputs of 3 terms, sorted codes past
+that) and loops over every rule past its limit.  Past the grid's per-cell tables the grid path
+tables columns per term tuple: the same bits as the sparse candidates' scatter and as
 the per-cell tables, and the dense reference's values, on random wide rule bases."""
 from __future__ import annotations
 

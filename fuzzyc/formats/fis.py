@@ -11,14 +11,14 @@ integrates exactly.  Rules: `i1 i2, o1 (w) : c` with 0 = any, a negative index =
 c = 1 (and) or 2 (or); a fraction on an input index is the Octave toolkit's hedge
 (`t.05` somewhat, `t.2` very, `t.3` extremely, `t.4` very very: membership^0.5, ^2, ^3, ^4);
 on an output index it is kept as said (CondOp.CONCLUDED: the Octave toolkit's strength^(1/p)
-in the exact semantics, fuzzylite's carried hedge under its semantics; see fuzzyc.model).  The Octave toolkit's
-and fuzzylite's further norms (einstein_product, hamacher_sum, ...) and fuzzylite's
+in the exact semantics, fuzzylite's carried hedge under its semantics; see fuzzyc.model).
+The Octave toolkit's and fuzzylite's further norms (einstein_product, hamacher_sum, ...) and fuzzylite's
 membership functions (rampmf, rectmf, concavemf, cosinemf, spikemf; dsigmf, psigmf, gauss2mf
 as fuzzylite's SigmoidDifference, SigmoidProduct, GaussianProduct) are read too.
 Comments: `%` to the end of the line, and lines starting with `#`.
 Not carried, reported: other MF types (discretemf, custom functions), som/lom, negated
-consequents, a weight other than 1 on a row with a hedged consequent, type hybrid (fuzzylite: a defuzzifier per output); type tsukamoto
-(fuzzylite's: wtaver over monotonic terms) is the model's Tsukamoto defuzzifier.
+consequents, a weight other than 1 on a row with a hedged consequent, type hybrid
+(fuzzylite: a defuzzifier per output); type tsukamoto (fuzzylite's: wtaver over monotonic terms) is the model's Tsukamoto defuzzifier.
 When no rule fires, MATLAB's evalfis sets an output to the middle of its range (with a
 warning): the imported output's default is that middle, so both give the same number.
 
@@ -40,8 +40,8 @@ Export (`write_fis`) is the exact inverse of that mapping, with these choices:
   `.4` very very; fuzzylite reads `.3` as its S-curve: a warning), and the rules the reader
   made of a row with hedged consequents as that row again (a row whose first conclusion is
   plain as two rows, the same numbers in both readings).
-- Refused: seldom and sharply (FIS has no fraction for them), spike/cosine/concave terms, singleton inputs, rules
-  without a clause or a conclusion, an and/or operator MATLAB lacks that a rule needs, singleton
+- Refused: seldom and sharply (FIS has no fraction for them), spike/cosine/concave terms,
+  singleton inputs, rules without a clause or a conclusion, an and/or operator MATLAB lacks that a rule needs, singleton
   terms beside area terms of a Mamdani output, bounded-sum aggregation (MATLAB's AggMethod is
   max, sum, probor or a custom function: writing one of the first three would give other
   numbers without a word, a custom function would need a .m file beside the .fis, so it is
@@ -350,8 +350,9 @@ class _FisReader:
                                 "fuzzylite writes it without a condition and never fires it: "
                                 "read the .fll or .fcl)")
             return
-        self.got.rules.append(RuleSpec(clauses, Connective.AND if connective == 1 else Connective.OR,
-                                    conclusions, weight, loc, origin))
+        self.got.rules.append(RuleSpec(clauses,
+                                       Connective.AND if connective == 1 else Connective.OR,
+                                       conclusions, weight, loc, origin))
 
     def _hedged_rule(self, split: list[tuple[int, tuple[Hedge, ...]]], weight: float,
                      connective: int, loc: SourceLoc, origin: str) -> None:
