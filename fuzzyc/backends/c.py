@@ -14,17 +14,15 @@ own item (c_items).
 """
 from __future__ import annotations
 
-from typing import NamedTuple
-
 import numpy as np
 
 from ..engine import CompiledRuleBase
 from ..errors import Diagnostic, FuzzycError
 from ..escape import c_comment, c_identifier, check_c_names
-from ..limits import MAX_C_TABLE_CELLS
 from ..model import (MIN_FIRING, Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
                      OutputKind, RuleBase, SNorm, TermKind, TNorm)
 from .c_area import AreaWriter, is_sampled
+from .c_cells import cell_row_c, cell_table, cell_table_c, index_type, int_table
 from .c_centroid import CentroidEmitter, area_segments, supported
 from .c_expr import REAL_TYPES, ExprPrinter, RealType
 from .c_items import ItemWriter, per_item
@@ -45,53 +43,6 @@ def check_c_model_names(model: Model) -> None:
 
 def _table(real: RealType, rows) -> str:
     return "{" + ", ".join("{" + ", ".join(real.lit(v) for v in row) + "}" for row in rows) + "}"
-
-
-def _int_table(rows) -> str:
-    return "{" + ", ".join("{" + ", ".join(str(int(v)) for v in row) + "}" for row in rows) + "}"
-
-
-def _index_type(largest: int) -> str:
-    """The smallest unsigned C type holding 0..largest (small tables for small targets)."""
-    return "unsigned char" if largest <= 255 else "unsigned short" if largest <= 65535 \
-        else "unsigned long"
-
-
-class CellTable(NamedTuple):
-    radix: np.ndarray              # per input, its number of terms
-    codes: np.ndarray | None       # the occupied cells' codes ascending, or None: direct
-    rows: np.ndarray               # (cells or occupied cells + 1, depth): rules, padded with R
-
-
-def _cell_table(rb: RuleBase) -> CellTable | None:
-    """The header's cell table (term tuple -> its rules, padded with rule R).
-
-    The radix of input i is its number of terms, with no code for "no term": a slot without
-    a term (a single term active, or a NaN input) reads term 0 at membership 0, so its
-    tuples' rules get activation 0 and add nothing.  A grid of 3-term inputs has 3**I cells
-    instead of the engine's 4**I (3**10 fit where 4**8 did).  codes is None while the cells
-    are at most MAX_C_TABLE_CELLS, indexed by the cell code itself; past that they are the
-    occupied cells' codes ascending, found by binary search, with their rows and a last row
-    without rules for every other code.  None where even the occupied cells pass the limit
-    (or a code passes 32 bits, C99's least unsigned long)."""
-    radix = np.array([v.n_terms for v in rb.inputs], dtype=np.int64)
-    if np.prod(radix.astype(float)) > 2.0 ** 32:
-        return None
-    place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
-    cells = rb.antecedents @ place
-    codes, rank = np.unique(cells, return_inverse=True)
-    rank = rank.ravel()
-    direct = np.prod(radix.astype(float)) <= MAX_C_TABLE_CELLS
-    if not direct and len(codes) + 1 > MAX_C_TABLE_CELLS:
-        return None
-    row_of = cells if direct else rank
-    n_rows = int(np.prod(radix)) if direct else len(codes) + 1
-    counts = np.bincount(row_of, minlength=n_rows)
-    rows = np.full((n_rows, max(1, int(counts.max()))), rb.n_rules)
-    order = np.argsort(row_of, kind="stable")
-    slot = np.arange(rb.n_rules) - np.searchsorted(row_of[order], row_of[order])
-    rows[row_of[order], slot] = order
-    return CellTable(radix, None if direct else codes, rows)
 
 
 def _uses_peaks(var, method: Defuzzifier) -> bool:
@@ -173,13 +124,14 @@ class HeaderWriter:
         self.name = c_identifier(model.name)
         self.p = self.name + "_"
         self.P = self.name.upper() + "_"
-        # The cell table is the fast path (_cell_table: direct up to MAX_C_TABLE_CELLS cells,
-        # 10 inputs of 3 terms; sorted codes past that); where it cannot be kept every rule is
+        # The cell table is the fast path (c_cells: direct up to MAX_C_TABLE_CELLS cells, 10
+        # inputs of 3 terms; sorted codes past that); where it cannot be kept every rule is
         # looped over (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
         self.partitions = CompiledRuleBase.sparse_partitions(self.rb)
-        self.cells = _cell_table(self.rb) if self.partitions is not None else None
+        self.cells = None if self.partitions is None else cell_table(
+            self.rb.antecedents, [v.n_terms for v in self.rb.inputs])
         self.sparse = self.cells is not None
-        self.depth = self.cells.rows.shape[1] if self.sparse else 0   # rules per cell
+        self.depth = self.cells.depth if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
         self.items = self.item_writer()
         self.lines: list[str] = []
@@ -192,7 +144,7 @@ class HeaderWriter:
         if not self.sparse:
             return ItemWriter(self.area, self.P, self.rb.n_rules, None)
         return ItemWriter(self.area, self.P, self.depth << len(self.rb.inputs),
-                          _index_type(self.rb.n_rules))
+                          index_type(self.rb.n_rules))
 
     def by_items(self, var) -> bool:
         """Whether this output is defuzzified item by item (SUM of MIN-clipped rules)."""
@@ -333,7 +285,7 @@ class HeaderWriter:
             cons = np.vstack([cons, [v.n_terms for v in rb.outputs]])
         self.out("/* Consequent term per rule and output (n_terms = the rule says nothing). */",
                  f"static const unsigned char {self.P}CONSEQUENTS[{len(cons)}]"
-                 f"[{self.P}N_RB_OUTPUTS] = {_int_table(cons)};")
+                 f"[{self.P}N_RB_OUTPUTS] = {int_table(cons)};")
         if not np.all(rb.weights == 1.0):
             weights = list(rb.weights) + ([0.0] if extra_row else [])
             self.out(f"static const {self.real.name} {self.P}WEIGHTS[{len(weights)}] = "
@@ -354,15 +306,15 @@ class HeaderWriter:
         plain = bool(np.all(conj) and not np.any(rb.negated) and np.all(rb.hedges == Hedge.NONE))
         self.out("/* Per rule and input: index into mu (all terms, then 1 and 0 for an absent "
                  "clause). */",
-                 f"static const {_index_type(zero)} {P}ANTECEDENTS[{P}N_RULES][{P}N_RB_INPUTS] = "
-                 f"{_int_table(flat)};")
+                 f"static const {index_type(zero)} {P}ANTECEDENTS[{P}N_RULES][{P}N_RB_INPUTS] = "
+                 f"{int_table(flat)};")
         if not plain:
             hedges = np.where(rb.antecedents >= 0, rb.hedges, 0)
             negated = np.where(rb.antecedents >= 0, rb.negated, False)
             self.out(f"static const unsigned char {P}HEDGES[{P}N_RULES][{P}N_RB_INPUTS] = "
-                     f"{_int_table(hedges)};",
+                     f"{int_table(hedges)};",
                      f"static const unsigned char {P}NEGATED[{P}N_RULES][{P}N_RB_INPUTS] = "
-                     f"{_int_table(negated)};",
+                     f"{int_table(negated)};",
                      f"static const unsigned char {P}IS_OR[{P}N_RULES] = "
                      "{" + ", ".join(str(int(c and not w)) for c, w
                                      in zip(~conj, only_wild)) + "};")
@@ -435,26 +387,24 @@ class HeaderWriter:
             rows = [self.slope_intercept(r[0::2][:3]) + self.slope_intercept(r[1::2][:3])
                     for r in q.table]
             pieces.append(rows[:-1] + [rows[-1]] * (pad + 1))
-            # a slot without a term: term 0 at membership 0 (its piece is 0; _cell_table)
+            # a slot without a term: term 0 at membership 0 (its piece is 0; c_cells)
             ids = np.where(q.table[:, 6:8] < q.n_terms, q.table[:, 6:8], 0).astype(int).tolist()
             active.append(ids[:-1] + [ids[-1]] * (pad + 1))
-        radix, codes, rows = self.cells
-        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
+        place = self.cells.place
         inputs = [[k, int(pl)] for k, pl in zip(part_of, place)]
         n_parts = len(parts)
-        cell_type = _index_type(int(np.prod(radix)) - 1)
-        self.cell_type = cell_type
+        cell_type = self.cells.cell_type
         self.out("/* Partitions of the inputs: break points and per segment (slope, intercept) "
                  "x 2 with the two term ids. */",
                  f"static const {t} {P}BREAKS[{n_parts}][{nb}] = {_table(self.real, breaks)};",
                  f"static const {t} {P}PIECES[{n_parts}][{nb + 1}][4] = "
                  "{" + ", ".join(_table(self.real, rows) for rows in pieces) + "};",
                  f"static const unsigned char {P}ACTIVE[{n_parts}][{nb + 1}][2] = "
-                 "{" + ", ".join(_int_table(ids) for ids in active) + "};",
+                 "{" + ", ".join(int_table(ids) for ids in active) + "};",
                  "/* Per rule-base input (" + ", ".join(c_comment(v.name) for v in self.rb.inputs)
                  + "): partition, place value in the cell index. */",
-                 f"static const {_index_type(int(max(np.max(place), n_parts)))} "
-                 f"{P}INPUTS[{P}N_RB_INPUTS][2] = {_int_table(inputs)};",
+                 f"static const {index_type(int(max(np.max(place), n_parts)))} "
+                 f"{P}INPUTS[{P}N_RB_INPUTS][2] = {int_table(inputs)};",
                  "/* The two positive terms of input i at x: memberships m and their place in "
                  "the cell index. */",
                  f"static inline void {p}active(int i, {t} x, {t} m[2], {cell_type} cell[2]) "
@@ -472,41 +422,14 @@ class HeaderWriter:
                  f"        cell[s] = {P}ACTIVE[{P}INPUTS[i][0]][k][s] * {P}INPUTS[i][1];",
                  "    }",
                  "}")
-        self.out("/* Per cell (tuple of term ids): its rules, padded with N_RULES. */"
-                 if codes is None else
-                 "/* Per occupied cell (tuple of term ids), in the order of "
-                 "CODES: its rules, padded with N_RULES; the last row, none, for every other "
-                 "cell. */",
-                 f"static const {_index_type(self.rb.n_rules)} {P}CELLS[{rows.shape[0]}]"
-                 f"[{rows.shape[1]}] = {_int_table(rows)};")
-        if codes is not None:
-            n = len(codes)
-            self.out("/* The occupied cells' codes, ascending. */",
-                     f"static const {cell_type} {P}CODES[{n}] = "
-                     "{" + ", ".join(str(int(c)) for c in codes) + "};",
-                     "/* The row of CELLS of a cell code: its rank in CODES (binary search), or "
-                     f"{n}, the row without rules. */",
-                     f"static inline int {p}cell_row({cell_type} code) {{",
-                     "    /* without branches on the data (a conditional move per step): the "
-                     "tuples' codes are unpredictable. lo + n <= N holds, so the probe never "
-                     "passes N - 1; the clamp says so to a prover (Frama-C EVA). */",
-                     f"    int lo = 0, n = {n}, at;",
-                     "    while (n > 1) {",
-                     "        int half = n / 2;",
-                     f"        int probe = lo + half < {n - 1} ? lo + half : {n - 1};",
-                     f"        lo = {P}CODES[probe] < code ? probe : lo;",
-                     "        n -= half;",
-                     "    }",
-                     f"    at = lo + ({P}CODES[lo] < code);",
-                     f"    return at < {n} && {P}CODES[at] == code ? at : {n};",
-                     "}")
+        self.out(*cell_table_c(self.cells, P, p, self.rb.n_rules))
 
     def sparse_rules(self) -> list[str]:
         rb, t, P = self.rb, self.real.name, self.P
         n_in = len(rb.inputs)
         depth = self.depth
         code = [f"{t} m[{n_in}][2];",
-                f"{self.cell_type} part[{n_in}][2];   /* term id times place value */",
+                f"{self.cells.cell_type} part[{n_in}][2];   /* term id times place value */",
                 "int i;",
                 f"for (i = 0; i < {n_in}; ++i) {self.p}active(i, x[i], m[i], part[i]);",
                 f"for (r = 0; r < {1 << n_in}; ++r) {{   /* the 2**I active term tuples */"]
@@ -515,9 +438,8 @@ class HeaderWriter:
         act = f"m[0][{bits[0]}]"
         for i in range(1, n_in):
             act = self.combine(act, f"m[{i}][{bits[i]}]", True)
-        cell = f"{cell}" if self.cells.codes is None else \
-            f"{self.p}cell_row(({self.cell_type})({cell}))"
-        code += [f"    int cell = {cell};", f"    {t} act = {act};", "    int d;",
+        code += [f"    int cell = {cell_row_c(self.cells, self.p, cell)};",
+                 f"    {t} act = {act};", "    int d;",
                  f"    for (d = 0; d < {depth}; ++d) {{",
                  f"        int rule = {P}CELLS[cell][d];",
                  f"        {t} a = {self.p}fired({self.weighted('act', 'rule')});"]
