@@ -30,9 +30,14 @@ MAX_RULEBASE_OUTPUTS = 32        # rule-base output variables
 MAX_MAGNITUDE = 1e12             # |every number| (0 aside)
 MIN_MAGNITUDE = 1e-12            # |every non-zero number|
 MIN_RELATIVE_WIDTH = 1e-5        # hi - lo >= this * max(|lo|, |hi|)
-# Not a limit of the file but of the C headers' cell table (term tuple -> rules, indexed by
-# unsigned short): the float/double header loops over every rule past it, q15/q31 refuse.
+# Not limits of the file but of the C headers.  The cell table (term tuple -> rules): indexed
+# by the cell code up to this many cells, past it this many occupied cells found by binary
+# search; past that the float/double header loops over every rule, q15/q31 refuse.
 MAX_C_TABLE_CELLS = 1 << 16
+# The q15/q31 header visits every combination of the inputs' active terms (2 per input, 3
+# where a rule has `*`) and has no loop over every rule: it refuses past this many per call
+# (16 inputs; 10 inputs with `*` on each take 59,049).
+MAX_C_SLOT_COMBINATIONS = 1 << 16
 
 
 def read_rule_file(path: str | Path) -> str:

@@ -239,15 +239,44 @@ def test_float_cell_table_at_the_limit_and_past_it(n_terms, direct):
                                engine.evaluate(model.rulebase, x), atol=1e-12)
 
 
-@pytest.mark.parametrize("n_terms, ok", [(15, True), (16, False)])
-def test_fixed_cell_table_at_the_limit_and_past_it(n_terms, ok):
-    from fuzzyc.backends.c_fixed import generate_fixed_header
+@needs_gcc
+@pytest.mark.parametrize("n_terms, direct", [(16, True), (17, False)])
+def test_fixed_cell_table_at_the_limit_and_past_it(n_terms, direct):
+    """The q15 header takes the float header's cell table: 16^4 = 65536 = MAX_C_TABLE_CELLS
+    cells indexed by the code, 17^4 = 83521 past it: the 2 occupied cells' codes searched.
+    Rule 1 (all T0 -> A = 0) fires alone at x = 0: y = 0; near the T1 peak 1 / (T - 1)
+    (xq = round(32767 / 15) = 2184, round(32767 / 16) = 2048) rule 2 (all T1 -> B = 1)
+    fires at about 1 and rule 1 at the T0 membership left there (1 - 15 * 2184 / 32767 =
+    2.1e-4 at 16 terms): the engine's y, within the stated bound 2^-11 (16 LSB)."""
+    from fuzzyc.backends.c_fixed import FixedPointWriter
+    from test_c_fixed import fixed_point_runner
     model = parse(_table_file(4, n_terms))
-    if ok:
-        assert "G_Q15_CELLS[65536]" in generate_fixed_header(model, "q15")
-    else:
-        with pytest.raises(FuzzycError, match="83521 cells .* at most 65536"):
-            generate_fixed_header(model, "q15")
+    cells = FixedPointWriter(model, "q15").tables.cells
+    assert (cells.codes is None) is direct and cells.rows.shape[0] == (65536 if direct else 3)
+    peak = round(32767 / (n_terms - 1))
+    xq = np.array([[0] * 4, [peak] * 4])
+    yq = fixed_point_runner(model, "q15")(xq)[:, 0]
+    y = engine.evaluate(model.rulebase, xq / 32767)[:, 0]
+    assert yq[0] == 0 and y[1] > 0.999 and abs(yq[1] - y[1] * 32767) <= 16
+
+
+@pytest.mark.parametrize("n_inputs, n_terms, words", [
+    # 12^9 = 5.2e9 codes: a code would pass 32 bits (the float header loops over every rule)
+    (9, 12, "5159780352 codes .* pass 32 bits"),
+    # 2 slots per input: 2^17 = 131072 combinations a call, past MAX_C_SLOT_COMBINATIONS
+    (17, 2, "131072 per call, at most 65536")])
+def test_fixed_header_past_its_limits_says_which(n_inputs, n_terms, words):
+    from fuzzyc.backends.c_fixed import generate_fixed_header
+    with pytest.raises(FuzzycError, match=words):
+        generate_fixed_header(parse(_table_file(n_inputs, n_terms)), "q15")
+
+
+def test_fixed_header_at_the_combination_limit():
+    # 16 inputs of 2 terms: 2^16 = 65536 = MAX_C_SLOT_COMBINATIONS combinations, and 2^16
+    # codes: a direct table
+    from fuzzyc.backends.c_fixed import FixedPointWriter
+    tables = FixedPointWriter(parse(_table_file(16, 2)), "q15").tables
+    assert tables.combos == 65536 and tables.cells.codes is None
 
 
 # -- never NaN, C and engine agree outside the range --------------------------------------------

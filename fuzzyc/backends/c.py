@@ -22,7 +22,7 @@ from ..escape import c_comment, c_identifier, check_c_names
 from ..model import (MIN_FIRING, Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
                      OutputKind, RuleBase, SNorm, TermKind, TNorm)
 from .c_area import AreaWriter, is_sampled
-from .c_cells import cell_row_c, cell_table, cell_table_c, index_type, int_table
+from .c_cells import active_codes, cell_row_c, cell_table, cell_table_c, index_type, int_table
 from .c_centroid import CentroidEmitter, area_segments, supported
 from .c_expr import REAL_TYPES, ExprPrinter, RealType
 from .c_items import ItemWriter, per_item
@@ -387,8 +387,7 @@ class HeaderWriter:
             rows = [self.slope_intercept(r[0::2][:3]) + self.slope_intercept(r[1::2][:3])
                     for r in q.table]
             pieces.append(rows[:-1] + [rows[-1]] * (pad + 1))
-            # a slot without a term: term 0 at membership 0 (its piece is 0; c_cells)
-            ids = np.where(q.table[:, 6:8] < q.n_terms, q.table[:, 6:8], 0).astype(int).tolist()
+            ids = active_codes(q).tolist()
             active.append(ids[:-1] + [ids[-1]] * (pad + 1))
         place = self.cells.place
         inputs = [[k, int(pl)] for k, pl in zip(part_of, place)]

@@ -53,6 +53,13 @@ class CellTable(NamedTuple):
         return self.rows.shape[1]
 
 
+def active_codes(part) -> np.ndarray:
+    """Per segment of a LocalPartition, the codes of its two slots' terms (B + 1, 2): a slot
+    without a term as term 0, whose piece there is 0."""
+    ids = part.table[:, 6:8].astype(int)
+    return np.where(ids < part.n_terms, ids, 0)
+
+
 def cell_table(ids: np.ndarray, radix: np.ndarray) -> CellTable | None:
     """The cell table of the rules whose term codes are ids (rules, inputs), each in
     [0, radix).  codes is None while the cells are at most MAX_C_TABLE_CELLS, indexed by the

@@ -28,14 +28,14 @@ import dataclasses
 
 import numpy as np
 
-from ..engine import MAX_SPARSE_INPUTS
-from ..limits import MAX_C_TABLE_CELLS
+from ..limits import MAX_C_SLOT_COMBINATIONS, MAX_C_TABLE_CELLS
 from ..membership import LocalPartition, memberships
 from ..errors import Diagnostic, FuzzycError
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, OutputKind, RuleBase,
                      TermKind, TNorm)
 from ..escape import c_comment, c_identifier
 from .c import check_c_model_names, check_supported
+from .c_cells import active_codes, cell_row_c, cell_table, cell_table_c, place_values
 from .c_fixed_chain import FixedChain, Fx, frac_for
 
 FORMATS = {
@@ -75,6 +75,10 @@ MAX_INPUT_GUARD = 16
 # 16 make the peaks' rounding 2^-17 LSB; more buys nothing against the final rounding of
 # 0.5 LSB.  q31 gets what int64 allows (1-2 on the paper rule bases).
 MAX_GUARD = 16
+# assumption: the derived error bound sums over at most this many cells (cell codes, tuples of
+# terms, combinations of segments: 32 MB of float64); past it the header says "not derived".
+# 10 inputs of 3 terms take 59,049 codes; 9 inputs of 4 terms with `*` on each 1,953,125.
+MAX_DERIVED_CELLS = 1 << 22
 
 
 def _fail(message: str) -> FuzzycError:
@@ -100,18 +104,18 @@ class FixedTables:
     """What the fixed-point rule base is built from: per input its partition (`LocalPartition`
     of the snapped terms) and whether some rule leaves it open (`*`), and the cell table.
 
-    Term ids of input i: 0..T_i-1 its terms, T_i the empty slot (membership 0), T_i + 1 the
-    wildcard (membership 1, only where a rule has `*` there: a third slot).  A rule lies in
-    the cell of its antecedent ids (wildcards as T_i + 1), so per sample each rule is met
-    once, in the combination of its terms' slots and the wildcard slots -- the min/product
-    over the remaining inputs, as the engine's dense path (an absent clause is 1)."""
+    Codes of input i in the cell table (`c_cells`): 0..T_i-1 its terms, T_i the wildcard
+    (membership 1, only where a rule has `*` there: a third slot).  A slot without a term
+    reads term 0 at membership 0.  A rule lies in the cell of its antecedent codes, so per
+    sample each rule is met once with its terms' memberships, in the combination of its
+    terms' slots and the wildcard slots -- the min/product over the remaining inputs, as the
+    engine's dense path (an absent clause is 1) -- and where it is met again through a slot
+    without a term its activation is exactly 0 (min or product with 0)."""
 
     def __init__(self, rb: RuleBase, numeric: str):
         self.rb = rb
-        n_in = len(rb.inputs)
-        if rb.n_rules == 0 or not 0 < n_in <= MAX_SPARSE_INPUTS:
-            raise _fail(f"the {numeric} back end needs 1 to {MAX_SPARSE_INPUTS} inputs and "
-                        f"some rules")
+        if rb.n_rules == 0 or not rb.inputs:
+            raise _fail(f"the {numeric} back end needs inputs and some rules")
         if rb.inference.and_ not in (TNorm.MIN, TNorm.PRODUCT):
             raise _fail(f"the {numeric} back end emits and = min | product, not "
                         f"{rb.inference.and_.name.lower()}")
@@ -135,22 +139,24 @@ class FixedTables:
                             f"has {var.n_terms} terms")
         self.wild = np.any(rb.antecedents < 0, axis=0)
         self.slots = np.where(self.wild, 3, 2)
-        self.radix = np.array([v.n_terms + 1 + int(w) for v, w in zip(rb.inputs, self.wild)])
-        cells = np.prod(self.radix.astype(float))
-        if cells > MAX_C_TABLE_CELLS:
-            raise _fail(f"the {numeric} back end's cell table would have {cells:.0f} cells (the "
-                        f"product over the inputs of terms + 1, + 1 more where a rule has `*`): "
-                        f"at most {MAX_C_TABLE_CELLS} (fuzzyc.limits.MAX_C_TABLE_CELLS)")
-        self.place = np.concatenate([np.cumprod(self.radix[::-1])[::-1][1:], [1]])
-        ids = np.where(rb.antecedents >= 0, rb.antecedents, self.radix - 1)
-        cells = ids @ self.place
-        order = np.argsort(cells, kind="stable")
-        counts = np.bincount(cells, minlength=int(np.prod(self.radix)))
-        depth = max(1, int(counts.max()))
-        lookup = np.full((len(counts), depth), rb.n_rules)
-        rank = np.arange(rb.n_rules) - np.searchsorted(cells[order], cells[order])
-        lookup[cells[order], rank] = order
-        self.lookup = lookup
+        self.combos = int(np.prod(self.slots.astype(float)))    # slot combinations per sample
+        if self.combos > MAX_C_SLOT_COMBINATIONS:
+            raise _fail(f"the {numeric} back end visits every combination of the inputs' "
+                        f"active terms (2 per input, 3 where a rule has `*`): {self.combos} "
+                        f"per call, at most {MAX_C_SLOT_COMBINATIONS} "
+                        f"(fuzzyc.limits.MAX_C_SLOT_COMBINATIONS)")
+        radix = np.array([v.n_terms for v in rb.inputs]) + self.wild
+        ids = np.where(rb.antecedents >= 0, rb.antecedents, radix - 1)
+        self.cells = cell_table(ids, radix)
+        if self.cells is None:
+            cells = np.prod(radix.astype(float))
+            raise _fail(f"the {numeric} back end's cell table cannot be kept: {cells:.0f} "
+                        f"codes (the product over the inputs of terms, + 1 where a rule has "
+                        f"`*`) " + ("pass 32 bits" if cells > 2.0 ** 32 else
+                                    f"with {len(np.unique(ids @ place_values(radix)))} "
+                                    f"occupied cells, more than {MAX_C_TABLE_CELLS} "
+                                    f"(fuzzyc.limits.MAX_C_TABLE_CELLS)"))
+        self.rule_codes = ids @ self.cells.place
         full, mf = FORMATS[numeric][1], FORMATS[numeric][2]
         # |x - anchor| <= |width| inside a segment (outer segments are constant), so
         # (x - anchor) * ONE stays below 2^62 with the widest piece
@@ -162,34 +168,43 @@ class FixedTables:
         if self.input_guard < 0:
             raise _fail(f"the {numeric} back end cannot hold a membership's numerator in "
                         f"int64 (a piece wider than the input's range)")
-        self.combos = int(np.prod(self.slots))        # slot combinations per sample
-        self.candidates = self.combos * depth          # rules met per sample, at most
+        self.candidates = self.combos * self.cells.depth     # rules met per sample, at most
 
-    def rules_of(self, tables: list[np.ndarray]) -> np.ndarray:
-        """Per input a table of ids (rows, alternatives): for every combination of rows (one
-        per input, first input slowest) the rules in every combination of alternatives,
-        padded with n_rules: (prod rows, prod alternatives * depth)."""
-        n_in = len(tables)
-        rows = np.stack(np.meshgrid(*[np.arange(len(t)) for t in tables], indexing="ij"),
-                        -1).reshape(-1, n_in)
-        alts = np.stack(np.meshgrid(*[np.arange(t.shape[1]) for t in tables], indexing="ij"),
-                        -1).reshape(-1, n_in)
-        cell = sum(tables[i][rows[:, i]][:, alts[:, i]] * int(self.place[i])
-                   for i in range(n_in))
-        return self.lookup[cell].reshape(len(rows), -1)
+    def summed_over_sets(self, values: np.ndarray, sets: list[np.ndarray]) -> np.ndarray | None:
+        """sets[i] (S_i, T_i), booleans: sets of the terms of input i.  Per combination of
+        sets (one per input, first input slowest), the sum of `values` (one per rule) over
+        the rules whose every term lies in its input's set (`*` lies in every set); None
+        where that or the cell codes pass MAX_DERIVED_CELLS.  Each cell's sum contracted
+        with one input's membership matrix at a time (`tensordot`)."""
+        radix = self.cells.radix
+        widest = np.maximum(radix, [len(s) for s in sets])
+        if np.prod(widest.astype(float)) > MAX_DERIVED_CELLS:
+            return None
+        total = np.bincount(self.rule_codes, weights=values,
+                            minlength=int(np.prod(radix))).reshape(radix)
+        for member, wild in zip(sets, self.wild):
+            if wild:
+                member = np.hstack([member, np.ones((len(member), 1), bool)])
+            total = np.tensordot(total, member.astype(float), axes=([0], [1]))
+        return total
 
-    def tuple_rules(self) -> np.ndarray:
-        """For every tuple of real terms, the rules that match it (wildcards included)."""
-        return self.rules_of([np.stack([np.arange(v.n_terms), np.full(v.n_terms, r - 1)], 1)
-                              if w else np.arange(v.n_terms)[:, None]
-                              for v, w, r in zip(self.rb.inputs, self.wild, self.radix)])
+    def tuple_sets(self) -> list[np.ndarray]:
+        """Per input, each term alone: summed_over_sets gives every tuple of real terms."""
+        return [np.eye(v.n_terms, dtype=bool) for v in self.rb.inputs]
 
-    def segment_rules(self) -> np.ndarray:
-        """For every cell of the input grid (a segment per input), the rules that can fire."""
-        return self.rules_of([np.hstack([p.table[:, 6:8].astype(int),
-                                         np.full((len(p.table), 1), r - 1)])
-                              if w else p.table[:, 6:8].astype(int)
-                              for p, w, r in zip(self.partitions, self.wild, self.radix)])
+    def segment_sets(self) -> list[np.ndarray]:
+        """Per input, the sets of terms positive together on a segment between its break
+        points, those inside another left out (summed_over_sets adds values >= 0, so the
+        worst segment of the input grid is among these)."""
+        out = []
+        for part in self.partitions:
+            sets = np.zeros((len(part.table), part.n_terms), bool)
+            for k, ids in enumerate(part.table[:, 6:8].astype(int)):
+                sets[k, ids[ids < part.n_terms]] = True
+            sets = np.unique(sets, axis=0)
+            inside = [any(np.all(a <= b) and np.any(a != b) for b in sets) for a in sets]
+            out.append(sets[~np.array(inside)])
+        return out
 
 
 def _least_top(var, part) -> float:
@@ -305,25 +320,31 @@ def derived_error_bound(model: Model, numeric: str, input_error=None,
     s_min = float(np.prod(tops)) if product else min(tops)
     summed = method == Defuzzifier.WEIGHTED_AVERAGE or \
         rb.inference.aggregation == Aggregation.SUM
-    rules = tables.tuple_rules()                   # per tuple of real terms, padded n_rules
-    cell_rules = tables.segment_rules() if weighted_sum else None
+    tuples = tables.tuple_sets()
+    segments = tables.segment_sets() if weighted_sum else None
     bounds = []
     for o, var in enumerate(rb.outputs):
-        J = np.append(rb.consequents[:, o], -1)
-        if not np.all(np.any(J[rules] >= 0, axis=1)):
+        J = rb.consequents[:, o]
+        concludes = J >= 0
+        covered = tables.summed_over_sets(concludes.astype(float), tuples)
+        if covered is None or not np.all(covered > 0):     # per tuple of real terms
             return None
         span = var.hi - var.lo
         if weighted_sum:
             g = output_guard(tables, o, numeric)
-            w = np.append(rb.weights.astype(float), 0.0) * (J >= 0)
+            w = rb.weights.astype(float) * concludes
             rounding = 0.0 if unit else 2.0 ** -mf
-            if g < 0 or (s_min - eps_act) * w[:-1][J[:-1] >= 0].min() - rounding <= 0:
+            if g < 0 or (s_min - eps_act) * w[concludes].min() - rounding <= 0:
                 return None
-            z = np.append(var.peaks(), 0.0)[J]
+            z = np.where(concludes, var.peaks()[J], 0.0)
             err = (eps_act * w + rounding * (w > 0)) * np.abs(z) / span
-            total_w = w[cell_rules].sum(axis=1).max()
-            bounds.append(err[cell_rules].sum(axis=1).max()
-                          + (total_w + 2) * 0.5 * 2.0 ** -g / full + (0 if wide else 0.5 / full))
+            # per cell of the input grid (a segment per input), the rules that can fire
+            worst_err = tables.summed_over_sets(err, segments)
+            total_w = tables.summed_over_sets(w, segments)
+            if worst_err is None or total_w is None:
+                return None
+            bounds.append(worst_err.max() + (total_w.max() + 2) * 0.5 * 2.0 ** -g / full
+                          + (0 if wide else 0.5 / full))
             continue
         d = eps_act * (tables.candidates if summed else min(var.n_terms, tables.candidates))
         if s_min <= d:
@@ -416,7 +437,7 @@ class FixedPointWriter:
                         if finite else 0,
                         int(offset) << self.mf]
             rows.append(row)
-        ids = part.table[:, 6:8].astype(int)
+        ids = active_codes(part)
         nb = len(breaks)
         return [f"/* {c_comment(var.name)}: break points, and per segment (anchor, width, "
                 f"offset) x 2 in input units at 2^-{gi} of an LSB (width 0 = constant). */",
@@ -476,12 +497,11 @@ class FixedPointWriter:
             which.append(seen.setdefault(key, i))
             if which[-1] == i:
                 out += self.input_tables(i, part, var)
-        lookup = self.tables.lookup
         cons = np.vstack([np.where(rb.consequents >= 0, rb.consequents,
                                    [v.n_terms for v in rb.outputs]),
                           [v.n_terms for v in rb.outputs]])
-        out += [f"static const unsigned short {P}CELLS[{lookup.shape[0]}][{lookup.shape[1]}] = "
-                "{" + ", ".join(_ints(r) for r in lookup) + "};",
+        out += [f"#define {P}N_RULES {rb.n_rules}",
+                *cell_table_c(self.tables.cells, P, self.p, rb.n_rules),
                 f"static const unsigned char {P}CONSEQUENTS[{len(cons)}][{n_out}] = "
                 "{" + ", ".join(_ints(r) for r in cons) + "};"]
         unit = bool(np.all(rb.weights == 1.0))
@@ -645,8 +665,8 @@ class FixedPointWriter:
                         f"INT64_C({self.full << tables.input_guard})), {P}BREAKS_{k}, {nb}, "
                         f"{P}PIECES_{k}, {P}ACTIVE_{k}, m[{i}], id[{i}]);")
             if tables.wild[i]:     # `*`: a third slot, membership exactly 1
-                code.append(f"    m[{i}][2] = {P}ONE; id[{i}][2] = {int(tables.radix[i]) - 1};")
-        place = tables.place
+                code.append(f"    m[{i}][2] = {P}ONE; id[{i}][2] = {rb.inputs[i].n_terms};")
+        cells = tables.cells
         # the slot of input i in combination c (mixed radix, input 0 slowest)
         stride = np.concatenate([np.cumprod(slots[::-1])[::-1][1:], [1]])
         digit = [(f"(c >> {int(stride[i]).bit_length() - 1}) & 1" if np.all(slots == 2) else
@@ -654,11 +674,14 @@ class FixedPointWriter:
         act = f"m[0][{digit[0]}]"
         for i in range(1, n_in):
             act = f"{p}{tnorm}({act}, m[{i}][{digit[i]}])"
+        # codes past 16 bits (sorted codes only) are formed in unsigned long
+        wide = "" if cells.codes is None else f"({cells.cell_type})"
+        cell = " + ".join(f"{wide}id[{i}][{digit[i]}] * {int(cells.place[i])}"
+                          for i in range(n_in))
         code += [f"    for (c = 0; c < {tables.combos}; ++c) {{",
-                 "        int cell = " + " + ".join(f"id[{i}][{digit[i]}] * {int(place[i])}"
-                                                    for i in range(n_in)) + ";",
+                 f"        int cell = {cell_row_c(cells, p, cell)};",
                  f"        int64_t act = {act};",
-                 f"        for (d = 0; d < {tables.lookup.shape[1]}; ++d) {{",
+                 f"        for (d = 0; d < {cells.depth}; ++d) {{",
                  f"            int rule = {P}CELLS[cell][d];",
                  "            int64_t a = " + ("act" if unit else
                                                 f"{p}shr(act * {P}WEIGHTS[rule], {self.mf})")
