@@ -173,3 +173,22 @@ def test_float_chain_on_arm_within_tolerance(name, tmp_path):
     span = np.array([o.hi - o.lo for o in model.outputs])
     assert np.all(np.isfinite(got))
     assert (np.abs(got - expected) / span).max() <= CHAIN_TOLERANCE["float"]
+
+
+@pytest.mark.parametrize("numeric", sorted(FORMATS))
+@pytest.mark.parametrize("case", ["7 inputs with *", "9 inputs of 4 terms"])
+def test_wide_fixed_point_rule_base_is_bit_exact_on_arm(case, numeric, tmp_path):
+    # the cell table indexed directly (7 inputs, `*` on the last) and by binary search among
+    # 32-bit codes (9 inputs of 4 terms: 4**9 codes, unsigned long is 32 bits on the M0 and
+    # 64 on x86-64)
+    from test_c_fixed_wide import CASES, grid_points
+    model = CASES[case].build()
+    rb = model.rulebase
+    xq = np.concatenate([grid_points(model, numeric, 2_000), [[-100] * len(rb.inputs)]])
+    shim = SHIM.format(io=FORMATS[numeric][0], n_in=len(rb.inputs), n_out=len(rb.outputs),
+                       name=model.name, numeric=numeric)
+    got = run_on_arm(tmp_path, numeric, {"fixed.h": generate_fixed_header(model, numeric),
+                                         "shim.c": shim},
+                     "long long", "void run(int n, const long long *x, long long *y);",
+                     "run((int)n, x, y)", xq, len(rb.outputs))
+    np.testing.assert_array_equal(got, fixed_point_runner(model, numeric)(xq))

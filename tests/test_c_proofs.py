@@ -146,3 +146,14 @@ def test_a_header_searching_its_cell_codes_has_no_run_time_error():
     model = Model.of_rulebase(rb, "wide9")
     assert HeaderWriter(model, REAL_TYPES["float"]).cells.codes is not None
     assert_proved(prove(model, "float"))
+
+
+@needs_frama_c
+@pytest.mark.proofs
+@pytest.mark.parametrize("case", ["7 inputs with *", "9 inputs of 4 terms"])
+def test_a_wide_fixed_point_header_has_no_run_time_error(case):
+    # q15 past 6 inputs: the cell table indexed by the code (7 inputs, `*` on the last: 3**6 *
+    # 4 = 2,916 codes, 5 s of EVA) and searched among the occupied cells' 32-bit codes (9
+    # inputs of 4 terms: 4**9 codes, 19,683 occupied; 25 s)
+    from test_c_fixed_wide import CASES
+    assert_proved(prove(CASES[case].build(), "q15"))
