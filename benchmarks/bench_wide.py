@@ -8,12 +8,15 @@ per-cell tables, grid with tables per term tuple, sparse or dense); the CPU time
 alongside its wall time; and the dense reference `activations` on the same batch for comparison
 (only where it stays under a few seconds); the generated float C header's CPU time per call
 on the same batch and the way it finds the rules (its cell table of term tuples, direct or by
-binary search among the occupied cells' codes, or every rule).  Writes benchmarks/results/wide.md.
+binary search among the occupied cells' codes, or every rule); and the q15 and q31 headers'
+rule base (`NAME_q15_rulebase` on integer inputs, the same cell table) per call on the same
+batch put on their integer grid.  Writes benchmarks/results/wide.md.
 
     python3 benchmarks/bench_wide.py [--quick]
 """
 from __future__ import annotations
 
+import ctypes
 import itertools
 import os
 import pathlib
@@ -29,7 +32,8 @@ sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
 from common import markdown_table, median_seconds, write_result  # noqa: E402
 from fuzzyc.backends.c import HeaderWriter  # noqa: E402
 from fuzzyc.backends.c_expr import REAL_TYPES  # noqa: E402
-from fuzzyc.backends.cload import CController  # noqa: E402
+from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header  # noqa: E402
+from fuzzyc.backends.cload import CController, compile_shared  # noqa: E402
 from fuzzyc.builder import RuleSpec, assemble_rulebase  # noqa: E402
 from fuzzyc.engine import activations, compiled, evaluate  # noqa: E402
 from fuzzyc.model import (Connective, Defuzzifier, Inference, Model, SourceLoc,  # noqa: E402
@@ -77,6 +81,36 @@ def c_header_cost(rb, x: np.ndarray) -> str:
     return f"{us:.2f} ({how})"
 
 
+FIXED_SHIM = """\
+#include "fixed.h"
+void run(int n, const long long *x, long long *y) {{
+    int b, k;
+    {io} xq[{n_in}], yq[1];
+    for (b = 0; b < n; ++b) {{
+        for (k = 0; k < {n_in}; ++k) xq[k] = ({io})x[b * {n_in} + k];
+        {name}_{numeric}_rulebase(xq, yq);
+        y[b] = yq[0];
+    }}
+}}
+"""
+
+
+def fixed_header_cost(rb, numeric: str, x: np.ndarray) -> str:
+    """CPU us per call of the q15/q31 header's rule base over the batch x on its grid."""
+    model = Model.of_rulebase(rb, f"wide{len(rb.inputs)}")
+    io, full, _ = FORMATS[numeric]
+    shim = FIXED_SHIM.format(io=io, n_in=len(rb.inputs), name=model.name, numeric=numeric)
+    lib = ctypes.CDLL(str(compile_shared({"fixed.h": generate_fixed_header(model, numeric),
+                                          "shim.c": shim}, "shim.c")))
+    xq = np.ascontiguousarray(np.round((x + 1) / 2 * full), dtype=np.int64)
+    y = np.empty(len(xq), dtype=np.int64)
+    ptr = ctypes.POINTER(ctypes.c_longlong)
+    lib.run.argtypes = [ctypes.c_int, ptr, ptr]
+    us = median_seconds(lambda: lib.run(len(xq), xq.ctypes.data_as(ptr), y.ctypes.data_as(ptr)),
+                        5, time.process_time) * 1e6 / len(xq)
+    return f"{us:.2f}"
+
+
 def main(quick: bool = False) -> str:
     rng = np.random.default_rng(0)
     rows = []
@@ -92,14 +126,16 @@ def main(quick: bool = False) -> str:
         if rb.n_rules <= 3 ** 8:
             dense = f"{median_seconds(lambda: activations(rb, xk), 3) * 1e6 / len(xk):.2f}"
         c_cost = c_header_cost(rb, xk)
+        fixed = [fixed_header_cost(rb, numeric, xk) for numeric in ("q15", "q31")]
         row = [n_in, f"{rb.n_rules:,}", path_of(rb), f"{one:.1f}", f"{batch:.2f}",
-               f"{batch_cpu:.2f}", dense, c_cost]
+               f"{batch_cpu:.2f}", dense, c_cost, *fixed]
         rows.append(row)
         print(" | ".join(map(str, row)), flush=True)
     load_after = os.getloadavg()[0]
     header = ["inputs", "rules", "engine path", "batch 1: us/eval", "batch 1000: us/eval",
               "batch 1000: CPU us/eval", "dense activations only, batch 1000: us/eval",
-              "C float header, batch 1000: CPU us/call"]
+              "C float header, batch 1000: CPU us/call", "C q15 header: CPU us/call",
+              "C q31 header: CPU us/call"]
     text = ("# Engine cost against the number of inputs\n\n"
             "Full-grid rule bases: three uniform triangles per input, one AND rule per term "
             "combination (3^I rules), center of area over five singletons. Median of repeats; "
