@@ -262,7 +262,8 @@ def derived_error_bound(model: Model, numeric: str, input_error=None,
     """Per rule-base output, a worst-case |C - engine| as a fraction of its range, derived from
     the arithmetic (the engine at the dequantized input, clipped to the output's range), or
     None where the argument below does not apply (weights with a ratio defuzzifier, weights
-    <= 0, or an input point where no rule concludes the output).  With `input_error` (per
+    <= 0, an input point where no rule concludes the output, S_min <= D below, or sums over
+    more than MAX_DERIVED_CELLS cells).  With `input_error` (per
     input, in LSBs of the I/O scale) the C's inputs are that far from the engine's, which moves
     each membership by at most that over the C's narrowest piece; `wide` bounds
     NAME_rulebase_wide, whose result keeps the guard bits (no final rounding to the LSB):
@@ -272,7 +273,8 @@ def derived_error_bound(model: Model, numeric: str, input_error=None,
       break points were merged, see SNAP) is off by at most
       eps = (3 r + 2 m) / (w - r - m) + 2^-MF (the division rounds to nearest, 0.5 2^-MF,
       and so does each product of the product t-norm, another 0.5 2^-MF);
-    - min and max are exact, and a wildcard is exactly 1, so an activation is off by
+    - min and max are exact, a wildcard is exactly 1 and a slot without a term exactly 0, so
+      an activation is off by
       eps_act = eps (min) or I eps (1 + eps)^(I-1) (product of I);
     - S_min = T-norm over inputs of the least top membership: every term tuple has a rule
       (its own or one with `*` there) concluding the output, so that rule fires at least this
@@ -404,8 +406,9 @@ class FixedPointWriter:
     def derived_text(self) -> str:
         bound = derived_error_bound(self.model, self.numeric)
         if bound is None:
-            return ("not derived (weights with a ratio defuzzifier, weights <= 0, or an input "
-                    "point where no rule concludes an output)")
+            return ("not derived (weights with a ratio defuzzifier, weights <= 0, an input "
+                    "point where no rule concludes an output, a rounding that can outweigh "
+                    "the least activation, or more than MAX_DERIVED_CELLS cells to sum over)")
         return "; ".join(f"{v.name} {e:.3g}" for v, e in zip(self.rb.outputs, bound)) + \
             " of the output's range"
 
