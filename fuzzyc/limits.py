@@ -23,7 +23,7 @@ from .errors import Diagnostic, FuzzycError, Reporter, decode_source
 from .model import Model, SourceLoc
 
 MAX_SOURCE_BYTES = 1_000_000     # a rule file (any format); parsing costs ~10 us and ~5 kB a byte-line
-MAX_TERMS = 253                  # per variable: the C back ends keep term ids (and 2 spare) in a byte
+MAX_TERMS = 253                  # per variable: the C back ends keep term ids (and `*`) in a byte
 MAX_RULES = 10_000               # per rule base
 MAX_RULEBASE_INPUTS = 32         # linguistic inputs of a rule base
 MAX_RULEBASE_OUTPUTS = 32        # rule-base output variables
