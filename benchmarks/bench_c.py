@@ -28,7 +28,7 @@ from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header, io_frac  # n
 from fuzzyc.errors import FuzzycError  # noqa: E402
 from fuzzyc.backends.lut import LookupTable, generate_lut_header  # noqa: E402
 from fuzzyc.engine import evaluate  # noqa: E402
-from fuzzyc.model import Defuzzifier  # noqa: E402
+from fuzzyc.model import Defuzzifier, set_entries  # noqa: E402
 from fuzzyc.parser import load  # noqa: E402
 
 RULEBASES = ["wedm_three_region", "wedm_corner", "milling_neurofuzzy", "edm_sink_gap"]
@@ -209,7 +209,7 @@ def main() -> int:
     # The shipped milling controller starts unlearned (all 49 weights 0), which gcc folds away
     # in the fixed-point code: time it with weights a learned file could have (fixed seed).
     out = models["milling_neurofuzzy"].rulebase.outputs[0]
-    out.params[:, 0] = np.random.default_rng(7).uniform(-40, 40, out.n_terms)
+    set_entries(out, "params", np.s_[:, 0], np.random.default_rng(7).uniform(-40, 40, out.n_terms))
     all_entries = []
     for name, model in models.items():
         for k, entry in enumerate(entries(model)):

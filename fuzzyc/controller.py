@@ -203,5 +203,7 @@ class Controller:
             raise ValueError(f"{output}: only singleton terms have a single value to set")
         if not np.all(np.isfinite(values)):
             raise ValueError(f"{output}: values must be finite")
-        var.params[:, 0] = values
+        params = np.array(var.params, dtype=float)   # a new array: compiled ones are read-only
+        params[:, 0] = values
+        var.params = params
         self._blocks[k] = self._block(k)    # rebuilt for the new values

@@ -110,18 +110,38 @@ def run_condition(rb: RuleBase, program: np.ndarray, x: np.ndarray) -> np.ndarra
     return stack.pop()
 
 
-def _fingerprint(rb: RuleBase) -> tuple:
-    arrays = [rb.antecedents, rb.consequents, rb.weights, rb.negated, rb.hedges, rb.connective]
-    arrays += [np.append(r, program.ravel()) for r, program in sorted(rb.conditions.items())]
+def _key(rb: RuleBase, arrays: list[np.ndarray]) -> tuple:
+    """What rb's compiled tables depend on, in O(variables + nested rules) whatever the number
+    of rules: each numpy array by its identity (compiling makes it read-only, so a change is an
+    assignment of a new array, which changes the key; `arrays` collects them so that their ids
+    are not reused while the key is kept), everything else by value (params given as a list)."""
+    def ref(a) -> int | bytes:
+        if isinstance(a, np.ndarray):
+            arrays.append(a)
+            return id(a)
+        return np.asarray(a, dtype=float).tobytes()
+
+    def items(d: dict | None) -> tuple:
+        return tuple((k, ref(a)) for k, a in d.items()) if d else ()
+
+    inf = rb.inference
+    parts = [inf.and_, inf.or_, inf.implication, inf.aggregation, inf.defuzzifier,
+             tuple(sorted(rb.output_choices.items())), ref(rb.antecedents), ref(rb.consequents),
+             ref(rb.weights), ref(rb.negated), ref(rb.hedges), ref(rb.connective),
+             items(rb.conditions)]
     for v in rb.inputs + rb.outputs:
-        arrays += [v.kinds, np.asarray(v.params, dtype=float),
-                   np.array([v.lo, v.hi, v.default], dtype=float)]
-        arrays += [np.append(float(t), row)
-                   for t, row in sorted((v.coefficients or {}).items())]
-    formulas = tuple((v.lock_previous, tuple((t, f.text) for t, f in (v.formulas or {}).items()))
-                     for v in rb.inputs + rb.outputs)
-    return (rb.inference.describe(), tuple(sorted(rb.output_choices.items())), formulas) + \
-        tuple(np.ascontiguousarray(a).tobytes() for a in arrays)
+        parts += [v.name, tuple(v.names), v.lo, v.hi, v.default, v.lock_previous, ref(v.kinds),
+                  ref(v.params), items(v.coefficients), items(v.points),
+                  tuple((t, f.text) for t, f in v.formulas.items()) if v.formulas else ()]
+    return tuple(parts)
+
+
+def _freeze(a: np.ndarray) -> None:
+    """a read-only, and the arrays it is a view of: an in-place write to a compiled rule base
+    raises instead of leaving its tables stale."""
+    while isinstance(a, np.ndarray):
+        a.flags.writeable = False
+        a = a.base
 
 
 class CompiledRuleBase:
@@ -129,7 +149,10 @@ class CompiledRuleBase:
 
     def __init__(self, rb: RuleBase, allow_sparse: bool = True):
         self.rb = rb
-        self.key = _fingerprint(rb)
+        self.arrays: list[np.ndarray] = []
+        self.key = _key(rb, self.arrays)
+        for a in self.arrays:
+            _freeze(a)
         self.defuzzifiers = [OutputDefuzzifier(v, rb.inference_of(o), rb.inputs)
                              for o, v in enumerate(rb.outputs)]
         self.linear_terms = any(d.linear is not None for d in self.defuzzifiers)
@@ -294,9 +317,10 @@ _CACHE: dict[int, CompiledRuleBase] = {}
 
 
 def compiled(rb: RuleBase) -> CompiledRuleBase:
-    """The engine's tables for rb, rebuilt whenever rb has changed (e.g. learned values)."""
+    """The engine's tables for rb, rebuilt whenever rb has changed (e.g. learned values): its
+    arrays are read-only from here on, so a change assigns new ones (`rb.weights = w`)."""
     entry = _CACHE.get(id(rb))
-    if entry is not None and entry.rb is rb and entry.key == _fingerprint(rb):
+    if entry is not None and entry.rb is rb and entry.key == _key(rb, []):
         return entry
     entry = CompiledRuleBase(rb)
     if id(rb) not in _CACHE:

@@ -251,6 +251,15 @@ PIECEWISE_LINEAR = (TermKind.TRAPEZOID, TermKind.SINGLETON)
 MIN_FIRING = 1e-30
 
 
+def set_entries(owner: Any, name: str, index: Any, value: Any) -> None:
+    """owner.<name>[index] = value on a copy that is then assigned (`rb.weights`,
+    `var.params`...): the engine makes the arrays of a rule base it has compiled read-only
+    (`fuzzyc.engine.compiled`), so a change is a new array, which it sees."""
+    array = np.array(getattr(owner, name))
+    array[index] = value
+    setattr(owner, name, array)
+
+
 @dataclass(frozen=True)
 class SourceLoc:
     """Where something was written: for error messages and reports."""

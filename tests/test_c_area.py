@@ -45,9 +45,9 @@ def smooth_outputs(model, outputs=slice(None)):
     """The WEDM outputs' five terms (peaks -1, -0.5, 0, 0.5, 1) as sigmoid, gaussian, bell,
     gaussian, sigmoid: the engine samples M on its grid."""
     for var in model.rulebase.outputs[outputs]:
-        var.kinds[:] = [TermKind.SIGMOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind.GAUSSIAN,
-                        TermKind.SIGMOID]
-        var.params[:] = [[-0.75, -20, 0, 0], [-0.5, 0.2, 0, 0], [0, 0.25, 2, 0],
+        var.kinds = np.array([TermKind.SIGMOID, TermKind.GAUSSIAN, TermKind.BELL,
+                              TermKind.GAUSSIAN, TermKind.SIGMOID])
+        var.params = np.array([[-0.75, -20, 0, 0], [-0.5, 0.2, 0, 0], [0, 0.25, 2, 0],
                          [0.5, 0.2, 0, 0], [0.75, 20, 0, 0]]
     return model
 

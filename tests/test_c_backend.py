@@ -18,7 +18,8 @@ from fuzzyc.backends.c import generate_header
 from fuzzyc.backends.cload import STRICT_FLAGS, CController
 from fuzzyc.engine import evaluate
 from fuzzyc.errors import FuzzycError
-from fuzzyc.model import (Aggregation, Defuzzifier, Implication, SNorm, TermKind, TNorm)
+from fuzzyc.model import (Aggregation, Defuzzifier, Implication, SNorm, TermKind, TNorm,
+                          set_entries)
 from fuzzyc.parser import load
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
@@ -31,7 +32,8 @@ def shipped(name: str):
     model = load(ROOT / "rulebases" / f"{name}.fz")
     if name == "milling_neurofuzzy":   # ships untrained (all 0): give it values to check
         out = model.rulebase.outputs[0]
-        out.params[:, 0] = np.random.default_rng(7).uniform(-40, 40, out.n_terms)
+        set_entries(out, "params", np.s_[:, 0],
+                    np.random.default_rng(7).uniform(-40, 40, out.n_terms))
     return model
 
 
@@ -46,14 +48,18 @@ def general_dense():
     """WEDM with every dense-path feature: NOT, hedges, OR, wildcards, weights, product/probsum."""
     model = variant("wedm_three_region", and_=TNorm.PRODUCT, or_=SNorm.PROBSUM)
     rb = model.rulebase
-    rb.negated[::7, 1] = True
-    rb.hedges[::5, 0] = 1
-    rb.hedges[::11, 2] = 2
-    rb.hedges[::9, 1] = 3
-    rb.connective[::3] = 1
-    rb.antecedents[::13, 2] = -1
-    rb.antecedents[74] = -1              # a rule of wildcards only: fires 1
-    rb.weights[::4] = 0.5
+    set_entries(rb, "negated", np.s_[::7, 1], True)
+    hedges = rb.hedges.copy()
+    hedges[::5, 0] = 1
+    hedges[::11, 2] = 2
+    hedges[::9, 1] = 3
+    rb.hedges = hedges
+    set_entries(rb, "connective", np.s_[::3], 1)
+    antecedents = rb.antecedents.copy()
+    antecedents[::13, 2] = -1
+    antecedents[74] = -1                 # a rule of wildcards only: fires 1
+    rb.antecedents = antecedents
+    set_entries(rb, "weights", np.s_[::4], 0.5)
     return model
 
 
@@ -61,10 +67,10 @@ def smooth_terms():
     """Gaussian, bell and sigmoid input terms (libm shapes) on the corner rule base."""
     model = copy.deepcopy(shipped("wedm_corner"))
     var = model.rulebase.inputs[0]
-    var.kinds[:] = [TermKind.SIGMOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind.GAUSSIAN,
-                    TermKind.SIGMOID]
-    var.params[:] = [[40, -0.1, 0, 0], [80, 20, 0, 0], [125, 30, 2, 0], [170, 25, 0, 0],
-                     [210, 0.1, 0, 0]]
+    var.kinds = np.array([TermKind.SIGMOID, TermKind.GAUSSIAN, TermKind.BELL,
+                          TermKind.GAUSSIAN, TermKind.SIGMOID])
+    var.params = np.array([[40, -0.1, 0, 0], [80, 20, 0, 0], [125, 30, 2, 0],
+                           [170, 25, 0, 0], [210, 0.1, 0, 0]])
     return model
 
 

@@ -21,7 +21,7 @@ from fuzzyc.backends.cload import compile_shared
 from fuzzyc.controller import Controller
 from fuzzyc.engine import evaluate
 from fuzzyc.errors import FuzzycError
-from fuzzyc.model import Aggregation, Connective, Defuzzifier, TNorm
+from fuzzyc.model import Aggregation, Connective, Defuzzifier, TNorm, set_entries
 
 from fuzzyc.parser import load
 
@@ -44,8 +44,7 @@ def milling_weighted():
     """The milling controller with rule weights in [0.5, 2]: sum_j w_j mu_j z_j then leaves
     [-50, 50] (up to 2 x 40), so the saturation is exercised too."""
     model = shipped("milling_neurofuzzy")
-    model.rulebase.weights[:] = np.random.default_rng(3).uniform(0.5, 2.0,
-                                                                 model.rulebase.n_rules)
+    model.rulebase.weights = np.random.default_rng(3).uniform(0.5, 2.0, model.rulebase.n_rules)
     return model
 
 
@@ -53,7 +52,7 @@ def corner_catch_all():
     """The corner controller with rule 27 as `* * * -> M`: it fires 1 at every input, and
     every input gets its third (`*`) slot: 27 slot combinations per sample."""
     model = copy.deepcopy(shipped("wedm_corner"))
-    model.rulebase.antecedents[26] = -1
+    set_entries(model.rulebase, "antecedents", 26, -1)
     return model
 
 
@@ -169,9 +168,9 @@ def test_q15_milling_weighted_sum_hand_computed():
     # 0.5 * 0.4999847 * 30) = 0.9999085 * 27.50038 = 27.4979 -> 25393.7; C within 1 LSB.
     model = shipped("milling_neurofuzzy")
     rb = model.rulebase
-    rb.outputs[0].params[:, 0] = 0.0
-    rb.outputs[0].params[[24, 31], 0] = [40.0, 30.0]
-    rb.weights[31] = 0.5
+    set_entries(rb.outputs[0], "params", np.s_[:, 0], 0.0)
+    set_entries(rb.outputs[0], "params", np.s_[[24, 31], 0], [40.0, 30.0])
+    set_entries(rb, "weights", 31, 0.5)
     xq = [[round((1 / 6 + 1) / 2 * 32767), round(32767 / 2)]]
     assert xq == [[19114, 16384]]
     assert abs(int(fixed_point_runner(model, "q15")(xq)[0, 0]) - 25394) <= 1
@@ -190,7 +189,7 @@ def test_untrained_milling_gives_zero(numeric):
 
 def test_rules_beyond_plain_and_are_a_diagnostic():
     model = copy.deepcopy(shipped("wedm_corner"))
-    model.rulebase.connective[3] = Connective.OR
+    set_entries(model.rulebase, "connective", 3, Connective.OR)
     with pytest.raises(FuzzycError, match="plain AND"):
         generate_fixed_header(model, "q15")
 
@@ -312,8 +311,8 @@ def test_q15_chain_hand_computed_corner_and_milling():
     # 4800), first delta 0: e = cf = 0, only rule 24 fires, with 1 * 1: du = 20, feed = 0 +
     # du * GU 0.1 = 2 mm/min, out = 2 * 2^8 = 512; held for a second sample, 4 mm/min = 1024.
     model = shipped("milling_neurofuzzy")
-    model.rulebase.outputs[0].params[:, 0] = 0.0
-    model.rulebase.outputs[0].params[24, 0] = 20.0
+    set_entries(model.rulebase.outputs[0], "params", np.s_[:, 0], 0.0)
+    set_entries(model.rulebase.outputs[0], "params", np.s_[24, 0], 20.0)
     milling = chain_runner(model, "q15", batch=1)
     out = milling([[[4800]], [[4800]]])[:, 0, 0]
     assert np.all(np.abs(out - [512, 1024]) <= 1)

@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 from fuzzyc.engine import evaluate
+from fuzzyc.model import set_entries
 from fuzzyc.parser import load
 from fuzzyc.verifier import Options, Status, verify_model
 from fuzzyc.verifier.report import format_result
@@ -51,7 +52,7 @@ def test_wedm_flipped_cell_breaks_the_safe_region_monotonicity():
     model = _model("wedm_three_region")
     rb = model.rulebase
     r = _rule(rb, "table du1 when e1 is P, row e2=PS, col ce2=ZO")
-    rb.consequents[r, 0] = rb.outputs[0].index("NB")   # printed PS
+    set_entries(rb, "consequents", (r, 0), rb.outputs[0].index("NB"))   # printed PS
     result = _check(model, "monotone du1 increasing in e2 where e1 is P")
     table = result.evidence[0]
     assert table.method == "table" and table.status == Status.VIOLATED
@@ -67,7 +68,7 @@ def test_corner_flipped_cell_breaks_monotone_in_feed():
     model = _model("wedm_corner")
     rb = model.rulebase
     r = _rule(rb, "table rule 19")                      # B B S -> VB
-    rb.consequents[r, 0] = rb.outputs[0].index("VS")
+    set_entries(rb, "consequents", (r, 0), rb.outputs[0].index("VS"))
     table = _check(model, "monotone y increasing in feedrate").evidence[0]
     assert table.status == Status.VIOLATED
     assert any("table rule 19" in c for c in table.cells)
@@ -77,7 +78,8 @@ def test_edm_flipped_cell_breaks_continuity_between_named_cells():
     model = _model("edm_sink_gap")
     rb = model.rulebase
     r = _rule(rb, "row e=ZO, col ce=Z")
-    rb.consequents[r, 0] = rb.outputs[0].index("PB")   # ZO -> PB: 3 terms above NS (row NS)
+    # ZO -> PB: 3 terms above NS (row NS)
+    set_entries(rb, "consequents", (r, 0), rb.outputs[0].index("PB"))
     result = _check(model, "continuous dv")
     assert result.is_failure
     assert all("row e=ZO, col ce=Z]" in c for c in result.evidence[0].cells)
@@ -88,7 +90,7 @@ def test_milling_weight_out_of_range_breaks_the_bound_at_its_cell():
     rb = model.rulebase
     r = _rule(rb, "row e=PS, col cf=NS")
     term = rb.consequents[r, 0]
-    rb.outputs[0].params[term, 0] = 80.0                # a learned weight beyond [-50, 50]
+    set_entries(rb.outputs[0], "params", (term, 0), 80.0)   # a learned weight beyond [-50, 50]
     result = _check(model, "bounded du in [-50, 50]")
     proof = result.evidence[0]
     assert proof.method == "proof" and proof.status == Status.VIOLATED
@@ -120,7 +122,7 @@ def test_deleted_rule_leaves_a_named_cell_uncovered(name, only, origin, cell, n_
 def test_wedm_moved_term_opens_a_coverage_gap_where_it_was():
     model = _model("wedm_three_region")
     e2 = model.rulebase.inputs[1]
-    e2.params[e2.index("PS")] = [0.6, 0.8, 0.8, 1.0]   # was tri(0, 0.5, 1)
+    set_entries(e2, "params", e2.index("PS"), [0.6, 0.8, 0.8, 1.0])   # was tri(0, 0.5, 1)
     result = _check(model, "covers e1, e2, ce2 at least 0.5")
     proof = result.evidence[0]
     assert proof.method == "proof" and proof.status == Status.VIOLATED
@@ -131,7 +133,8 @@ def test_wedm_moved_term_opens_a_coverage_gap_where_it_was():
 def test_corner_narrowed_angle_term_opens_a_gap():
     model = _model("wedm_corner")
     angle = model.rulebase.inputs[2]
-    angle.params[angle.index("M")] = [70, 82.5, 82.5, 95]   # was tri(30, 82.5, 135)
+    # was tri(30, 82.5, 135)
+    set_entries(angle, "params", angle.index("M"), [70, 82.5, 82.5, 95])
     proof = _check(model, "covers feedrate, thickness, angle at least 0.5").evidence[0]
     # S >= 0.5 up to 56.25 deg, M now 76.25-88.75, B from 108.75: gaps on both sides of M
     assert proof.status == Status.VIOLATED
@@ -142,7 +145,8 @@ def test_corner_narrowed_angle_term_opens_a_gap():
 def test_milling_moved_term_lowers_the_product_coverage():
     model = _model("milling_neurofuzzy")
     e = model.rulebase.inputs[0]
-    e.params[e.index("ZE")] = [0.0, 1 / 6, 1 / 6, 1 / 3]    # was tri(-1/3, 0, 1/3)
+    # was tri(-1/3, 0, 1/3)
+    set_entries(e, "params", e.index("ZE"), [0.0, 1 / 6, 1 / 6, 1 / 3])
     proof = _check(model, "covers e, cf at least 0.25").evidence[0]
     assert proof.status == Status.VIOLATED
     # NS falls to 0 at e = 0 where ZE now starts: max membership of e is 0 there
@@ -152,7 +156,7 @@ def test_milling_moved_term_lowers_the_product_coverage():
 def test_edm_moved_term_opens_a_gap():
     model = _model("edm_sink_gap")
     ce = model.rulebase.inputs[1]
-    ce.params[ce.index("Z")] = [0.2, 0.6, 0.6, 1.0]      # was tri(-1, 0, 1)
+    set_entries(ce, "params", ce.index("Z"), [0.2, 0.6, 0.6, 1.0])   # was tri(-1, 0, 1)
     proof = _check(model, "covers e, ce at least 0.5").evidence[0]
     assert proof.status == Status.VIOLATED
     # N >= 0.5 up to -0.5, Z now 0.4..0.8, P from 0.5: the gap is (-0.5, 0.4)
@@ -195,7 +199,7 @@ def test_edm_velocity_without_its_limit_and_a_larger_gain():
 def test_milling_feed_without_its_limit_once_weights_are_learned():
     model = _model("milling_neurofuzzy")
     du = model.rulebase.outputs[0]
-    du.params[:, 0] = 8.0                               # any positive learned weights
+    set_entries(du, "params", np.s_[:, 0], 8.0)   # any positive learned weights
     model.outputs[0].hi = np.inf
     evidence = _check(model, "bounded feed in [0, 75]").evidence[0]
     # du = 8 everywhere (memberships sum to 1), dU = GU du = 0.8 mm/min per sample:

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings, strategies as st, HealthCheck
 
 from fuzzyc import engine
-from fuzzyc.model import Aggregation, Defuzzifier, TNorm
+from fuzzyc.model import Aggregation, Defuzzifier, TNorm, set_entries
 from fuzzyc.parser import load
 from fuzzyc.plants import scenario as scenarios
 from fuzzyc.verifier.closed_loop import _Loop
@@ -120,7 +120,8 @@ def test_every_sampled_edm_trace_lies_in_the_reachable_set(lo, width, seed, shuf
 
 def _flip_sign(model):
     """The controller pushes the wrong way: every output singleton negated."""
-    model.rulebase.outputs[0].params[:, 0] *= -1
+    out = model.rulebase.outputs[0]
+    set_entries(out, "params", np.s_[:, 0], -out.params[:, 0])
 
 
 def test_a_sign_flipped_servo_is_never_proved():
@@ -288,7 +289,7 @@ def test_milling_loop_proved_over_its_entry_and_a_runaway_feed_never():
     force = signals["force"][:, 0]
     shown = float(overshoot.detail.split("force - final <= ")[1].split()[0])
     assert force.max() - force[-2:].mean() <= shown <= 350
-    model.rulebase.outputs[0].params[:, 0] = 8.0
+    set_entries(model.rulebase.outputs[0], "params", np.s_[:, 0], 8.0)
     model.outputs[0].hi = np.inf
     prop.args["duration"] = 4.0
     prop.args["checks"] = checks[:1]
