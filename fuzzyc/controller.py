@@ -9,8 +9,10 @@ Robustness to bad samples (a NaN or infinite raw input):
   (its `init` before the first finite one).  Outputs are therefore always finite.
 A rule-base output with lock-previous (fuzzylite's) holds, per loop, its last value where no
 rule fires (its default before any: a fresh controller has nothing to hold).
-`set_consequent_values` changes the rule base of the model in place (the learned parameters
-belong to the model, so exporting it after learning writes the learned values).
+`set_consequent_values` changes the rule base of the model (the learned parameters belong to
+the model, so exporting it after learning writes the learned values): it assigns the output a
+new params array, as every change of a rule base the engine has compiled must (its arrays are
+read-only, `fuzzyc.engine.compiled`).
 
 Speed: the model is read at `reset()` (expressions compiled to closures, the engine's tables
 fetched, saturation limits taken), so a step does only the batch's arithmetic.  A model

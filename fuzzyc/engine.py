@@ -115,11 +115,12 @@ def _key(rb: RuleBase, arrays: list[np.ndarray]) -> tuple:
     of rules: each numpy array by its identity (compiling makes it read-only, so a change is an
     assignment of a new array, which changes the key; `arrays` collects them so that their ids
     are not reused while the key is kept), everything else by value (params given as a list)."""
-    def ref(a) -> int | bytes:
+    def ref(a) -> int | tuple:
         if isinstance(a, np.ndarray):
             arrays.append(a)
             return id(a)
-        return np.asarray(a, dtype=float).tobytes()
+        a = np.asarray(a, dtype=float)
+        return a.shape, a.tobytes()
 
     def items(d: dict | None) -> tuple:
         return tuple((k, ref(a)) for k, a in d.items()) if d else ()
@@ -138,7 +139,8 @@ def _key(rb: RuleBase, arrays: list[np.ndarray]) -> tuple:
 
 def _freeze(a: np.ndarray) -> None:
     """a read-only, and the arrays it is a view of: an in-place write to a compiled rule base
-    raises instead of leaving its tables stale."""
+    raises instead of leaving its tables stale.  (A writeable view of the same memory taken
+    before compiling stays writeable: numpy cannot reach it.  fuzzyc keeps none.)"""
     while isinstance(a, np.ndarray):
         a.flags.writeable = False
         a = a.base
