@@ -31,7 +31,7 @@ import sympy
 
 from .engine import compiled
 from .expr import clip, compile_value
-from .model import Model, Op, OutputKind, TermKind
+from .model import Model, Op, OutputKind, TermKind, set_entries
 from .ordered import Held
 
 
@@ -205,7 +205,5 @@ class Controller:
             raise ValueError(f"{output}: only singleton terms have a single value to set")
         if not np.all(np.isfinite(values)):
             raise ValueError(f"{output}: values must be finite")
-        params = np.array(var.params, dtype=float)   # a new array: compiled ones are read-only
-        params[:, 0] = values
-        var.params = params
+        set_entries(var, "params", np.s_[:, 0], values)   # a new array: see the docstring
         self._blocks[k] = self._block(k)    # rebuilt for the new values

@@ -48,7 +48,7 @@ def smooth_outputs(model, outputs=slice(None)):
         var.kinds = np.array([TermKind.SIGMOID, TermKind.GAUSSIAN, TermKind.BELL,
                               TermKind.GAUSSIAN, TermKind.SIGMOID])
         var.params = np.array([[-0.75, -20, 0, 0], [-0.5, 0.2, 0, 0], [0, 0.25, 2, 0],
-                         [0.5, 0.2, 0, 0], [0.75, 20, 0, 0]]
+                               [0.5, 0.2, 0, 0], [0.75, 20, 0, 0]])
     return model
 
 
