@@ -20,7 +20,7 @@ processed in chunks so memory stays flat in the batch size.
 """
 from __future__ import annotations
 
-import weakref
+from collections import OrderedDict
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -315,7 +315,10 @@ class CompiledRuleBase:
         return safe_ratio(num, den, self.defaults)
 
 
-_CACHE: dict[int, CompiledRuleBase] = {}
+# The most recently used rule bases' tables. An entry holds its rule base (so an id is never
+# reused while it is here); the bound frees the tables of rule bases no longer in use.
+CACHE_SIZE = 64
+_CACHE: OrderedDict[int, CompiledRuleBase] = OrderedDict()
 
 
 def compiled(rb: RuleBase) -> CompiledRuleBase:
@@ -323,11 +326,12 @@ def compiled(rb: RuleBase) -> CompiledRuleBase:
     arrays are read-only from here on, so a change assigns new ones (`rb.weights = w`)."""
     entry = _CACHE.get(id(rb))
     if entry is not None and entry.rb is rb and entry.key == _key(rb, []):
+        _CACHE.move_to_end(id(rb))
         return entry
-    entry = CompiledRuleBase(rb)
-    if id(rb) not in _CACHE:
-        weakref.finalize(rb, _CACHE.pop, id(rb), None)
-    _CACHE[id(rb)] = entry
+    entry = _CACHE[id(rb)] = CompiledRuleBase(rb)
+    _CACHE.move_to_end(id(rb))
+    while len(_CACHE) > CACHE_SIZE:
+        _CACHE.popitem(last=False)
     return entry
 
 

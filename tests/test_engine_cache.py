@@ -1,11 +1,13 @@
 """The engine's compiled tables are never stale: compiling makes a rule base's arrays read-only
 (an in-place write raises), and a new array assigned in their place is seen at the next call."""
+import gc
 import math
+import weakref
 
 import numpy as np
 import pytest
 
-from fuzzyc.engine import compiled, evaluate
+from fuzzyc.engine import CACHE_SIZE, compiled, evaluate
 from fuzzyc.model import Connective, Defuzzifier, set_entries
 
 from test_engine_core import rulebase, var
@@ -86,3 +88,22 @@ def test_scalars_and_inference_are_compared_by_value():
     assert evaluate(rb, [[0.5]])[0, 0] == pytest.approx(3.75)
     rb.outputs[0].default = 3.0                          # nothing fires at NaN: the default
     assert evaluate(rb, [[np.nan]])[0, 0] == 3.0
+
+
+def test_the_cache_lets_rule_bases_no_longer_used_go():
+    first = two_rules()
+    evaluate(first, [[0.0]])
+    gone = weakref.ref(first)
+    del first
+    for _ in range(CACHE_SIZE):          # as many newer rule bases as the cache holds
+        evaluate(two_rules(), [[0.0]])
+    gc.collect()
+    assert gone() is None
+
+
+def test_a_rule_base_in_use_keeps_its_tables():
+    rb = two_rules()
+    tables = compiled(rb)
+    for _ in range(CACHE_SIZE - 1):      # each call to rb moves it to the front
+        evaluate(two_rules(), [[0.0]])
+        assert compiled(rb) is tables
