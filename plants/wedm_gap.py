@@ -268,10 +268,15 @@ def initial_state(params: WedmGapParams, batch: int, rng=None) -> dict[str, np.n
             "arc_time": zeros.copy(), "ruptures": zeros.copy()}
 
 
+def short_probability(p: WedmGapParams, gap) -> np.ndarray:
+    """p_s: shorts close in as the gap (um) closes."""
+    return 1.0 / (1.0 + np.exp((gap - p.g_short) / p.w_short))
+
+
 def pulse_statistics(p: WedmGapParams, gap, debris, t_off, on_time, height=None):
     """Per-pulse probabilities and timing at a gap state: (p_s, p_a, t_d, T) in us."""
     height = p.height if height is None else height
-    p_s = 1.0 / (1.0 + np.exp((gap - p.g_short) / p.w_short))
+    p_s = short_probability(p, gap)
     # an arc either re-strikes in the last channel (its plasma not yet gone) or is lit by debris
     # in a gap whose dielectric has not recovered; on_time in us: the arc sensitivity grows
     # with the pulse, the recovery time does not
@@ -416,3 +421,195 @@ class VoltageP:
         v = np.asarray(inputs["gap_voltage"], float)
         feed = np.clip(self.gain * (v - self.servo_voltage), 0.0, self.feed_max)
         return {"feed": feed, "t_off": np.full(feed.shape, self.t_off)}
+
+
+# --- the same plant on sets (fuzzyc verify --prove) -------------------------------------------
+SET_VARIABLE = ("height", "tension", "gap0")     # params that may be a set (an affine form)
+
+# the least pulse cycle any gap state allows (us): the shortest off-time, then a normal pulse
+# (at least 2 t_on) or an abnormal one (2 A_on) -- a floor the cycle's form is clipped to, so
+# its reciprocal stays a monotone piece even where the products' bounds overshoot below it
+_CYCLE_FLOOR_ON_TIME = INPUT_LIMITS["on_time"][0]
+
+
+def set_initial_state(params: WedmGapParams, height, tension, gap0, noise) -> dict:
+    """The state on affine forms: the gap from gap0 (a form when varied), the debris0, the
+    wire cold; the height (the plant's own, used while no `height` input steps it) and the
+    wire's rupture limit (from the tension) carried along for set_step. The arc clock is kept
+    as per-box bounds (arc_lo, arc_hi): it only counts periods. The debris stays >= 0 in
+    every run from debris0 >= 0 (each update is a convex combination of it and a target >=
+    0), which set_step relies on."""
+    if params.debris0 < 0:
+        from fuzzyc.verifier.reach.chain import Unsupported
+        raise Unsupported(f"wedm_gap's set step needs debris0 >= 0, got {params.debris0:g}")
+    zeros = np.zeros(noise.sym.batch)
+    limit = _monotone(noise, tension, lambda g: params.q_rupture_per_speed * params.wire_speed
+                      * (800.0 / g), increasing=False)
+    return {"gap": noise.form(gap0), "debris": noise.form(params.debris0),
+            "heat": noise.form(0.0),
+            "arc_lo": zeros, "arc_hi": zeros, "ruptures": noise.form(0.0), "height": height,
+            "limit": limit}
+
+
+def _monotone(noise, x, f, increasing: bool = True):
+    """f(x) for a monotone f: on a number plainly, on a form through noise.monotone."""
+    return noise.monotone(x, f, increasing) if hasattr(x, "bounds") else f(x)
+
+
+def _interp_box(xp: np.ndarray, fp: np.ndarray):
+    """The interval extension of np.interp(x, xp, fp) (held beyond the ends): its extremes
+    over [lo, hi] are at the ends or at the knots inside."""
+    def box(lo, hi):
+        a, b = np.interp(lo, xp, fp), np.interp(hi, xp, fp)
+        inside = (xp >= lo[..., None]) & (xp <= hi[..., None])
+        return (np.minimum(np.minimum(a, b), np.where(inside, fp, np.inf).min(axis=-1)),
+                np.maximum(np.maximum(a, b), np.where(inside, fp, -np.inf).max(axis=-1)))
+    return box
+
+
+def set_step(params: WedmGapParams, state: dict, inputs: dict, t: float, dt: float,
+             noise) -> tuple[dict, dict]:
+    """`step` on affine forms (fuzzyc.verifier.reach.affine), for every run of the plant from
+    the states and inputs in the sets (the height a number, the param's form, or a stepped
+    `height` input; the feed and off-time the controller's forms; the on-time a number).
+
+    - Every one-variable piece is monotone over its whole domain and goes through
+      noise.monotone with its ends as interval extension: p_s and p_s^2 (decreasing in the
+      gap), the re-strike and recovery factors exp(-t_off / tau) (decreasing), the debris arc
+      1 - exp(-x) (increasing in x = k_arc t_on^1.5 c e^(-t_off/deion)), the gap factor of
+      the ignition delay exp(min((g - g_ref)/g_scale, 30)) (increasing), the area factor
+      (td_height/H)^a and 1/H (decreasing), 1/max(g, 0.1 g_ref) of the debris target
+      (decreasing), the reciprocal of the cycle (decreasing; the cycle's form is first clipped
+      to its least physical value, 1.6 + 2 min(0.1, A_on) us, which every true cycle
+      exceeds), the rupture limit ~ 1/tension (decreasing). Table 1's height efficiency is
+      piecewise linear: its extremes over a range are at the ends or the knots inside.
+    - Products and sums of these (the pulse shares, the cycle, frequencies, speeds, the mean
+      voltage, the wire load) are affine products (Affine.__mul__: the cross term bounded by
+      the product of the radii); the clips (inputs to the machine's limits, gap >= 0,
+      max(v_table, 0)) go through Affine.clip.
+    - The rupture rule is decided per box: no rupture where the heat's upper bound stays at
+      the limit and the arc clock's below 60 s, a rupture where the heat's lower bound passes
+      it or the clock's lower bound reaches 60 s, else the flag is [0, 1] and the re-threaded
+      heat the hull of 0 and the heat. The arc clock runs as per-box bounds: its upper bound
+      counts a period whenever the ratio may exceed 50 %, its lower bound only when it must.
+    - The counting noise (Poisson count, binomial ratio, the mean voltage's exponential
+      delays) is Gaussian: covered only up to `noise.sigmas` standard deviations, a new
+      symbol per sample and signal, each radius the largest sigma over the box (an
+      assumption the proof states; 0 leaves it out).
+    """
+    p = params
+    feed, t_off, on_time, height = _set_inputs(p, state, inputs, noise)
+    gap, debris = state["gap"], state["debris"]
+    with np.errstate(over="ignore"):    # e^((g - g_short)/w) of a wide gap's end: p_s -> 0
+        r = _set_rates(p, gap, debris, feed, t_off, on_time, height, noise)
+    drift = (r["v_erosion"] - r["v_table"]) * (dt * 1000.0 / 60.0)
+    new_gap = (gap + drift).clip(0.0, np.inf)
+    per_gap = noise.monotone(gap, lambda g: 1.0 / np.maximum(g, 0.1 * p.g_ref),
+                             increasing=False)
+    target = r["v_table"].clip(0.0, np.inf) * per_gap * height * (
+        p.debris_gain * p.g_ref / (30.0 * np.sqrt(p.flushing)))
+    new_debris = debris + (target - debris) * (dt / p.tau_flush)
+    spark, ratio, voltage = _set_measure(p, r, dt, noise)
+    wire = _set_wire(p, state, r["fq"] * r["energy"] * r["per_height"], ratio, dt, noise)
+    ruptures = state["ruptures"] + wire["rupture"]
+    new_state = {**state, "gap": new_gap, "debris": new_debris, "heat": wire["heat"],
+                 "arc_lo": wire["arc_lo"], "arc_hi": wire["arc_hi"], "ruptures": ruptures}
+    outputs = {"spark_freq": spark * 1e-3, "abnormal_ratio": ratio, "gap_voltage": voltage,
+               "removal_rate": r["v_table"] * height, "feed_actual": r["v_table"],
+               "rupture": wire["rupture"], "ruptures": ruptures}
+    return new_state, outputs
+
+
+def _set_inputs(p: WedmGapParams, state: dict, inputs: dict, noise):
+    """The inputs as step's _inputs holds them to the machine's limits (forms never hold NaN)."""
+    given = {"feed": 0.0, "t_off": 48.0, "on_time": p.on_time, "height": state["height"],
+             **inputs}
+    out = []
+    for name in ("feed", "t_off", "on_time", "height"):
+        lo, hi = INPUT_LIMITS[name]
+        value = given[name]
+        out.append(value.clip(lo, hi) if hasattr(value, "clip") and not isinstance(
+            value, np.ndarray) else float(np.clip(value, lo, hi)))
+    feed, t_off = noise.form(out[0]), noise.form(out[1])
+    return feed, t_off, out[2], out[3]
+
+
+def _set_rates(p: WedmGapParams, gap, debris, feed, t_off, on_time, height, noise) -> dict:
+    """rates() on forms (pulse_statistics folded in); every piece as set_step's docstring says."""
+    p_s = noise.monotone(gap, lambda g: short_probability(p, g), increasing=False)
+    p_s2 = noise.monotone(gap, lambda g: short_probability(p, g) ** 2, increasing=False)
+    no_short = 1.0 - p_s
+    restrike = noise.monotone(t_off, lambda x: np.exp(-x / p.plasma_time), increasing=False)
+    recovery = noise.monotone(t_off, lambda x: np.exp(-x / p.deion_time), increasing=False)
+    sensitivity = _monotone(noise, on_time, lambda x: p.k_arc * x ** p.arc_exponent)
+    exposure = (debris.clip(0.0, np.inf) * recovery * sensitivity).clip(0.0, np.inf)
+    debris_arc = noise.monotone(exposure, lambda x: 1.0 - np.exp(-x))
+    p_a = 1.0 - (1.0 - restrike) * (1.0 - debris_arc)
+    area = _monotone(noise, height, lambda h: p.td_ref * (p.td_height / h) ** p.td_area_exponent,
+                     increasing=p.td_area_exponent < 0)
+    t_d = noise.monotone(gap, lambda g: np.exp(np.minimum((g - p.g_ref) / p.g_scale, 30.0))) \
+        * area
+    normal = no_short * (1.0 - p_a)
+    ratio = 1.0 - normal                       # = p_s + (1 - p_s) p_a
+    cycle = t_off + normal * (t_d + on_time * 2.0) + ratio * (2.0 * p.arc_on_time)
+    floor = INPUT_LIMITS["t_off"][0] + 2.0 * min(_CYCLE_FLOOR_ON_TIME, p.arc_on_time)
+    per_cycle = noise.monotone(cycle.clip(floor, np.inf), lambda c: 1.0 / c, increasing=False)
+    pulses = per_cycle * 1e6                   # Hz
+    arcs = ratio * 0.5
+    energy_weight = (normal * _monotone(noise, on_time, np.square)
+                     + arcs * p.arc_on_time ** 2) * 1e-12
+    efficiency = height.apply(_interp_box(TABLE1_TRUE, TABLE1_TRUE / TABLE1_READ)) \
+        if hasattr(height, "apply") else height_efficiency(height)
+    per_height = _monotone(noise, height, lambda h: 1.0 / h, increasing=False)
+    volume = energy_weight * efficiency * (p.discharge_voltage * p.current_slope * 1e6
+                                           * p.efficiency / p.u0)
+    arcing = arcs * (2 * p.arc_on_time)
+    voltage = (normal * t_d * p.open_voltage
+               + (normal * on_time * 2.0 + arcing) * p.discharge_voltage) * per_cycle
+    return {"fq": no_short * pulses, "pulses": pulses, "ratio": ratio,
+            "v_erosion": volume * pulses * per_height * (60.0 / p.kerf),
+            "v_table": feed * no_short - p_s2 * p.v_retract, "voltage": voltage,
+            "energy": _monotone(noise, on_time, lambda x: discharge_energy(p, x)),
+            "per_height": per_height}
+
+
+def _set_measure(p: WedmGapParams, r: dict, dt: float, noise):
+    """_measure on forms: the noise-free means, each widened by noise.sigmas of its largest
+    standard deviation over the box (nothing with sigmas 0 or p.noise 0)."""
+    spark, ratio, voltage = r["pulses"], r["ratio"], r["voltage"]
+    k = noise.sigmas * p.noise
+    if k == 0:
+        return spark, ratio, voltage
+    counts_lo = np.maximum(spark.lo() * dt, 1.0)        # pulses in the window, at least 1
+    spark = noise.widen(spark, k * np.sqrt(np.maximum(spark.hi() * dt, 0.0)) / dt)
+    r_lo, r_hi = (np.clip(b, 0.0, 1.0) for b in ratio.bounds())
+    worst = np.clip(0.5, r_lo, r_hi)                     # r (1 - r) is largest nearest 1/2
+    noisy_ratio = noise.widen(ratio, k * np.sqrt(worst * (1 - worst) / counts_lo))
+    normal = np.maximum(counts_lo * (1 - r_hi), 1.0)
+    v_lo, v_hi = voltage.bounds()
+    voltage = noise.widen(voltage, k * np.maximum(np.abs(v_lo), np.abs(v_hi)) / np.sqrt(normal))
+    return spark.clip(0.0, np.inf), noisy_ratio.clip(0.0, 1.0), voltage.clip(0.0, np.inf)
+
+
+def _set_wire(p: WedmGapParams, state: dict, load, ratio, dt: float, noise) -> dict:
+    """_wire on sets, decided per box (set_step's docstring)."""
+    from fuzzyc.verifier.reach.affine import where
+    heat = state["heat"] + (load - state["heat"]) * (dt / p.tau_wire)
+    over_lo, over_hi = (heat - state["limit"]).bounds()
+    r_lo, r_hi = ratio.bounds()
+    arc_lo = np.where(r_lo > p.arc_rupture_ratio, state["arc_lo"] + dt, 0.0)
+    arc_hi = np.where(r_hi > p.arc_rupture_ratio, state["arc_hi"] + dt, 0.0)
+    due = p.arc_rupture_time - dt / 2
+    sure = (over_lo > 0) | (arc_lo >= due)
+    maybe = (over_hi > 0) | (arc_hi >= due)
+    either = maybe & ~sure
+    rupture = noise.form(np.where(sure, 1.0, 0.0))
+    if either.any():
+        h_lo, h_hi = heat.bounds()
+        hull = noise.widen(0.5 * (np.minimum(h_lo, 0.0) + np.maximum(h_hi, 0.0)),
+                           0.5 * (np.maximum(h_hi, 0.0) - np.minimum(h_lo, 0.0)))
+        heat = where(either, hull, heat)
+        rupture = where(either, noise.widen(0.5, 0.5), rupture)
+    heat = where(sure, noise.form(0.0), heat)
+    return {"heat": heat, "rupture": rupture, "arc_lo": np.where(maybe, 0.0, arc_lo),
+            "arc_hi": np.where(sure, 0.0, arc_hi)}

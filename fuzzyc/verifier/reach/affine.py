@@ -154,6 +154,14 @@ class Affine:
         return self.apply(monotone(lambda x: np.clip(x, lo, hi)))
 
 
+def where(mask: np.ndarray, a: Affine, b: Affine) -> Affine:
+    """Per box, a where mask (B,) holds, else b: the boxes are separate runs, so each may take
+    either form of the same symbols."""
+    width = max(a.g.shape[1], b.g.shape[1])
+    return Affine(a.sym, np.where(mask, a.c, b.c),
+                  np.where(mask[:, None], a._padded(width), b._padded(width)))
+
+
 def monotone(f: Callable[[np.ndarray], np.ndarray], increasing: bool = True) -> BoxFunction:
     """The interval extension of a monotone (possibly discontinuous) function: its ends."""
     def box(lo, hi):

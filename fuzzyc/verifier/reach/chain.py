@@ -130,6 +130,13 @@ def _pow(base: Value, n: float, expr) -> Value:
                       f"{hi.max():.6g}]")
 
 
+def _reciprocal(state: Affine, lo: float, hi: float) -> Affine:
+    """1 / state for a state clipped to [lo, hi] (lo > 0): every true value lies there, though
+    the clipped form's bounds may overshoot it, so 1 / clip(x, lo, hi) is the same function on
+    them and monotone everywhere."""
+    return state.apply(monotone(lambda x: 1.0 / np.clip(x, lo, hi), increasing=False))
+
+
 def rulebase_forms(rb, xs: list[Affine]) -> list[Affine]:
     """The rule base's outputs as affine forms of its inputs, per box: y = sum_i s_i x_i +
     mid + rad eps_new, the remainder bounded on sub-boxes by the interval rule base."""
@@ -217,7 +224,7 @@ class SetController:
                 state = self._form(self.state[key] + value).clip(lo, hi)
             self.state[key] = state
             outputs[out.name] = state if out.kind != OutputKind.RECIPROCAL_INCREMENT else \
-                _pow(state, -1.0, out.name)
+                _reciprocal(state, lo, hi)
         env.update(outputs)
         self.signals = env
         return outputs

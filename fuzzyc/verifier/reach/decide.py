@@ -180,7 +180,8 @@ def prove(model: Model, prop: Property, checks: list[Property], scen,
     settings = settings or Settings()
     a = prop.args
     start = _time.perf_counter()
-    ranges = {**a["vary"], **step_keys(a, a["duration"])}
+    ranges = {**a["vary"], **step_keys(a, a["duration"],
+                                       getattr(scen.plant_module(), "INPUTS", ()))}
     full = {k: (float(lo), float(hi)) for k, (lo, hi) in ranges.items()}
     boxes = {k: (np.array([lo]), np.array([hi])) for k, (lo, hi) in full.items()}
     leaves: list[tuple[dict, list[_Tally]]] = []

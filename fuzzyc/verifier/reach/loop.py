@@ -19,7 +19,7 @@ import dataclasses
 import numpy as np
 
 from ...model import Model
-from .affine import Affine, Symbols, monotone, reduce
+from .affine import Affine, Symbols, monotone, reduce, where
 from .chain import SetController, Unsupported
 
 STEP = "step:"         # the box dimensions of a set-point step: step:controller.P:value/time
@@ -84,11 +84,12 @@ class SetLoop:
         state = self.module.set_initial_state(params, noise=noise, **{
             name: plant_sets.get(name, getattr(nominal, name))
             for name in getattr(self.module, "SET_VARIABLE", ())})
-        before = {k.split(".", 1)[1]: Affine.interval(sym, *v) for k, v in self.boxes.items()
-                  if k.startswith("controller.")}
-        after = {name: Affine.interval(sym, *self.boxes[f"{STEP}controller.{name}:value"])
-                 for name in before}
-        at = {name: self.boxes[f"{STEP}controller.{name}:time"] for name in before}
+        varied = {**{f"plant.{name}": form for name, form in plant_sets.items()},
+                  **{k: Affine.interval(sym, *v) for k, v in self.boxes.items()
+                     if k.startswith("controller.")}}
+        after = {key: Affine.interval(sym, *self.boxes[f"{STEP}{key}:value"])
+                 for key in varied if f"{STEP}{key}:value" in self.boxes}
+        at = {key: self.boxes[f"{STEP}{key}:time"] for key in after}
         params_c = self._controller_params()
         controller = SetController(self._controller_model(params_c), sym, dict(params_c))
         for block in self.observers:
@@ -104,8 +105,13 @@ class SetLoop:
                 bus[name] = value
                 if name in controller.params:
                     controller.params[name] = value
-            for name, form in before.items():
-                controller.params[name] = _stepped(sym, form, after[name], at[name], t)
+            for key, form in varied.items():
+                kind, name = key.split(".", 1)
+                value = _stepped(sym, form, after[key], at[key], t) if key in after else form
+                if kind == "controller":
+                    controller.params[name] = value
+                elif key in after:          # a stepped plant input (the workpiece height)
+                    bus[name] = value
             state, out = self.module.set_step(params, state, {n: bus[n] for n in inputs
                                                                if n in bus}, t, self.period,
                                               noise)
@@ -120,15 +126,15 @@ class SetLoop:
             yield (k + 1) * self.period, {n: signals.get(n, controller.params.get(n))
                                           for n in record}
             if sym.count > 2 * KEEP_SYMBOLS:
-                self._reduce(sym, state, bus, controller, before, after)
+                self._reduce(sym, state, bus, controller, varied, after)
 
     def _signal_names(self) -> list[str]:
         return [s.name for s in self.model.signals]
 
-    def _reduce(self, sym, state, bus, controller, before, after) -> None:
+    def _reduce(self, sym, state, bus, controller, varied, after) -> None:
         """Reduce the symbols of every form that lives into the next period (a form held in
         two places stays one form)."""
-        places = [state, bus, controller.state, controller.params, before, after] + \
+        places = [state, bus, controller.state, controller.params, varied, after] + \
             [block.set_state for block in self.observers]
         live = [(d, k, v) for d in places for k, v in d.items() if isinstance(v, Affine)]
         unique = list({id(v): v for _, _, v in live}.values())
@@ -154,21 +160,29 @@ class SetLoop:
 def _stepped(sym: Symbols, before: Affine, after: Affine, at: tuple, t: float) -> Affine:
     """A param that steps from `before` to `after` at a time in [at_lo, at_hi] (per box):
     before + s (after - before), s = 0 before at_lo, 1 from at_hi on, any of [0, 1] between
-    (a new symbol per period: every step time of the range at once)."""
+    (a new symbol per period: every step time of the range at once). The value is one of the
+    two: where the product's cross term makes the form wider than the hull of their bounds,
+    the hull (a new symbol) stands for it instead."""
     lo, hi = at
     s = np.where(t >= hi, 1.0, 0.0)
     between = (t >= lo) & (t < hi)
-    if between.any():
-        s = Affine.interval(sym, s, np.where(between, 1.0, s))
-    return before + (after - before) * s
+    if not between.any():
+        return before + (after - before) * s
+    s = Affine.interval(sym, s, np.where(between, 1.0, s))
+    stepped = before + (after - before) * s
+    (b_lo, b_hi), (a_lo, a_hi) = before.bounds(), after.bounds()
+    hull = Affine.interval(sym, np.minimum(b_lo, a_lo), np.maximum(b_hi, a_hi))
+    return where(stepped.radius() <= hull.radius(), stepped, hull)
 
 
-def step_keys(args: dict, duration: float) -> dict[str, tuple[float, float]]:
-    """The extra dimensions of a `vary controller.P` range: the value it may step to and when
-    (before its `steps before` time, or the run's end), as `vary` ranges."""
+def step_keys(args: dict, duration: float, plant_inputs=()) -> dict[str, tuple[float, float]]:
+    """The extra dimensions of a `vary` range the search may step (a `controller.P`, or a
+    `plant.P` the plant also reads as an input, one of plant_inputs): the value it may step to
+    and when (before its `steps before` time, or the run's end), as `vary` ranges."""
     out = {}
     for key, rng in args["vary"].items():
-        if key.startswith("controller."):
+        kind, name = key.split(".", 1)
+        if kind == "controller" or name in plant_inputs:
             out[f"{STEP}{key}:value"] = tuple(rng)
             out[f"{STEP}{key}:time"] = (0.0, min(duration, args.get("steps_before", {}).get(
                 key, duration)))
