@@ -147,11 +147,11 @@ def test_unsupported_pieces_are_refused_by_name():
     (evidence,) = prove(model, faults, faults.args["checks"], scen)
     assert evidence.status == Status.UNDECIDED
     assert "sensor faults" in evidence.detail
-    wedm = load("rulebases/wedm_three_region.fz")
-    prop = next(p for p in wedm.properties if p.kind == "closed_loop")
+    corner = load("rulebases/wedm_corner.fz")
+    prop = next(p for p in corner.properties if p.kind == "closed_loop")
     scen = scenarios.load(prop.args["scenario"], {})
-    evidence = prove(wedm, prop, prop.args["checks"], scen)
-    assert all("wedm_gap` has no set-valued step" in e.detail for e in evidence)
+    evidence = prove(corner, prop, prop.args["checks"], scen)
+    assert all("wedm_corner` has no set-valued step" in e.detail for e in evidence)
 
 
 def test_nested_conditions_are_refused_by_name():

@@ -164,3 +164,29 @@ def test_ruptures_proved_over_4_s_and_a_collapsing_off_time_never():
     held = float(reach.detail.split("only up to t = ")[1].split()[0])
     broke = float(search.detail.split("replayed alone: violated at t=")[1].split()[0])
     assert held < broke and results[True].status == Status.VIOLATED
+
+
+def test_the_noise_free_height_step_counterexample_lies_in_the_sets():
+    """`always spark_freq < Yr1 + 4` must never be proved: the search finds it broken with no
+    counting noise at all (`set plant.noise = 0`, seed 0, 200 loops: height 20 -> 40.9448 mm
+    at 142.081 s, broken at 145.28 s). Restarted from that loop's state at 142 s (gap 27.99
+    um, debris 0.0915, feed 0.7783 mm/min, t_off 4.108 us) with the step at 0.08 s, the plain
+    run passes 34 kHz 3.2 s later; the sets of that one case reach at least as high in the
+    same period, so no box holding it proves the check."""
+    model, prop = _wedm()
+    scen = scenarios.load(prop.args["scenario"], {
+        "plant.noise": "0", "plant.gap0": "27.99", "plant.debris0": "0.0915",
+        "controller.initial.feed": "0.7783", "controller.initial.t_off": "4.108"})
+    args = {**prop.args, "duration": 3.6}
+    case = {"plant.height": 20.0, "plant.tension": 800.0, "fault": None,
+            "step": ("plant.height", 0.08, 40.9448)}
+    _, signals = _Loop(model, scen, args["duration"], "numpy", 0).run([case])
+    plain = signals["spark_freq"][:, 0]
+    k = int(np.argmax(plain))
+    assert plain[k] > 30 + 4                                       # broken, noise-free
+    point = {"plant.height": (20.0, 20.0), "plant.tension": (800.0, 800.0),
+             "step:plant.height:value": (40.9448, 40.9448), "step:plant.height:time": (0.08, 0.08)}
+    box = {key: (np.array([lo]), np.array([hi])) for key, (lo, hi) in point.items()}
+    sets = [forms["spark_freq"] for _, forms in SetLoop(model, scen, args, box, 0.0).run(
+        ["spark_freq"])]
+    assert sets[k].hi()[0] >= plain[k] * (1 - 1e-9)
