@@ -6,9 +6,11 @@ reads the controller's outputs of the period before).
 What the sets stand for, per loop of a box:
 - `vary plant.P`: one value in the box for the whole run (the plant must list P in its
   SET_VARIABLE);
-- `vary controller.P`: a value for the start and, as the search may step P once, a value it
+- `vary controller.P`, and `vary plant.P` of a P the plant also reads as an input (the
+  workpiece height): a value for the start and, as the search may step P once, a value it
   steps to and the time of the step (before its `steps before` time, or the run's end): three
-  box dimensions (`step_keys`); no step is the step to the same value;
+  box dimensions (`step_keys`); no step is the step to the same value. A stepped plant input
+  reaches the plant as its input, the start value as the param;
 - plant noise: whatever the plant's `set_step` covers (it says which bound it assumes).
 Sensor faults, `baseline_` signals and observers without `set_step` are refused by name.
 """
