@@ -173,17 +173,22 @@ def main() -> None:
     parser.add_argument("--loops", nargs="+", choices=SHIPPED_LOOPS, default=SHIPPED_LOOPS,
                         help="with --proofs-only: these rule files' closed loops "
                              "(results/proofs-NAME.md for a subset)")
+    parser.add_argument("--boxes", type=int, metavar="N",
+                        help="with --proofs-only: the box budget (64; 8 with --quick)")
     args = parser.parse_args()
     if args.proofs_only:
         boxes, scale = (8, 0.1) if args.quick else (64, 1.0)
+        boxes = args.boxes or boxes
         command = " ".join(["python3 benchmarks/bench_verify.py --proofs-only"]
                            + (["--quick"] if args.quick else [])
-                           + (["--loops"] + args.loops if args.loops != SHIPPED_LOOPS else []))
+                           + (["--loops"] + args.loops if args.loops != SHIPPED_LOOPS else [])
+                           + ([f"--boxes {args.boxes}"] if args.boxes else []))
         text = (f"# Closed-loop proofs beside the search\n\n`{command}` (box budget {boxes}, "
                 f"horizons x {scale:g}; spark noise not covered: --noise-sigmas 0)\n\n"
                 f"{bench_proofs(args.loops, boxes, scale)}")
         stem = "proofs" if args.loops == SHIPPED_LOOPS else "proofs-" + "-".join(args.loops)
         stem += "-quick" if args.quick else ""     # never over the full run's table
+        stem += f"-boxes{args.boxes}" if args.boxes else ""
         write_result(ROOT / "benchmarks" / "results" / f"{stem}.md", text)
         print(text)
         return
