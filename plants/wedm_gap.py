@@ -528,8 +528,8 @@ def _set_inputs(p: WedmGapParams, state: dict, inputs: dict, noise):
     for name in ("feed", "t_off", "on_time", "height"):
         lo, hi = INPUT_LIMITS[name]
         value = given[name]
-        out.append(value.clip(lo, hi) if hasattr(value, "clip") and not isinstance(
-            value, np.ndarray) else float(np.clip(value, lo, hi)))
+        out.append(value.clip(lo, hi) if hasattr(value, "bounds") else
+                   float(np.clip(value, lo, hi)))
     feed, t_off = noise.form(out[0]), noise.form(out[1])
     return feed, t_off, out[2], out[3]
 
@@ -597,11 +597,12 @@ def _set_wire(p: WedmGapParams, state: dict, load, ratio, dt: float, noise) -> d
     heat = state["heat"] + (load - state["heat"]) * (dt / p.tau_wire)
     over_lo, over_hi = (heat - state["limit"]).bounds()
     r_lo, r_hi = ratio.bounds()
+    # the upper sides read a NaN bound (a set that overflowed) as "may"
     arc_lo = np.where(r_lo > p.arc_rupture_ratio, state["arc_lo"] + dt, 0.0)
-    arc_hi = np.where(r_hi > p.arc_rupture_ratio, state["arc_hi"] + dt, 0.0)
+    arc_hi = np.where(r_hi <= p.arc_rupture_ratio, 0.0, state["arc_hi"] + dt)
     due = p.arc_rupture_time - dt / 2
     sure = (over_lo > 0) | (arc_lo >= due)
-    maybe = (over_hi > 0) | (arc_hi >= due)
+    maybe = ~(over_hi <= 0) | (arc_hi >= due)
     either = maybe & ~sure
     rupture = noise.form(np.where(sure, 1.0, 0.0))
     if either.any():
