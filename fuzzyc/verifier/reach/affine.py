@@ -148,10 +148,13 @@ class Affine:
         return (self.scale(slope) + mid).with_error(rad)
 
     def clip(self, lo: float, hi: float) -> "Affine":
+        """clip(self, lo, hi); a box already inside keeps its form (apply would widen it by
+        the pieces' slack because another box of the batch needs the clip)."""
         xlo, xhi = self.bounds()
-        if np.all((xlo >= lo) & (xhi <= hi)):
+        inside = (xlo >= lo) & (xhi <= hi)
+        if np.all(inside):
             return self
-        return self.apply(monotone(lambda x: np.clip(x, lo, hi)))
+        return where(inside, self, self.apply(monotone(lambda x: np.clip(x, lo, hi))))
 
 
 def where(mask: np.ndarray, a: Affine, b: Affine) -> Affine:
@@ -171,21 +174,21 @@ def monotone(f: Callable[[np.ndarray], np.ndarray], increasing: bool = True) -> 
 
 
 def reduce(sym: Symbols, forms: list[Affine], keep: int) -> list[Affine]:
-    """The same forms over at most keep + len(forms) symbols (Girard's box reduction): the
-    symbols with the smallest generators (summed over the forms, largest over the boxes) are
-    merged into one new symbol per form, with radius the sum of what it loses. Every form that
-    lives on must be passed: the symbols are renumbered."""
+    """The same forms over at most keep + len(forms) symbols (Girard's box reduction): per box,
+    the symbols with the smallest generators (summed over the forms) are merged into one new
+    symbol per form, with radius the sum of what it loses. The boxes are separate runs, so each
+    keeps its own symbols (a narrow box beside a wide one would otherwise keep the wide one's
+    choice) and renumbers them its own way. Every form that lives on must be passed."""
     width = sym.count
     if width <= keep + len(forms):
         return forms
     g = np.stack([f._padded(width) for f in forms], axis=1)          # (B, F, K)
-    score = np.abs(g).sum(axis=1).max(axis=0)                          # (K,)
-    order = np.argsort(score)
-    merged, kept = order[:width - keep], np.sort(order[width - keep:])
-    lost = np.abs(g[:, :, merged]).sum(axis=2)                         # (B, F)
+    order = np.argsort(np.abs(g).sum(axis=1), axis=1)                  # (B, K) per box
+    merged, kept = order[:, :width - keep], np.sort(order[:, width - keep:], axis=1)
+    lost = np.take_along_axis(np.abs(g), merged[:, None, :], axis=2).sum(axis=2)   # (B, F)
     new = np.zeros(g.shape[:2] + (len(forms),))
     idx = np.arange(len(forms))
     new[:, idx, idx] = lost * (1 + SLACK)
-    g = np.concatenate([g[:, :, kept], new], axis=2)
+    g = np.concatenate([np.take_along_axis(g, kept[:, None, :], axis=2), new], axis=2)
     sym.count = g.shape[2]
     return [Affine(sym, f.c, np.ascontiguousarray(g[:, i])) for i, f in enumerate(forms)]
