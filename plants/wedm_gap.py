@@ -443,12 +443,11 @@ def set_initial_state(params: WedmGapParams, height, tension, gap0, noise) -> di
         from fuzzyc.verifier.reach.chain import Unsupported
         raise Unsupported(f"wedm_gap's set step needs debris0 >= 0, got {params.debris0:g}")
     zeros = np.zeros(noise.sym.batch)
-    limit = _monotone(noise, tension, lambda g: params.q_rupture_per_speed * params.wire_speed
-                      * (800.0 / g), increasing=False)
+    limit = _monotone(noise, tension, lambda force: params.q_rupture_per_speed
+                      * params.wire_speed * (800.0 / force), increasing=False)
     return {"gap": noise.form(gap0), "debris": noise.form(params.debris0),
-            "heat": noise.form(0.0),
-            "arc_lo": zeros, "arc_hi": zeros, "ruptures": noise.form(0.0), "height": height,
-            "limit": limit}
+            "heat": noise.form(0.0), "arc_lo": zeros, "arc_hi": zeros,
+            "ruptures": noise.form(0.0), "height": height, "limit": limit}
 
 
 def _monotone(noise, x, f, increasing: bool = True):
