@@ -26,7 +26,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from .defuzz import SCATTERS, OutputDefuzzifier, safe_ratio
-from .grid import GridStrengths, lookup_rows
+from .grid import GridStrengths, lookup_rows, place_values
 from .membership import HEDGE_EXPONENT, LocalPartition, apply_hedges, memberships
 from .model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
 from .norms import combine, firing
@@ -215,7 +215,7 @@ class CompiledRuleBase:
         most MAX_LOOKUP_CELLS cells; beyond, `codes` holds the rules' codes sorted, the row is
         a code's rank there, and the extra last row (no rule) answers the other codes."""
         radix = np.array([v.n_terms + 1 for v in rb.inputs], dtype=np.int64)
-        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
+        place = place_values(radix)
         cells = rb.antecedents @ place
         self.codes = None
         if np.prod(radix.astype(float)) > MAX_LOOKUP_CELLS:

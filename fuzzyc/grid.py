@@ -28,6 +28,12 @@ from .expr import clip
 from .membership import LocalPartition
 from .defuzz import SCATTERS
 from .model import Aggregation, RuleBase, TNorm
+
+
+def place_values(radix: np.ndarray) -> np.ndarray:
+    """Per digit, its place value in a mixed-radix code (digit 0 slowest): the code of a
+    tuple of term ids (or segments, or slots) is the tuple @ place_values(radix)."""
+    return np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
 from .norms import firing
 
 MAX_TABLE_ENTRIES = 1 << 22
@@ -81,13 +87,13 @@ class GridStrengths:
         corner_slots = (np.arange(2 ** n_in)[:, None] >> np.arange(n_in)[::-1]) & 1   # (2^I, I)
         term = np.stack([self.partitions[i].table[seg[:, None, i], 6 + corner_slots[None, :, i]]
                          for i in range(n_in)], axis=-1).astype(np.intp)    # (cells, 2^I, I)
-        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
+        place = place_values(radix)
         rules = lookup[term @ place].reshape(len(seg), -1)                  # (cells, K)
         # candidate-major tables so every gather and every loop runs along the batch
         column = self.rule_columns[:, rules]                                # (O, cells, K)
         self.columns = np.ascontiguousarray(column.transpose(0, 2, 1).reshape(-1, len(seg)))
         self.weights = np.ascontiguousarray(weights[rules].T)               # (K, cells)
-        self.stride = np.concatenate([np.cumprod(self.n_seg[::-1])[::-1][1:], [1]])
+        self.stride = place_values(self.n_seg)
 
     def _build_tuple_tables(self, lookup: np.ndarray, radix: np.ndarray,
                             weights: np.ndarray) -> None:
@@ -99,7 +105,7 @@ class GridStrengths:
         self.tuple_columns = np.ascontiguousarray(
             self.rule_columns[:, lookup.ravel()].astype(np.min_scalar_type(self.width)))
         self.tuple_weights = weights[lookup.ravel()]
-        place = np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
+        place = place_values(radix)
         self.slot_codes = np.concatenate(
             [p.table[:, 6:8].T.astype(np.intp) * place[i] for i, p in enumerate(self.partitions)],
             axis=1)

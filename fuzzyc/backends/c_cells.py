@@ -15,6 +15,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from ..grid import place_values
 from ..limits import MAX_C_TABLE_CELLS
 
 
@@ -26,11 +27,6 @@ def index_type(largest: int) -> str:
     """The smallest unsigned C type holding 0..largest (small tables for small targets)."""
     return "unsigned char" if largest <= 255 else "unsigned short" if largest <= 65535 \
         else "unsigned long"
-
-
-def place_values(radix: np.ndarray) -> np.ndarray:
-    """Per input, the place value of its code in the cell code (input 0 slowest)."""
-    return np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
 
 
 class CellTable(NamedTuple):

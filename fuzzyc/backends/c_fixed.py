@@ -28,6 +28,7 @@ import dataclasses
 
 import numpy as np
 
+from ..grid import place_values
 from ..limits import MAX_C_SLOT_COMBINATIONS, MAX_C_TABLE_CELLS
 from ..membership import LocalPartition, memberships
 from ..errors import Diagnostic, FuzzycError
@@ -35,7 +36,7 @@ from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, OutputK
                      TermKind, TNorm)
 from ..escape import c_comment, c_identifier
 from .c import check_c_model_names, check_supported
-from .c_cells import active_codes, cell_row_c, cell_table, cell_table_c, place_values
+from .c_cells import active_codes, cell_row_c, cell_table, cell_table_c
 from .c_fixed_chain import FixedChain, Fx, frac_for
 
 FORMATS = {
@@ -671,7 +672,7 @@ class FixedPointWriter:
                 code.append(f"    m[{i}][2] = {P}ONE; id[{i}][2] = {rb.inputs[i].n_terms};")
         cells = tables.cells
         # the slot of input i in combination c (mixed radix, input 0 slowest)
-        stride = np.concatenate([np.cumprod(slots[::-1])[::-1][1:], [1]])
+        stride = place_values(slots)
         digit = [(f"(c >> {int(stride[i]).bit_length() - 1}) & 1" if np.all(slots == 2) else
                   f"c / {int(stride[i])} % {int(slots[i])}") for i in range(n_in)]
         act = f"m[0][{digit[0]}]"
