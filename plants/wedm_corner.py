@@ -127,10 +127,12 @@ REQUIRED_INPUTS = INPUTS
 ANGLE_OUTPUTS = tuple(f"error_{int(a)}" for a in TABLE2_ANGLES)
 NORMAL_OUTPUTS = tuple(f"normal_{int(a)}" for a in TABLE2_ANGLES)
 OUTPUTS = ("feed", "thickness", "angle", "in_corner", "feed_actual", "corner_error",
-           "error_sum", "done", *ANGLE_OUTPUTS, *NORMAL_OUTPUTS, "normal_time")
+           "error_sum", "normal_error_sum", "done", *ANGLE_OUTPUTS, *NORMAL_OUTPUTS,
+           "normal_time")
 # every signal's unit, for plot axes ("-": a 0/1 flag); feeds are removal rates per height
 UNITS = {"reduction": "%", "feed": "mm^2/min", "thickness": "mm", "angle": "deg",
          "in_corner": "-", "feed_actual": "mm^2/min", "corner_error": "um", "error_sum": "um",
+         "normal_error_sum": "um",
          "done": "-", "normal_time": "s",
          **{name: "um" for name in ANGLE_OUTPUTS + NORMAL_OUTPUTS}}
 
@@ -387,7 +389,9 @@ def step(params: CornerParams, state: dict[str, np.ndarray], inputs: dict[str, n
 
     Outputs: `feed` (steady feed, what the controller's feed input sees), `thickness`,
     `angle` (of the nearest corner), `in_corner`, `feed_actual`, `corner_error` (um, the last
-    corner passed; 0 before the first), `error_sum` (um, all corners passed), `done`, and
+    corner passed; 0 before the first), `error_sum` (um, all corners passed),
+    `normal_error_sum` (um, what normal machining leaves at the same corners: at `done` the
+    summed error of the NoCornerControl baseline, which is never slower), `done`, and
     `error_30` ... `error_150` (um, the mean over the corners passed at that angle of Table 2;
     0 before the first of them, and on a path without that angle), `normal_30` ...
     `normal_150` (the same for normal machining, Table 2's fit) and `normal_time` (s, the
@@ -419,6 +423,7 @@ def step(params: CornerParams, state: dict[str, np.ndarray], inputs: dict[str, n
                "feed_actual": np.where(in_zone, feed * keep, feed),
                "corner_error": np.where(last >= 0, errors[np.arange(len(s)), last], 0.0),
                "error_sum": errors.sum(axis=1),
+               "normal_error_sum": np.where(reached, normal, 0.0).sum(axis=1),
                "done": (s_new >= path.length).astype(float),
                **_per_angle(path, errors, reached, ANGLE_OUTPUTS),
                **_per_angle(path, normal, reached, NORMAL_OUTPUTS),
@@ -445,8 +450,16 @@ def _advance(params: CornerParams, s: np.ndarray, keep: np.ndarray, dt: float) -
     batch element: the slow stretch of a corner ends x2 + catch-up past the vertex, which takes
     the catch-up's time as `machining_time` does); invert it at the start time + dt.
     """
-    path = params.path
     extra = np.broadcast_to(catch_up(params, keep, per_corner=False), s.shape)
+    return _advance_at(params, s, keep, np.broadcast_to(linear_speed(params), s.shape), extra,
+                       dt)
+
+
+def _advance_at(params: CornerParams, s: np.ndarray, keep: np.ndarray, v: np.ndarray,
+                extra: np.ndarray, dt: float) -> np.ndarray:
+    """`_advance` at the speed v (N,) mm/s outside the slow stretches, v keep inside them, each
+    ending extra (N,) mm past its x2."""
+    path = params.path
     count = 2 + 2 * len(path.corner_at)
     knots = np.sort(np.clip(np.concatenate([
         np.broadcast_to([0.0, path.length], (len(s), 2)),
@@ -454,7 +467,7 @@ def _advance(params: CornerParams, s: np.ndarray, keep: np.ndarray, dt: float) -
         path.corner_at[None, :] + params.zone_after + extra[:, None]], axis=1),
         0.0, path.length), axis=1)
     zone = _in_zone(params, 0.5 * (knots[:, 1:] + knots[:, :-1]), extra)
-    v = np.broadcast_to(linear_speed(params), s.shape)[:, None]
+    v = v[:, None]
     pace = np.where(zone, 1.0 / (v * np.maximum(keep, 1e-9)[:, None]), 1.0 / v)   # s/mm
     elapsed = np.concatenate([np.zeros((len(s), 1)),
                               np.cumsum(np.diff(knots, axis=1) * pace, axis=1)], axis=1)
@@ -498,3 +511,158 @@ class NoCornerControl:
 
     def step(self, signals: dict) -> dict[str, np.ndarray]:
         return {"reduction": np.zeros(self.batch)}
+
+
+# --- the same plant on sets (fuzzyc verify --prove) -------------------------------------------
+SET_VARIABLE = ("feed", "thickness")     # params that may be a set (an affine form)
+
+
+def set_initial_state(params: CornerParams, feed, thickness, noise) -> dict:
+    """The state on sets: the wire at the start of the path (position bounds s_lo = s_hi = 0
+    per box), the feed and thickness forms, and per corner i its normal error
+    `normal_i` = E0 + s f (H/2 + h/8) as a form of the feed's and thickness's symbols (one
+    product: a new symbol for the cross term) and `passed_i`, the hull of the errors it may
+    have been cut with (0 while no loop of the box can have passed it)."""
+    feed, thickness = noise.form(feed), noise.form(thickness)
+    f_lo, _ = feed.bounds()
+    h_lo, _ = thickness.bounds()
+    if np.any(f_lo <= 0) or np.any(h_lo <= 0):
+        from fuzzyc.verifier.reach.chain import Unsupported
+        raise Unsupported("wedm_corner's set step needs feed > 0 and thickness > 0")
+    _check_set_regime(params, feed, thickness)
+    lag = feed * (thickness * 0.125 + params.fit.guide_gap / 2)
+    edge, slope = _edge_and_slope(params.fit, params.path.corner_angle)
+    zeros = np.zeros(noise.sym.batch)
+    state = {"feed": feed, "thickness": thickness, "s_lo": zeros, "s_hi": zeros,
+             "maybe": np.zeros((noise.sym.batch, len(edge)), bool)}
+    for i, (e0, s) in enumerate(zip(edge, slope)):
+        state[f"normal_{i}"] = lag * s + e0
+        state[f"passed_{i}"] = noise.form(0.0)
+    return state
+
+
+def _check_set_regime(params: CornerParams, feed, thickness) -> None:
+    """The bound of `_set_corner_error` holds where the lag has relaxed before the vertex and
+    the pursuit's cut is over before x2 ends: refuse other zones by name."""
+    lag = steady_lag(params.fit, feed.hi(), thickness.hi())
+    if params.zone_after < SET_ZONE_LAGS * float(np.max(lag)):
+        from fuzzyc.verifier.reach.chain import Unsupported
+        raise Unsupported(f"wedm_corner's set step needs zone_after >= {SET_ZONE_LAGS:g} "
+                          f"wire lags ({SET_ZONE_LAGS * float(np.max(lag)):.3g} mm), got "
+                          f"{params.zone_after:g}")
+
+
+# the pursuit's cut (the wire crossing the bisector) is over within this many lags past the
+# vertex at every angle of Table 2 (1.6 lags at 30 deg, less at wider angles: `pursuit_tip`)
+SET_ZONE_LAGS = 3.0
+
+
+def set_step(params: CornerParams, state: dict, inputs: dict, t: float, dt: float,
+             noise) -> tuple[dict, dict]:
+    """`step` on sets, for every loop of a box (feed and thickness in their forms' ranges,
+    the reduction in its form's range in each period).
+
+    - Position: per-box bounds [s_lo, s_hi]. The time to go from s0 to x is the integral of
+      the pace, 1/v outside the slow stretches [vertex - x1, vertex + x2 + e] and 1/(v keep)
+      inside, with v = f/(60 h) and the catch-up e = (1 - keep) lag(f, h). The slowest pace of
+      the box (v at the least feed and largest thickness, the least keep, the slow stretches
+      lengthened by the largest catch-up: f and h largest, keep least) is at every position
+      at least the true one, and the fastest (largest v, largest keep, least catch-up) at most;
+      the position reached in dt from s_lo under the slowest pace is then a lower bound and
+      from s_hi under the fastest an upper bound (`_advance` is increasing in its start).
+      Why not `_advance` at the box's corners: it is increasing in keep (both the slow pace
+      and the catch-up shrink) and decreasing in h (1/v and e/v = (1-keep) 60 h lag/f grow
+      with h), but from a fixed start inside a catch-up stretch it is not increasing in f:
+      the larger feed's stretch reaches further (e grows with f) and the wire there is still
+      slow. The time of a whole stretch over v is feed-independent and that of everything
+      else falls as 1/f, so the position reached from the path's start does grow with f; the
+      pace envelope covers both without an argument over histories.
+    - A corner whose vertex may be passed in the period (s_lo < vertex <= new s_hi): its
+      `passed_i` joins the error at this period's keep; once every loop of the box has passed
+      it (new s_lo >= vertex) its error is `passed_i`, while only some may have, the hull of 0
+      and it. Joins of two forms: their mean plus a new symbol of half their difference's
+      largest size (each loop takes one of the two at the same symbols).
+    - The error at keep k (`_set_corner_error`): controlled_error = E0 k + s x r, r the
+      pursuit's cut with the lag history over the steady one. The lag at the vertex is
+      k + (1 - k) exp(-x1/relax) of normal and falls towards k until x2; the cut is over
+      within SET_ZONE_LAGS lags (checked against x2), and a pursuit cuts deeper the more it
+      lags, so k <= r <= k + (1 - k) exp(-x1/relax) (a derived bound: the integration is not
+      evaluated on sets; tests/test_verify_reach_corner.py checks it on a dense grid of feed,
+      thickness, keep and angle). So the error is k times the normal error (a product of the
+      keep's and the normal error's forms) plus s x [0, (1 - k) exp(-x1/relax)].
+    - angle: the nearest corner's index grows with s, so over [s_lo, s_hi] the angles are
+      those of the corners from the nearest to s_lo to the nearest to s_hi (their hull).
+    - done: [s_lo >= length, s_hi >= length]; feed and thickness: their forms.
+    Outputs: feed, thickness, angle, done, error_sum, normal_error_sum (the others of `step`
+    have no set-valued twin; a property naming them is refused by the loop).
+    """
+    from fuzzyc.verifier.reach.affine import where
+    path = params.path
+    feed, thickness = state["feed"], state["thickness"]
+    reduction = noise.form(inputs.get("reduction", 0.0)).clip(0.0, 100.0)
+    keep = 1.0 - reduction * 0.01
+    k_lo, k_hi = (np.clip(b, 0.0, 1.0) for b in keep.bounds())
+    f_lo, f_hi = feed.bounds()
+    h_lo, h_hi = thickness.bounds()
+    s_lo = _advance_at(params, state["s_lo"], k_lo, f_lo / (60.0 * h_hi),
+                       (1.0 - k_lo) * steady_lag(params.fit, f_hi, h_hi), dt)
+    s_hi = _advance_at(params, state["s_hi"], k_hi, f_hi / (60.0 * h_lo),
+                       (1.0 - k_hi) * steady_lag(params.fit, f_lo, h_lo), dt)
+    s_hi = np.maximum(s_hi, s_lo)
+    at = path.corner_at[None, :]
+    passing = (state["s_lo"][:, None] < at) & (s_hi[:, None] >= at)
+    sure = s_lo[:, None] >= at
+    new_state = {**state, "s_lo": s_lo, "s_hi": s_hi, "maybe": state["maybe"] | passing}
+    error_sum = normal_sum = noise.form(0.0)
+    for i in range(len(path.corner_at)):
+        passed = state[f"passed_{i}"]
+        if passing[:, i].any():
+            now = _set_corner_error(params, state[f"normal_{i}"], keep, k_lo, feed, thickness,
+                                    path.corner_angle[i], noise)
+            passed = where(state["maybe"][:, i], _join(noise, passed, now), now)
+            passed = where(passing[:, i], passed, state[f"passed_{i}"])
+            new_state[f"passed_{i}"] = passed
+        maybe, surely = new_state["maybe"][:, i], sure[:, i]
+        error_sum = error_sum + _passed_or_zero(noise, passed, maybe, surely)
+        normal_sum = normal_sum + _passed_or_zero(noise, state[f"normal_{i}"], maybe, surely)
+    first = _nearest_corner(path, s_lo)
+    last = _nearest_corner(path, s_hi)
+    index = np.arange(len(path.corner_at))[None, :]
+    near = (index >= first[:, None]) & (index <= last[:, None])
+    angle_lo = np.where(near, path.corner_angle, np.inf).min(axis=1)
+    angle_hi = np.where(near, path.corner_angle, -np.inf).max(axis=1)
+    done = [(b >= path.length).astype(float) for b in (s_lo, s_hi)]
+    outputs = {"feed": feed, "thickness": thickness,
+               "angle": noise.widen(0.5 * (angle_lo + angle_hi), 0.5 * (angle_hi - angle_lo)),
+               "done": noise.widen(0.5 * (done[0] + done[1]), 0.5 * (done[1] - done[0])),
+               "error_sum": error_sum, "normal_error_sum": normal_sum}
+    return new_state, outputs
+
+
+def _set_corner_error(params: CornerParams, normal, keep, k_lo, feed, thickness, angle, noise):
+    """controlled_error over the sets (the bound of set_step's docstring)."""
+    edge, slope = _edge_and_slope(params.fit, angle)
+    _, f_hi = feed.bounds()
+    _, h_hi = thickness.bounds()
+    force_hi = slope * lag_factor(f_hi, h_hi, params.fit.guide_gap)
+    rest = force_hi * (1.0 - k_lo) * np.exp(-params.zone_before / params.relax)
+    return noise.widen(normal * keep + 0.5 * rest, 0.5 * rest)
+
+
+def _passed_or_zero(noise, value, maybe: np.ndarray, surely: np.ndarray):
+    """A corner's share of a sum: value where every loop of the box has passed it, 0 where
+    none can have, their hull between (a new symbol only when some box needs it)."""
+    from fuzzyc.verifier.reach.affine import where
+    zero = noise.form(0.0)
+    if not maybe.any():
+        return zero
+    between = maybe & ~surely
+    either = _join(noise, zero, value) if between.any() else zero
+    return where(surely, value, where(between, either, zero))
+
+
+def _join(noise, a, b):
+    """A form holding a and b at every point of the symbols: their mean and half the largest
+    size of their difference."""
+    half = (a - b) * 0.5
+    return noise.widen((a + b) * 0.5, np.abs(half.c) + half.radius())
