@@ -555,6 +555,7 @@ def _check_set_regime(params: CornerParams, feed, thickness) -> None:
 # the pursuit's cut (the wire crossing the bisector) is over within this many lags past the
 # vertex at every angle of Table 2 (1.6 lags at 30 deg, less at wider angles: `pursuit_tip`)
 SET_ZONE_LAGS = 3.0
+SET_ROUNDING = 1e-9    # relative room below k for the pursuit's floating-point ratio
 
 
 def set_step(params: CornerParams, state: dict, inputs: dict, t: float, dt: float,
@@ -646,7 +647,8 @@ def _set_corner_error(params: CornerParams, normal, keep, k_lo, feed, thickness,
     _, h_hi = thickness.bounds()
     force_hi = slope * lag_factor(f_hi, h_hi, params.fit.guide_gap)
     rest = force_hi * (1.0 - k_lo) * np.exp(-params.zone_before / params.relax)
-    return noise.widen(normal * keep + 0.5 * rest, 0.5 * rest)
+    below = SET_ROUNDING * force_hi       # the integration's rounding at r = k (tested)
+    return noise.widen(normal * keep + 0.5 * (rest - below), 0.5 * (rest + below))
 
 
 def _passed_or_zero(noise, value, maybe: np.ndarray, surely: np.ndarray):
