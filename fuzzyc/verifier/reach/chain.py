@@ -137,13 +137,39 @@ def _reciprocal(state: Affine, lo: float, hi: float) -> Affine:
     return state.apply(monotone(lambda x: 1.0 / np.clip(x, lo, hi), increasing=False))
 
 
-def rulebase_forms(rb, xs: list[Affine]) -> list[Affine]:
+def rulebase_forms(rb, xs: list[Affine], memo: dict | None = None) -> list[Affine]:
     """The rule base's outputs as affine forms of its inputs, per box: y = sum_i s_i x_i +
-    mid + rad eps_new, the remainder bounded on sub-boxes by the interval rule base."""
+    mid + rad eps_new, the remainder bounded on sub-boxes by the interval rule base. The
+    slopes and the remainder depend on the inputs' bounds only: `memo` keeps them per box's
+    bounds (a loop whose inputs hold still, as a plant's params do, pays for them once)."""
     sym = xs[0].sym
-    n, k = sym.batch, len(xs)
     lo = np.stack([x.lo() for x in xs], axis=1)
     hi = np.stack([x.hi() for x in xs], axis=1)
+    keys = [row.tobytes() for row in np.concatenate([lo, hi], axis=1)]
+    memo = {} if memo is None else memo
+    new = sorted({i for i, key in enumerate(keys) if key not in memo})
+    if new:
+        if len(memo) > MEMO_SIZE:
+            memo.clear()
+        for i, found in zip(new, zip(*_linearize(rb, lo[new], hi[new]))):
+            memo[keys[i]] = found
+    slopes, low, high = (np.stack(part) for part in zip(*(memo[key] for key in keys)))
+    out = []
+    for o in range(low.shape[1]):
+        form = Affine(sym, 0.5 * (low[:, o] + high[:, o]))
+        for i, x in enumerate(xs):
+            form = form + x.scale(slopes[:, i, o])
+        out.append(form.with_error(0.5 * (high[:, o] - low[:, o]) * (1 + 1e-12) + 1e-15))
+    return out
+
+
+MEMO_SIZE = 100_000     # linearizations kept per rule block (cleared when full)
+
+
+def _linearize(rb, lo: np.ndarray, hi: np.ndarray):
+    """Per box (rows of lo, hi (N, I)): the slopes (N, I, O) and the remainder's bounds
+    low, high (N, O) of the rule base's outputs over the box."""
+    n, k = lo.shape
     centre, radius = 0.5 * (lo + hi), 0.5 * (hi - lo)
     # slopes: central differences of the engine across each box
     points = np.repeat(centre[:, None, :], 2 * k, axis=1)
@@ -162,18 +188,14 @@ def rulebase_forms(rb, xs: list[Affine]) -> list[Affine]:
     b = np.where(cells + 1 == per_axis, hi[:, None, :], b)
     y_lo, y_hi = set_rulebase.evaluate(rb, a.reshape(-1, k), b.reshape(-1, k))
     y_lo, y_hi = y_lo.reshape(n, len(cells), -1), y_hi.reshape(n, len(cells), -1)
-    out = []
+    low, high = np.empty((n, y_lo.shape[2])), np.empty((n, y_lo.shape[2]))
     for o in range(y_lo.shape[2]):
         s = slopes[:, None, :, o]
         lin_lo = np.minimum(s * a, s * b).sum(axis=2)
         lin_hi = np.maximum(s * a, s * b).sum(axis=2)
-        low = (y_lo[:, :, o] - lin_hi).min(axis=1)
-        high = (y_hi[:, :, o] - lin_lo).max(axis=1)
-        form = Affine(sym, 0.5 * (low + high))
-        for i, x in enumerate(xs):
-            form = form + x.scale(slopes[:, i, o])
-        out.append(form.with_error(0.5 * (high - low) * (1 + 1e-12) + 1e-15))
-    return out
+        low[:, o] = (y_lo[:, :, o] - lin_hi).min(axis=1)
+        high[:, o] = (y_hi[:, :, o] - lin_lo).max(axis=1)
+    return slopes, low, high
 
 
 class SetController:
@@ -186,6 +208,7 @@ class SetController:
             if reason:
                 raise Unsupported(f"rule block {rb.name or 1}: {reason}")
         self.state: dict[str, Affine | float] = {}     # step memories, output states
+        self.memos = [{} for _ in model.blocks]       # per rule block: rulebase_forms' memo
         for out in model.outputs:
             init = 1.0 / out.init if out.kind == OutputKind.RECIPROCAL_INCREMENT else out.init
             self.state["out:" + out.name] = float(init)
@@ -209,9 +232,9 @@ class SetController:
                 value = arg if mem is None else mem * a + arg * b
                 self.state[key] = value
             env[s.name] = value
-        for rb in self.model.blocks:          # in order: a block may read an earlier one's
-            xs = [self._form(env[v.name]) for v in rb.inputs]
-            for v, y in zip(rb.outputs, rulebase_forms(rb, xs)):
+        for rb, memo in zip(self.model.blocks, self.memos):   # in order: a block may read
+            xs = [self._form(env[v.name]) for v in rb.inputs]      # an earlier one's outputs
+            for v, y in zip(rb.outputs, rulebase_forms(rb, xs, memo)):
                 env[v.name] = y
         outputs = {}
         for out in self.model.outputs:
