@@ -664,7 +664,18 @@ def _passed_or_zero(noise, value, maybe: np.ndarray, surely: np.ndarray):
 
 
 def _join(noise, a, b):
-    """A form holding a and b at every point of the symbols: their mean and half the largest
-    size of their difference."""
-    half = (a - b) * 0.5
-    return noise.widen((a + b) * 0.5, np.abs(half.c) + half.radius())
+    """A form holding a and b at every point of the symbols (each loop takes one of them).
+    Per symbol a common generator m: their mean where both have one, 0 where only one does;
+    then a(eps) - (c + m eps) lies within R_a = |c_a - c| + sum |g_a - m| (b likewise), and
+    the join is c + m eps + max(R_a, R_b) eps_new, c the centres' mean. So joining the same
+    form with a different last symbol (a keep from another period) gives that form again
+    with one new symbol, where the joins' mean would widen with every period."""
+    from fuzzyc.verifier.reach.affine import Affine
+    a, b = noise.form(a), noise.form(b)
+    width = max(a.g.shape[1], b.g.shape[1])
+    ga, gb = (np.pad(x.g, ((0, 0), (0, width - x.g.shape[1]))) for x in (a, b))
+    common = np.where((ga != 0) & (gb != 0), 0.5 * (ga + gb), 0.0)
+    c = 0.5 * (a.c + b.c)
+    reach = np.maximum(np.abs(a.c - c) + np.abs(ga - common).sum(axis=1),
+                       np.abs(b.c - c) + np.abs(gb - common).sum(axis=1))
+    return noise.widen(Affine(noise.sym, c, common), reach)
