@@ -176,3 +176,24 @@ def test_every_sampled_corner_loop_lies_in_the_reachable_set(f0, h0, like, seed)
     for k, (_, forms) in enumerate(sets):
         for name in names:
             inside((name, k), signals[name][k], forms[name])
+
+
+@pytest.mark.parametrize("broken", [False, True])
+def test_a_controller_that_never_reduces_is_never_proved(broken):
+    """Over feed 160-161 mm^2/min and thickness 49-50 mm (period 4 s, one box) the sets prove
+    both checks with the 27 rules; with the output's sign flipped (reduction = -y * like,
+    saturated to 0 %: normal machining, error ratio 1) the search breaks the error check and
+    the sets do not prove it (the time check still holds: no reduction costs no time)."""
+    model, prop = _corner((lambda t: t.replace("= y * like", "= -y * like")) if broken else None,
+                          period=4.0)
+    prop.args["vary"] = {"plant.feed": (160.0, 161.0), "plant.thickness": (49.0, 50.0)}
+    error, time_ = verify_model(model, Options(max_examples=3, seed=0, shrink_rounds=0,
+                                               prove=True, prove_boxes=1))
+    reach = error.evidence[0]
+    assert reach.method == "reach"
+    assert time_.evidence[0].status == Status.PROVED, time_.evidence[0].detail
+    if broken:
+        assert reach.status == Status.UNDECIDED and error.status == Status.VIOLATED
+    else:
+        assert reach.status == Status.PROVED and error.status == Status.PROVED, reach.detail
+        assert "holds by t = " in reach.detail
