@@ -575,7 +575,7 @@ def set_step(params: CornerParams, state: dict, inputs: dict, t: float, dt: floa
       and the catch-up shrink) and decreasing in h (1/v and e/v = (1-keep) 60 h lag/f grow
       with h), but from a fixed start inside a catch-up stretch it is not increasing in f:
       the larger feed's stretch reaches further (e grows with f) and the wire there is still
-      slow. The time of a whole stretch over v is feed-independent and that of everything
+      slow (from 9.352 mm, keep 0.1, 50 mm, 0.5 s: 0.0207 mm at 150 mm^2/min, 0.003 at 180). The time of a whole stretch over v is feed-independent and that of everything
       else falls as 1/f, so the position reached from the path's start does grow with f; the
       pace envelope covers both without an argument over histories.
     - A corner whose vertex may be passed in the period (s_lo < vertex <= new s_hi): its

@@ -110,9 +110,9 @@ def _walk(rng, steps, width):
     return centre - half, centre + half
 
 
-@settings(max_examples=12, deadline=None, suppress_health_check=list(HealthCheck))
+@settings(max_examples=8, deadline=None, suppress_health_check=list(HealthCheck))
 @given(f0=st.floats(150, 178), fw=st.floats(0, 2), h0=st.floats(21, 48), hw=st.floats(0, 2),
-       dt=st.sampled_from([2.0, 5.0]), width=st.sampled_from([0.0, 10.0]),
+       dt=st.sampled_from([3.0, 6.0]), width=st.sampled_from([0.0, 10.0]),
        seed=st.integers(0, 2 ** 16))
 def test_every_plain_run_lies_in_the_set_steps(f0, fw, h0, hw, dt, width, seed):
     """A random (feed, thickness) box and reduction ranges per period (a random walk, some of
@@ -197,3 +197,15 @@ def test_a_controller_that_never_reduces_is_never_proved(broken):
     else:
         assert reach.status == Status.PROVED and error.status == Status.PROVED, reach.detail
         assert "holds by t = " in reach.detail
+
+
+def test_the_position_step_is_not_increasing_in_feed_inside_a_catch_up_stretch():
+    """Why set_step bounds the position with the pace envelope, not with `_advance` at the
+    box's corners: from 9.352 mm (past the first vertex's x2 at 9.31 mm, inside the catch-up
+    (1 - 0.1) lag = 0.0425 mm at 150 mm^2/min, 0.0510 at 180; 50 mm), keep 0.1, 0.5 s: the
+    slower feed leaves its stretch at once and runs at 150 / 3000 = 0.05 mm/s (0.0207 mm),
+    the faster one is still slow, 0.06 * 0.1 = 0.006 mm/s (0.003 mm)."""
+    keep, start = np.array([0.1]), np.array([9.352])
+    moved = [W._advance(W.CornerParams(feed=f, thickness=50.0), start, keep, 0.5)[0] - 9.352
+             for f in (150.0, 180.0)]
+    assert moved == pytest.approx([0.02074732, 0.003], abs=1e-8)
