@@ -553,8 +553,9 @@ def _check_set_regime(params: CornerParams, feed, thickness) -> None:
 
 
 # the pursuit's cut (the wire crossing the bisector) is over within this many lags past the
-# vertex at every angle of Table 2 (1.6 lags at 30 deg, less at wider angles: `pursuit_tip`)
-SET_ZONE_LAGS = 3.0
+# vertex at every angle of the path (2.7 lags at 30 deg, less at wider angles: `pursuit_tip`
+# with the lag changed from there on gives the same cut)
+SET_ZONE_LAGS = 4.0
 SET_ROUNDING = 1e-9    # relative room below k for the pursuit's floating-point ratio
 
 

@@ -209,3 +209,18 @@ def test_the_position_step_is_not_increasing_in_feed_inside_a_catch_up_stretch()
     moved = [W._advance(W.CornerParams(feed=f, thickness=50.0), start, keep, 0.5)[0] - 9.352
              for f in (150.0, 180.0)]
     assert moved == pytest.approx([0.02074732, 0.003], abs=1e-8)
+
+
+def test_the_pursuit_cut_is_over_within_the_zone_lags_of_the_set_step():
+    """The derived bound needs the cut made before x2 ends: with the lag changed from
+    SET_ZONE_LAGS (4) lags past the vertex on, every angle of the path cuts the same as with
+    the lag held (the 30 deg cut crosses the bisector between 2.6 and 2.7 lags: changed from
+    2.6 lags on it cuts deeper)."""
+    lag, keep = 1.0, 0.5
+    for angle in ANGLES:
+        turn = np.radians(180.0 - angle)
+        held = W.pursuit_tip(turn, lag, keep, np.inf, np.inf, 1e-3)
+        changed = W.pursuit_tip(turn, lag, keep, np.inf, W.SET_ZONE_LAGS * keep * lag, 1e-3)
+        assert changed == held, angle
+    early = W.pursuit_tip(np.radians(150.0), lag, keep, np.inf, 2.6 * keep * lag, 1e-3)
+    assert early > W.pursuit_tip(np.radians(150.0), lag, keep, np.inf, np.inf, 1e-3) + 0.1
