@@ -576,14 +576,14 @@ def set_step(params: CornerParams, state: dict, inputs: dict, t: float, dt: floa
       and the catch-up shrink) and decreasing in h (1/v and e/v = (1-keep) 60 h lag/f grow
       with h), but from a fixed start inside a catch-up stretch it is not increasing in f:
       the larger feed's stretch reaches further (e grows with f) and the wire there is still
-      slow (from 9.352 mm, keep 0.1, 50 mm, 0.5 s: 0.0207 mm at 150 mm^2/min, 0.003 at 180). The time of a whole stretch over v is feed-independent and that of everything
+      slow (from 9.352 mm, keep 0.1, 50 mm, 0.5 s: 0.0207 mm at 150 mm^2/min, 0.003 at
+      180). The time of a whole stretch over v is feed-independent and that of everything
       else falls as 1/f, so the position reached from the path's start does grow with f; the
       pace envelope covers both without an argument over histories.
     - A corner whose vertex may be passed in the period (s_lo < vertex <= new s_hi): its
       `passed_i` joins the error at this period's keep; once every loop of the box has passed
       it (new s_lo >= vertex) its error is `passed_i`, while only some may have, the hull of 0
-      and it. Joins of two forms: their mean plus a new symbol of half their difference's
-      largest size (each loop takes one of the two at the same symbols).
+      and it (`_join`: the symbols both forms carry kept, the rest in one new symbol).
     - The error at keep k (`_set_corner_error`): controlled_error = E0 k + s x r, r the
       pursuit's cut with the lag history over the steady one. The lag at the vertex is
       k + (1 - k) exp(-x1/relax) of normal and falls towards k until x2; the cut is over
