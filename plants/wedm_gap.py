@@ -425,6 +425,9 @@ class VoltageP:
 
 # --- the same plant on sets (fuzzyc verify --prove) -------------------------------------------
 SET_VARIABLE = ("height", "tension", "gap0")     # params that may be a set (an affine form)
+# the state's per-box arrays, joined over two sets of loops (a step taken once): the arc
+# clock's least value is the lesser of theirs, its largest the larger
+SET_JOIN = {"arc_lo": np.minimum, "arc_hi": np.maximum}
 
 # the least pulse cycle any gap state allows (us): the shortest off-time, then a normal pulse
 # (at least 2 t_on) or an abnormal one (2 A_on) -- a floor the cycle's form is clipped to, so

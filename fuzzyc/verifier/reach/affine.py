@@ -165,6 +165,32 @@ def where(mask: np.ndarray, a: Affine, b: Affine) -> Affine:
                   np.where(mask[:, None], a._padded(width), b._padded(width)))
 
 
+def join(pairs: list[tuple[Affine, Affine]]) -> list[Affine]:
+    """Per box, either every first form of the pairs or every second one (two sets of runs of
+    one state, over the same symbols): Girard's enclosure of the convex hull of two
+    zonotopes. For a = ca + Ga e and b = cb + Gb e,
+        x = (ca + cb)/2 + (Ga + Gb)/2 e + (ca - cb)/2 s + (Ga - Gb)/2 d
+    with s and d (one new symbol per symbol the pairs differ in) new and shared by every
+    pair: s = 1, d = e gives a, s = -1, d = -e gives b, for all pairs at once, so the joined
+    quantities keep their correlations with each other and, through e, with every other form.
+    Linear arithmetic only: no error term (the module docstring's rounding note)."""
+    sym = pairs[0][0].sym
+    width = max(f.g.shape[1] for pair in pairs for f in pair)
+    ga = np.stack([a._padded(width) for a, _ in pairs])                  # (F, B, K)
+    gb = np.stack([b._padded(width) for _, b in pairs])
+    half_c = np.stack([0.5 * (a.c - b.c) for a, b in pairs])            # (F, B)
+    half_g = 0.5 * (ga - gb)
+    differ = np.flatnonzero(np.any(half_g != 0, axis=(0, 1)))
+    first = sym.count
+    sym.count += 1 + len(differ)
+    new = np.zeros(half_g.shape[:2] + (sym.count - width,))
+    new[:, :, first - width] = half_c
+    new[:, :, first - width + 1:] = half_g[:, :, differ]
+    g = np.concatenate([0.5 * (ga + gb), new], axis=2)
+    return [Affine(sym, 0.5 * (a.c + b.c), np.ascontiguousarray(g[i]))
+            for i, (a, b) in enumerate(pairs)]
+
+
 def monotone(f: Callable[[np.ndarray], np.ndarray], increasing: bool = True) -> BoxFunction:
     """The interval extension of a monotone (possibly discontinuous) function: its ends."""
     def box(lo, hi):
@@ -173,17 +199,22 @@ def monotone(f: Callable[[np.ndarray], np.ndarray], increasing: bool = True) -> 
     return box
 
 
-def reduce(sym: Symbols, forms: list[Affine], keep: int) -> list[Affine]:
+def reduce(sym: Symbols, forms: list[Affine], keep: int, tied: int = 1) -> list[Affine]:
     """The same forms over at most keep + len(forms) symbols (Girard's box reduction): per box,
     the symbols with the smallest generators (summed over the forms) are merged into one new
     symbol per form, with radius the sum of what it loses. The boxes are separate runs, so each
     keeps its own symbols (a narrow box beside a wide one would otherwise keep the wide one's
-    choice) and renumbers them its own way. Every form that lives on must be passed."""
+    choice) and renumbers them its own way; `tied` > 1 splits the batch into that many blocks
+    whose rows r, r + B/tied, ... keep the same symbols (copies of one box that are joined, as
+    the loop's step taken once joins them: any choice is sound, the same one keeps them close).
+    Every form that lives on must be passed."""
     width = sym.count
     if width <= keep + len(forms):
         return forms
     g = np.stack([f._padded(width) for f in forms], axis=1)          # (B, F, K)
-    order = np.argsort(np.abs(g).sum(axis=1), axis=1)                  # (B, K) per box
+    score = np.abs(g).sum(axis=1)                                      # (B, K)
+    score = np.tile(score.reshape(tied, -1, width).sum(axis=0), (tied, 1))
+    order = np.argsort(score, axis=1)                                  # (B, K) per box
     merged, kept = order[:, :width - keep], np.sort(order[:, width - keep:], axis=1)
     lost = np.take_along_axis(np.abs(g), merged[:, None, :], axis=2).sum(axis=2)   # (B, F)
     new = np.zeros(g.shape[:2] + (len(forms),))

@@ -128,7 +128,10 @@ def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
     loop = SetLoop(model, scen, args, boxes, settings.sigmas)
     preds = [_predicate(c) for c in checks]
     record = sorted(set().union(*(_names(p) for p, _, _ in preds)) - {"t"})
-    batch = loop.batch
+    batch, rows = loop.batch, loop.batch * loop.copies
+
+    def fold(values, how):          # a box's copies (a step taken once) into one value
+        return loop.once.fold(values, how) if loop.once else np.asarray(values)
     # `always`-like checks start proved and lose boxes; `eventually` starts open and gains
     tallies = [_Tally(np.full(batch, c.kind != "eventually"),
                       np.full(batch, np.inf if c.kind != "eventually" else -np.inf),
@@ -142,13 +145,15 @@ def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
                 alive |= t < start
                 continue
             if check.kind == "overshoot":
-                low, high = (np.broadcast_to(np.asarray(b, float), (batch,)) for b in
+                low, high = (np.broadcast_to(np.asarray(b, float), (rows,)) for b in
                              _bounds(env[check.args["signal"]]))
+                low, high = fold(low, np.min), fold(high, np.max)
                 tally.lows = (tally.lows or []) + [low]
                 tally.highs = (tally.highs or []) + [high]
                 alive = True
                 continue
-            true, slack = truth(pred, env, batch)
+            true, slack = truth(pred, env, rows)
+            true, slack = fold(true, np.all), fold(slack, np.min)
             true &= np.isfinite(slack)
             if check.kind == "eventually":
                 tally.slack = np.where(tally.proved, tally.slack, np.fmax(tally.slack, slack))

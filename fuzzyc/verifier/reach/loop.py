@@ -10,7 +10,10 @@ What the sets stand for, per loop of a box:
   workpiece height): a value for the start and, as the search may step P once, a value it
   steps to and the time of the step (before its `steps before` time, or the run's end): three
   box dimensions (`step_keys`); no step is the step to the same value. A stepped plant input
-  reaches the plant as its input, the start value as the param;
+  reaches the plant as its input, the start value as the param. With one stepped key the
+  step is taken once: each box runs as two copies, the loops before and after their step,
+  joined where the step may happen (once.py); with several, each period may choose either
+  value anew (`_stepped`: sound, looser);
 - plant noise: whatever the plant's `set_step` covers (it says which bound it assumes).
 Sensor faults, `baseline_` signals and observers without `set_step` are refused by name.
 """
@@ -23,6 +26,7 @@ import numpy as np
 from ...model import Model
 from .affine import Affine, Symbols, monotone, reduce, where
 from .chain import SetController, Unsupported
+from .once import StepOnce
 
 STEP = "step:"         # the box dimensions of a set-point step: step:controller.P:value/time
 KEEP_SYMBOLS = 80      # symbols kept when the run reduces (plus one per live form)
@@ -59,6 +63,11 @@ class SetLoop:
         self.batch = len(next(iter(boxes.values()))[0]) if boxes else 1
         self.boxes, self.sigmas = boxes, sigmas
         self.duration, self.period = args["duration"], scen.period
+        stepped = [k for k in boxes if k.startswith(STEP) and k.endswith(":time")]
+        # one stepped key: two copies per box (once.py); several keep the per-period choice
+        self.once = StepOnce(boxes[stepped[0]], self.period,
+                             getattr(self.module, "SET_JOIN", {})) if len(stepped) == 1 else None
+        self.copies = 2 if self.once else 1
         movable = getattr(self.module, "SET_VARIABLE", ())
         for key in boxes:
             if key.startswith(STEP):
@@ -76,22 +85,25 @@ class SetLoop:
 
     def run(self, record: list[str], on_step=None):
         """Yield (time, {signal: Affine}) after every period (the runtime records the bus
-        after the period, at t = (k + 1) period)."""
-        sym = Symbols(self.batch)
+        after the period, at t = (k + 1) period). With a step taken once (`copies` 2) the
+        forms have two rows per box: box b's loops that have not stepped in row b, those that
+        have in row batch + b (once.py)."""
+        sym = Symbols(self.batch * self.copies)
         noise = Noise(sym, self.sigmas)
         nominal = self.scen.plant_params(1)
+        boxes = StepOnce.doubled(self.boxes) if self.once else self.boxes
         plant_sets = {k.split(".", 1)[1]: Affine.interval(sym, *v)
-                      for k, v in self.boxes.items() if k.startswith("plant.")}
+                      for k, v in boxes.items() if k.startswith("plant.")}
         params = dataclasses.replace(nominal)
         state = self.module.set_initial_state(params, noise=noise, **{
             name: plant_sets.get(name, getattr(nominal, name))
             for name in getattr(self.module, "SET_VARIABLE", ())})
         varied = {**{f"plant.{name}": form for name, form in plant_sets.items()},
-                  **{k: Affine.interval(sym, *v) for k, v in self.boxes.items()
+                  **{k: Affine.interval(sym, *v) for k, v in boxes.items()
                      if k.startswith("controller.")}}
-        after = {key: Affine.interval(sym, *self.boxes[f"{STEP}{key}:value"])
-                 for key in varied if f"{STEP}{key}:value" in self.boxes}
-        at = {key: self.boxes[f"{STEP}{key}:time"] for key in after}
+        after = {key: Affine.interval(sym, *boxes[f"{STEP}{key}:value"])
+                 for key in varied if f"{STEP}{key}:value" in boxes}
+        at = {key: boxes[f"{STEP}{key}:time"] for key in after}
         params_c = self._controller_params()
         controller = SetController(self._controller_model(params_c), sym, dict(params_c))
         for block in self.observers:
@@ -102,6 +114,9 @@ class SetLoop:
         steps = int(round(self.duration / self.period))
         for k in range(steps):
             t = k * self.period
+            if self.once:
+                self.once.advance(t, [state, bus, controller.state] +
+                                  [block.set_state for block in self.observers])
             for name, points in self.scen.schedules.items():
                 value = float([v for at, v in points if at <= t + 1e-12][-1])
                 bus[name] = value
@@ -109,7 +124,9 @@ class SetLoop:
                     controller.params[name] = value
             for key, form in varied.items():
                 kind, name = key.split(".", 1)
-                value = _stepped(sym, form, after[key], at[key], t) if key in after else form
+                value = form if key not in after else \
+                    self.once.param(form, after[key], t) if self.once else \
+                    _stepped(sym, form, after[key], at[key], t)
                 if kind == "controller":
                     controller.params[name] = value
                 elif key in after:          # a stepped plant input (the workpiece height)
@@ -140,7 +157,7 @@ class SetLoop:
             [block.set_state for block in self.observers]
         live = [(d, k, v) for d in places for k, v in d.items() if isinstance(v, Affine)]
         unique = list({id(v): v for _, _, v in live}.values())
-        reduced = dict(zip(map(id, unique), reduce(sym, unique, KEEP_SYMBOLS)))
+        reduced = dict(zip(map(id, unique), reduce(sym, unique, KEEP_SYMBOLS, self.copies)))
         for d, k, v in live:
             d[k] = reduced[id(v)]
 
