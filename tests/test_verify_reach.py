@@ -4,7 +4,7 @@ import copy
 
 import numpy as np
 import pytest
-from hypothesis import given, settings, strategies as st, HealthCheck
+from hypothesis import example, given, settings, strategies as st, HealthCheck
 
 from fuzzyc import engine
 from fuzzyc.model import Aggregation, Defuzzifier, TNorm, set_entries
@@ -12,7 +12,7 @@ from fuzzyc.parser import load
 from fuzzyc.plants import scenario as scenarios
 from fuzzyc.verifier.closed_loop import _Loop
 from fuzzyc.verifier.reach import rulebase as set_rulebase
-from fuzzyc.verifier.reach.affine import Affine, Symbols
+from fuzzyc.verifier.reach.affine import Affine, Symbols, join
 from fuzzyc.verifier.reach.decide import Settings, prove
 from fuzzyc.verifier.reach.loop import SetLoop
 from fuzzyc.verifier.result import Status
@@ -77,11 +77,11 @@ def test_rule_base_bounds_hold_every_sampled_input(name, data):
     assert np.all(y >= y_lo - tol) and np.all(y <= y_hi + tol)
 
 
-def _edm(mutate=None):
+def _edm(mutate=None, which: int = 0):
     model = load("rulebases/edm_sink_gap.fz")
     if mutate:
         mutate(model)
-    prop = next(p for p in model.properties if p.kind == "closed_loop")
+    prop = [p for p in model.properties if p.kind == "closed_loop"][which]
     return model, prop
 
 
@@ -124,12 +124,21 @@ def _flip_sign(model):
     set_entries(out, "params", np.s_[:, 0], -out.params[:, 0])
 
 
-def test_a_sign_flipped_servo_is_never_proved():
-    """The mutation tests' sign error on the closed loop: over 0.3 s the search finds a loop
+def _always_advance(model):
+    """Every rule concludes the fastest advance (0.3 mm/s): from the second loop's 81 um the
+    gap is below 5 um by t = 0.136 s (a plain run at any set point)."""
+    rb = model.rulebase
+    rb.consequents[...] = int(np.argmax(rb.outputs[0].params[:, 0]))
+
+
+@pytest.mark.parametrize("mutate, which", [(_flip_sign, 0), (_always_advance, 1)])
+def test_a_broken_servo_is_never_proved(mutate, which):
+    """The mutation tests' faults on the closed loops: over 0.3 s the search finds a loop
     whose gap closes (the shrunk case replayed alone breaks it too) and the sets do not prove
-    `always gap > 5`: they lose it before the violation (it comes at t = 0.19 s)."""
+    `always gap > 5`. The first loop (gap0 varied) with the sign flipped (broken at t = 0.19
+    s); the second (the set point stepped once: two copies per box) always advancing."""
     from fuzzyc.verifier import Options, verify_model
-    model, prop = _edm(_flip_sign)
+    model, prop = _edm(mutate, which)
     prop.args["duration"] = 0.3
     prop.args["checks"] = prop.args["checks"][:1]        # always gap > 5
     model.properties = [prop]
@@ -138,6 +147,27 @@ def test_a_sign_flipped_servo_is_never_proved():
     assert search.status == Status.VIOLATED and "replayed alone: violated at" in search.detail
     assert reach.method == "reach" and reach.status == Status.UNDECIDED, reach.detail
     assert "unknown" in reach.detail and result.status == Status.VIOLATED
+
+
+def test_join_of_two_forms_by_hand():
+    """Girard's hull of a = 1 + 2 e0 ([-1, 3]) and b = 4 + e0 ([3, 5]), with c = e0 paired
+    with itself: mid (a + b)/2 = 2.5 + 1.5 e0, the centres' half difference (1 - 4)/2 = -1.5
+    on the new symbol s, the generators' (2 - 1)/2 = 0.5 on the new d0; c stays e0. So a's
+    join spans 2.5 +- (1.5 + 1.5 + 0.5) = [-1, 6], and s = 1, d0 = e0 gives a (1 + 2 e0),
+    s = -1, d0 = -e0 gives b (4 + e0), for both pairs at once."""
+    sym = Symbols(1)
+    e0 = Affine.interval(sym, -1.0, 1.0)
+    a, b, c = 1 + e0.scale(2.0), 4 + e0, e0
+    ja, jc = join([(a, b), (c, c)])
+    assert sym.count == 3                                  # e0, s, d0
+    np.testing.assert_allclose(ja.g, [[1.5, -1.5, 0.5]])
+    np.testing.assert_allclose(ja.c, [2.5])
+    np.testing.assert_allclose(np.ravel(ja.bounds()), [-1.0, 6.0])
+    np.testing.assert_allclose(jc._padded(3), [[1.0, 0.0, 0.0]])
+    for e in np.linspace(-1, 1, 9):
+        assert np.isclose(ja.c[0] + ja.g[0] @ [e, 1.0, e], 1 + 2 * e)
+        assert np.isclose(ja.c[0] + ja.g[0] @ [e, -1.0, -e], 4 + e)
+        assert np.isclose(jc.c[0] + jc._padded(3)[0] @ [e, 1.0, e], e)
 
 
 def test_unsupported_pieces_are_refused_by_name():
@@ -195,13 +225,16 @@ def test_verify_prove_on_the_command_line(capsys, tmp_path):
 
 
 @SLOW
+@example(v0=58.0, v1=45.0, width=0.0, at=0.005, at_width=0.03, seed=0)
 @given(v0=st.floats(45, 60), v1=st.floats(45, 60), width=st.floats(0.0, 2.0),
        at=st.floats(0.0, 0.04), at_width=st.floats(0.0, 0.02), seed=st.integers(0, 2 ** 16))
 def test_every_sampled_set_point_step_lies_in_the_reachable_set(v0, v1, width, at, at_width,
                                                                 seed):
     """The second EDM loop (`vary controller.Vset ... steps before`): random boxes of the start
     value, the value it steps to and the step time; 12 plain simulations with a step drawn in
-    the box (the search's case format) stay inside the sets at every period."""
+    the box (the search's case format) stay inside the sets at every period, in the copy that
+    holds them (U before the step, S after) and in C. The example (a step of 13 V at any time
+    in 30 ms) fails if the loops stepping in a period are left out of S (no join)."""
     rng = np.random.default_rng(seed)
     model, _ = _edm()
     prop = [p for p in model.properties if p.kind == "closed_loop"][1]
@@ -210,7 +243,9 @@ def test_every_sampled_set_point_step_lies_in_the_reachable_set(v0, v1, width, a
     box = {"controller.Vset": (np.array([v0]), np.array([v0 + width])),
            "step:controller.Vset:value": (np.array([v1]), np.array([v1 + width])),
            "step:controller.Vset:time": (np.array([at]), np.array([at + at_width]))}
-    sets = list(SetLoop(model, scen, args, box, 0.0).run(["gap", "mean_voltage", "velocity"]))
+    set_loop = SetLoop(model, scen, args, box, 0.0)
+    sets = list(set_loop.run(["gap", "mean_voltage", "velocity"]))
+    assert set_loop.copies == 3                      # the step taken once: U, S and C
     loop = _Loop(model, scen, args["duration"], "numpy", seed)
     cases = [{"controller.Vset": rng.uniform(v0, v0 + width), "fault": None,
               "step": ("controller.Vset", rng.uniform(at, at + at_width),
@@ -218,11 +253,20 @@ def test_every_sampled_set_point_step_lies_in_the_reachable_set(v0, v1, width, a
     time, signals = loop.run(cases)
     assert len(time) == len(sets)
     for k, (_, forms) in enumerate(sets):
-        for name in ("gap", "mean_voltage", "velocity"):
-            f_lo, f_hi = forms[name].bounds()
-            got = signals[name][k]
-            slack = 1e-7 * (1 + np.abs(got))
-            assert np.all(got >= f_lo - slack) and np.all(got <= f_hi + slack), (name, k)
+        for row in (stepped_row(cases, k * scen.period), 2):
+            for name in ("gap", "mean_voltage", "velocity"):
+                f_lo, f_hi = forms[name].bounds()
+                got = signals[name][k]
+                slack = 1e-7 * (1 + np.abs(got))
+                assert np.all(got >= f_lo[row] - slack) and np.all(got <= f_hi[row] + slack), \
+                    (name, k, row)
+
+
+def stepped_row(cases, t: float) -> np.ndarray:
+    """The row of the one box's sets that holds each case in the period at t: 0 (U, the
+    loops not stepped yet) before its step time, 1 (S, stepped) from it on, as the runtime
+    steps; row 2 (C, the per-period choice) holds every case."""
+    return np.array([int(t >= c["step"][1]) for c in cases])
 
 
 @settings(max_examples=30, deadline=None, suppress_health_check=list(HealthCheck))

@@ -11,6 +11,7 @@ from fuzzyc.verifier.closed_loop import _Loop
 from fuzzyc.verifier.reach.affine import Affine, Symbols
 from fuzzyc.verifier.reach.loop import Noise, SetLoop
 from fuzzyc.verifier.result import Status
+from tests.test_verify_reach import stepped_row
 
 SLOW = settings(max_examples=4, deadline=None, derandomize=True,
                 suppress_health_check=list(HealthCheck))
@@ -18,8 +19,10 @@ OUTPUTS = ("spark_freq", "abnormal_ratio", "gap_voltage", "removal_rate", "feed_
            "rupture", "ruptures")
 
 
-def inside(name, got, form):
+def inside(name, got, form, row=slice(None)):
+    """got within the form's bounds (in the row of each value's copy, with a step taken once)."""
     lo, hi = form.bounds() if isinstance(form, Affine) else (form, form)
+    lo, hi = (b[row] if np.ndim(b) else b for b in (lo, hi))
     slack = 1e-7 * (1 + np.abs(got))
     assert np.all(got >= lo - slack) and np.all(got <= hi + slack), (name, got, lo, hi)
 
@@ -113,7 +116,9 @@ def test_every_sampled_wedm_trace_lies_in_the_reachable_set(data, seed, fragile)
         box[key] = (np.array([start]), np.array([start + w]))
     names = ["spark_freq", "abnormal_ratio", "gap_voltage", "feed", "t_off", "feed_actual",
              "ruptures", "height"]
-    sets = list(SetLoop(model, scen, args, box, 0.0).run(names))
+    set_loop = SetLoop(model, scen, args, box, 0.0)
+    sets = list(set_loop.run(names))
+    assert set_loop.copies == 3                      # the step taken once: U, S and C
     rng = np.random.default_rng(seed)
 
     def draw(key):
@@ -127,8 +132,9 @@ def test_every_sampled_wedm_trace_lies_in_the_reachable_set(data, seed, fragile)
     if fragile:                                  # the wire breaks in the plain runs
         assert signals["ruptures"][-1].max() >= 1
     for k, (_, forms) in enumerate(sets):
-        for name in names:
-            inside((name, k), signals[name][k], forms[name])
+        for row in (stepped_row(cases, k * scen.period), 2):
+            for name in names:
+                inside((name, k, row), signals[name][k], forms[name], row)
 
 
 def _break_off_time(model):
@@ -190,3 +196,20 @@ def test_the_noise_free_height_step_counterexample_lies_in_the_sets():
     sets = [forms["spark_freq"] for _, forms in SetLoop(model, scen, args, box, 0.0).run(
         ["spark_freq"])]
     assert sets[k].hi()[0] >= plain[k] * (1 - 1e-9)
+
+
+def test_a_height_step_taken_once_keeps_the_sets_tight():
+    """Height 30 -> 40 mm (0.1 mm boxes, tension 800 gf) stepped once at any time in [0,
+    1.2] s: at 8 s the copies U and S (joined over the 31 periods of the window, equal after
+    it) hold the spark frequency within [7.12, 9.89] kHz; C, the per-period choice of the
+    height (what several stepped keys use alone), where it may jump between 30 and 40 mm in
+    every period of the window, only within [3.55, 13.04] kHz: 2.8 kHz wide instead of 9.5."""
+    model, prop = _wedm()
+    scen = scenarios.load(prop.args["scenario"])
+    args = {**prop.args, "duration": 8.0}
+    box = {key: (np.array([lo]), np.array([hi])) for key, (lo, hi) in {
+        "plant.height": (30.0, 30.1), "plant.tension": (800.0, 800.0),
+        "step:plant.height:value": (40.0, 40.1), "step:plant.height:time": (0.0, 1.2)}.items()}
+    _, forms = list(SetLoop(model, scen, args, box, 0.0).run(["spark_freq"]))[-1]
+    lo, hi = forms["spark_freq"].bounds()
+    np.testing.assert_allclose([lo, hi], [[7.12, 7.12, 3.55], [9.89, 9.89, 13.04]], atol=0.01)

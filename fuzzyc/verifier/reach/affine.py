@@ -199,21 +199,24 @@ def monotone(f: Callable[[np.ndarray], np.ndarray], increasing: bool = True) -> 
     return box
 
 
-def reduce(sym: Symbols, forms: list[Affine], keep: int, tied: int = 1) -> list[Affine]:
+def reduce(sym: Symbols, forms: list[Affine], keep: int, groups=None) -> list[Affine]:
     """The same forms over at most keep + len(forms) symbols (Girard's box reduction): per box,
     the symbols with the smallest generators (summed over the forms) are merged into one new
     symbol per form, with radius the sum of what it loses. The boxes are separate runs, so each
     keeps its own symbols (a narrow box beside a wide one would otherwise keep the wide one's
-    choice) and renumbers them its own way; `tied` > 1 splits the batch into that many blocks
-    whose rows r, r + B/tied, ... keep the same symbols (copies of one box that are joined, as
-    the loop's step taken once joins them: any choice is sound, the same one keeps them close).
-    Every form that lives on must be passed."""
+    choice) and renumbers them its own way; rows of the same `groups` id (B,) keep the same
+    symbols (copies of one box that are joined, as the loop's step taken once joins them: any
+    choice is sound, the same one keeps them close). Every form that lives on must be
+    passed."""
     width = sym.count
     if width <= keep + len(forms):
         return forms
     g = np.stack([f._padded(width) for f in forms], axis=1)          # (B, F, K)
     score = np.abs(g).sum(axis=1)                                      # (B, K)
-    score = np.tile(score.reshape(tied, -1, width).sum(axis=0), (tied, 1))
+    if groups is not None:
+        summed = np.zeros((groups.max() + 1, width))
+        np.add.at(summed, groups, score)
+        score = summed[groups]
     order = np.argsort(score, axis=1)                                  # (B, K) per box
     merged, kept = order[:, :width - keep], np.sort(order[:, width - keep:], axis=1)
     lost = np.take_along_axis(np.abs(g), merged[:, None, :], axis=2).sum(axis=2)   # (B, F)

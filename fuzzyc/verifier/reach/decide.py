@@ -129,9 +129,6 @@ def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
     preds = [_predicate(c) for c in checks]
     record = sorted(set().union(*(_names(p) for p, _, _ in preds)) - {"t"})
     batch, rows = loop.batch, loop.batch * loop.copies
-
-    def fold(values, how):          # a box's copies (a step taken once) into one value
-        return loop.once.fold(values, how) if loop.once else np.asarray(values)
     # `always`-like checks start proved and lose boxes; `eventually` starts open and gains
     tallies = [_Tally(np.full(batch, c.kind != "eventually"),
                       np.full(batch, np.inf if c.kind != "eventually" else -np.inf),
@@ -147,13 +144,15 @@ def _run(model, scen, args, boxes, checks, settings) -> list[_Tally]:
             if check.kind == "overshoot":
                 low, high = (np.broadcast_to(np.asarray(b, float), (rows,)) for b in
                              _bounds(env[check.args["signal"]]))
-                low, high = fold(low, np.min), fold(high, np.max)
+                if loop.once:            # a step taken once: the box's copies
+                    low, high = loop.once.fold_bounds(low, high)
                 tally.lows = (tally.lows or []) + [low]
                 tally.highs = (tally.highs or []) + [high]
                 alive = True
                 continue
             true, slack = truth(pred, env, rows)
-            true, slack = fold(true, np.all), fold(slack, np.min)
+            if loop.once:
+                true, slack = loop.once.fold_truth(true, slack)
             true &= np.isfinite(slack)
             if check.kind == "eventually":
                 tally.slack = np.where(tally.proved, tally.slack, np.fmax(tally.slack, slack))

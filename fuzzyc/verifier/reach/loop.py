@@ -12,8 +12,8 @@ What the sets stand for, per loop of a box:
   box dimensions (`step_keys`); no step is the step to the same value. A stepped plant input
   reaches the plant as its input, the start value as the param. With one stepped key the
   step is taken once: each box runs as two copies, the loops before and after their step,
-  joined where the step may happen (once.py); with several, each period may choose either
-  value anew (`_stepped`: sound, looser);
+  joined where the step may happen, beside a third where each period may choose either value
+  anew (once.py); with several stepped keys only that per-period choice (`per_period`);
 - plant noise: whatever the plant's `set_step` covers (it says which bound it assumes).
 Sensor faults, `baseline_` signals and observers without `set_step` are refused by name.
 """
@@ -24,9 +24,9 @@ import dataclasses
 import numpy as np
 
 from ...model import Model
-from .affine import Affine, Symbols, monotone, reduce, where
+from .affine import Affine, Symbols, monotone, reduce
 from .chain import SetController, Unsupported
-from .once import StepOnce
+from .once import StepOnce, per_period
 
 STEP = "step:"         # the box dimensions of a set-point step: step:controller.P:value/time
 KEEP_SYMBOLS = 80      # symbols kept when the run reduces (plus one per live form)
@@ -64,10 +64,10 @@ class SetLoop:
         self.boxes, self.sigmas = boxes, sigmas
         self.duration, self.period = args["duration"], scen.period
         stepped = [k for k in boxes if k.startswith(STEP) and k.endswith(":time")]
-        # one stepped key: two copies per box (once.py); several keep the per-period choice
+        # one stepped key: three copies per box (once.py); several keep the per-period choice
         self.once = StepOnce(boxes[stepped[0]], self.period,
                              getattr(self.module, "SET_JOIN", {})) if len(stepped) == 1 else None
-        self.copies = 2 if self.once else 1
+        self.copies = StepOnce.COPIES if self.once else 1
         movable = getattr(self.module, "SET_VARIABLE", ())
         for key in boxes:
             if key.startswith(STEP):
@@ -85,13 +85,14 @@ class SetLoop:
 
     def run(self, record: list[str], on_step=None):
         """Yield (time, {signal: Affine}) after every period (the runtime records the bus
-        after the period, at t = (k + 1) period). With a step taken once (`copies` 2) the
-        forms have two rows per box: box b's loops that have not stepped in row b, those that
-        have in row batch + b (once.py)."""
+        after the period, at t = (k + 1) period). With a step taken once (`copies` 3) the
+        forms have three rows per box: box b's loops that have not stepped in row b, those
+        that have in row batch + b, all of them by the per-period choice in row 2 batch + b
+        (once.py)."""
         sym = Symbols(self.batch * self.copies)
         noise = Noise(sym, self.sigmas)
         nominal = self.scen.plant_params(1)
-        boxes = StepOnce.doubled(self.boxes) if self.once else self.boxes
+        boxes = StepOnce.copied(self.boxes) if self.once else self.boxes
         plant_sets = {k.split(".", 1)[1]: Affine.interval(sym, *v)
                       for k, v in boxes.items() if k.startswith("plant.")}
         params = dataclasses.replace(nominal)
@@ -125,8 +126,8 @@ class SetLoop:
             for key, form in varied.items():
                 kind, name = key.split(".", 1)
                 value = form if key not in after else \
-                    self.once.param(form, after[key], t) if self.once else \
-                    _stepped(sym, form, after[key], at[key], t)
+                    self.once.param(sym, form, after[key], at[key], t) if self.once else \
+                    per_period(sym, form, after[key], at[key], t)
                 if kind == "controller":
                     controller.params[name] = value
                 elif key in after:          # a stepped plant input (the workpiece height)
@@ -157,7 +158,8 @@ class SetLoop:
             [block.set_state for block in self.observers]
         live = [(d, k, v) for d in places for k, v in d.items() if isinstance(v, Affine)]
         unique = list({id(v): v for _, _, v in live}.values())
-        reduced = dict(zip(map(id, unique), reduce(sym, unique, KEEP_SYMBOLS, self.copies)))
+        reduced = dict(zip(map(id, unique), reduce(sym, unique, KEEP_SYMBOLS,
+                                                     self.once and self.once.groups)))
         for d, k, v in live:
             d[k] = reduced[id(v)]
 
@@ -174,24 +176,6 @@ class SetLoop:
             dataclasses.replace(o, init=float((spec.get("initial") or {}).get(o.name, o.init)))
             for o in self.model.outputs])
         return model
-
-
-def _stepped(sym: Symbols, before: Affine, after: Affine, at: tuple, t: float) -> Affine:
-    """A param that steps from `before` to `after` at a time in [at_lo, at_hi] (per box):
-    before + s (after - before), s = 0 before at_lo, 1 from at_hi on, any of [0, 1] between
-    (a new symbol per period: every step time of the range at once). The value is one of the
-    two: where the product's cross term makes the form wider than the hull of their bounds,
-    the hull (a new symbol) stands for it instead."""
-    lo, hi = at
-    s = np.where(t >= hi, 1.0, 0.0)
-    between = (t >= lo) & (t < hi)
-    if not between.any():
-        return before + (after - before) * s
-    s = Affine.interval(sym, s, np.where(between, 1.0, s))
-    stepped = before + (after - before) * s
-    (b_lo, b_hi), (a_lo, a_hi) = before.bounds(), after.bounds()
-    hull = Affine.interval(sym, np.minimum(b_lo, a_lo), np.maximum(b_hi, a_hi))
-    return where(stepped.radius() <= hull.radius(), stepped, hull)
 
 
 def step_keys(args: dict, duration: float, plant_inputs=()) -> dict[str, tuple[float, float]]:
