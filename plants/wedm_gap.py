@@ -555,7 +555,10 @@ def _set_rates(p: WedmGapParams, gap, debris, feed, t_off, on_time, height, nois
     ratio = 1.0 - normal                       # = p_s + (1 - p_s) p_a
     cycle = t_off + normal * (t_d + on_time * 2.0) + ratio * (2.0 * p.arc_on_time)
     floor = INPUT_LIMITS["t_off"][0] + 2.0 * min(_CYCLE_FLOOR_ON_TIME, p.arc_on_time)
-    per_cycle = noise.monotone(cycle.clip(floor, np.inf), lambda c: 1.0 / c, increasing=False)
+    # the clipped form's bounds may still overshoot below the floor (and 0): 1/c is monotone
+    # only on the clipped values
+    per_cycle = noise.monotone(cycle.clip(floor, np.inf), lambda c: 1.0 / np.maximum(c, floor),
+                               increasing=False)
     pulses = per_cycle * 1e6                   # Hz
     arcs = ratio * 0.5
     energy_weight = (normal * _monotone(noise, on_time, np.square)
