@@ -195,21 +195,42 @@ def test_the_noise_free_height_step_counterexample_lies_in_the_sets():
     box = {key: (np.array([lo]), np.array([hi])) for key, (lo, hi) in point.items()}
     sets = [forms["spark_freq"] for _, forms in SetLoop(model, scen, args, box, 0.0).run(
         ["spark_freq"])]
+    cases = [{"plant.height": 30.05, "plant.tension": 800.0, "fault": None,
+              "step": ("plant.height", at, 40.05)} for at in (0.0, 0.6, 1.2)]
+    _, signals = _Loop(model, scenarios.load(prop.args["scenario"], {"plant.noise": "0"}),
+                       args["duration"], "numpy", 0).run(cases)
+    for k, form in enumerate(sets):
+        for row in (stepped_row(cases, k * scen.period), 2):
+            inside(("spark_freq", k, row), signals["spark_freq"][k], form, row)
     assert sets[k].hi()[0] >= plain[k] * (1 - 1e-9)
 
 
 def test_a_height_step_taken_once_keeps_the_sets_tight():
     """Height 30 -> 40 mm (0.1 mm boxes, tension 800 gf) stepped once at any time in [0,
-    1.2] s: at 8 s the copies U and S (joined over the 31 periods of the window, equal after
-    it) hold the spark frequency within [7.12, 9.89] kHz; C, the per-period choice of the
-    height (what several stepped keys use alone), where it may jump between 30 and 40 mm in
-    every period of the window, only within [3.55, 13.04] kHz: 2.8 kHz wide instead of 9.5."""
+    1.2] s: the copies U and S (joined over the 31 periods of the window, equal after it)
+    hold the spark frequency below Yr1 + 4 = 34 kHz at every period of 8 s (at most 28.18
+    kHz, at the start) and within [7.12, 9.89] kHz at 8 s; C, the per-period choice of the
+    height (the construction before, which several stepped keys use alone), where it may
+    jump between 30 and 40 mm in every period of the window, passes 34 kHz by 4.5 s. Plain
+    runs stepping at 0, 0.6 and 1.2 s stay inside every copy that holds them at every period,
+    also once C has diverged (its spark frequency collapsed to [0, 0] there while the plain
+    runs ran at 8.7 kHz, before the pulse cycle's reciprocal read the clipped cycle)."""
     model, prop = _wedm()
     scen = scenarios.load(prop.args["scenario"])
     args = {**prop.args, "duration": 8.0}
     box = {key: (np.array([lo]), np.array([hi])) for key, (lo, hi) in {
         "plant.height": (30.0, 30.1), "plant.tension": (800.0, 800.0),
         "step:plant.height:value": (40.0, 40.1), "step:plant.height:time": (0.0, 1.2)}.items()}
-    _, forms = list(SetLoop(model, scen, args, box, 0.0).run(["spark_freq"]))[-1]
-    lo, hi = forms["spark_freq"].bounds()
-    np.testing.assert_allclose([lo, hi], [[7.12, 7.12, 3.55], [9.89, 9.89, 13.04]], atol=0.01)
+    sets = [forms["spark_freq"] for _, forms in SetLoop(model, scen, args, box, 0.0).run(
+        ["spark_freq"])]
+    cases = [{"plant.height": 30.05, "plant.tension": 800.0, "fault": None,
+              "step": ("plant.height", at, 40.05)} for at in (0.0, 0.6, 1.2)]
+    _, signals = _Loop(model, scenarios.load(prop.args["scenario"], {"plant.noise": "0"}),
+                       args["duration"], "numpy", 0).run(cases)
+    for k, form in enumerate(sets):
+        for row in (stepped_row(cases, k * scen.period), 2):
+            inside(("spark_freq", k, row), signals["spark_freq"][k], form, row)
+    highs = np.array([f.hi() for f in sets])                  # (periods, U S C)
+    lo, hi = sets[-1].bounds()
+    np.testing.assert_allclose([lo[:2], hi[:2]], [[7.12, 7.12], [9.89, 9.89]], atol=0.01)
+    assert 28.1 < highs[:, :2].max() < 28.2 and highs[:int(4.5 / scen.period), 2].max() > 34
