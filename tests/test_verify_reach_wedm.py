@@ -131,10 +131,16 @@ def test_every_sampled_wedm_trace_lies_in_the_reachable_set(data, seed, fragile)
     assert len(time) == len(sets)
     if fragile:                                  # the wire breaks in the plain runs
         assert signals["ruptures"][-1].max() >= 1
-    for k, (_, forms) in enumerate(sets):
-        for row in (stepped_row(cases, k * scen.period), 2):
-            for name in names:
-                inside((name, k, row), signals[name][k], forms[name], row)
+    inside_copies([forms for _, forms in sets], cases, signals, scen.period)
+
+
+def inside_copies(sets: list[dict], cases, signals, period: float):
+    """Every case's signals inside, at every period, the sets' copy that holds it (U before
+    its step, S after) and C (it holds every case)."""
+    for k, forms in enumerate(sets):
+        for row in (stepped_row(cases, k * period), 2):
+            for name, form in forms.items():
+                inside((name, k, row), signals[name][k], form, row)
 
 
 def _break_off_time(model):
@@ -195,13 +201,6 @@ def test_the_noise_free_height_step_counterexample_lies_in_the_sets():
     box = {key: (np.array([lo]), np.array([hi])) for key, (lo, hi) in point.items()}
     sets = [forms["spark_freq"] for _, forms in SetLoop(model, scen, args, box, 0.0).run(
         ["spark_freq"])]
-    cases = [{"plant.height": 30.05, "plant.tension": 800.0, "fault": None,
-              "step": ("plant.height", at, 40.05)} for at in (0.0, 0.6, 1.2)]
-    _, signals = _Loop(model, scenarios.load(prop.args["scenario"], {"plant.noise": "0"}),
-                       args["duration"], "numpy", 0).run(cases)
-    for k, form in enumerate(sets):
-        for row in (stepped_row(cases, k * scen.period), 2):
-            inside(("spark_freq", k, row), signals["spark_freq"][k], form, row)
     assert sets[k].hi()[0] >= plain[k] * (1 - 1e-9)
 
 
@@ -227,9 +226,7 @@ def test_a_height_step_taken_once_keeps_the_sets_tight():
               "step": ("plant.height", at, 40.05)} for at in (0.0, 0.6, 1.2)]
     _, signals = _Loop(model, scenarios.load(prop.args["scenario"], {"plant.noise": "0"}),
                        args["duration"], "numpy", 0).run(cases)
-    for k, form in enumerate(sets):
-        for row in (stepped_row(cases, k * scen.period), 2):
-            inside(("spark_freq", k, row), signals["spark_freq"][k], form, row)
+    inside_copies([{"spark_freq": f} for f in sets], cases, signals, scen.period)
     highs = np.array([f.hi() for f in sets])                  # (periods, U S C)
     lo, hi = sets[-1].bounds()
     np.testing.assert_allclose([lo[:2], hi[:2]], [[7.12, 7.12], [9.89, 9.89]], atol=0.01)
