@@ -583,7 +583,8 @@ def set_step(params: CornerParams, state: dict, inputs: dict, t: float, dt: floa
     - A corner whose vertex may be passed in the period (s_lo < vertex <= new s_hi): its
       `passed_i` joins the error at this period's keep; once every loop of the box has passed
       it (new s_lo >= vertex) its error is `passed_i`, while only some may have, the hull of 0
-      and it (`_join`: the symbols both forms carry kept, the rest in one new symbol).
+      and it (`affine.join_common`: the symbols both forms carry kept, the rest in one new
+      symbol).
     - The error at keep k (`_set_corner_error`): controlled_error = E0 k + s x r, r the
       pursuit's cut with the lag history over the steady one. The lag at the vertex is
       k + (1 - k) exp(-x1/relax) of normal and falls towards k until x2; the cut is over
@@ -598,7 +599,7 @@ def set_step(params: CornerParams, state: dict, inputs: dict, t: float, dt: floa
     Outputs: feed, thickness, angle, done, error_sum, normal_error_sum (the others of `step`
     have no set-valued twin; a property naming them is refused by the loop).
     """
-    from fuzzyc.verifier.reach.affine import where
+    from fuzzyc.verifier.reach.affine import join_common, where
     path = params.path
     feed, thickness = state["feed"], state["thickness"]
     reduction = noise.form(inputs.get("reduction", 0.0)).clip(0.0, 100.0)
@@ -621,7 +622,8 @@ def set_step(params: CornerParams, state: dict, inputs: dict, t: float, dt: floa
         if passing[:, i].any():
             now = _set_corner_error(params, state[f"normal_{i}"], keep, k_lo, feed, thickness,
                                     path.corner_angle[i], noise)
-            passed = where(state["maybe"][:, i], _join(noise, passed, now), now)
+            passed = where(state["maybe"][:, i],
+                           join_common(noise.form(passed), noise.form(now)), now)
             passed = where(passing[:, i], passed, state[f"passed_{i}"])
             new_state[f"passed_{i}"] = passed
         maybe, surely = new_state["maybe"][:, i], sure[:, i]
@@ -655,28 +657,10 @@ def _set_corner_error(params: CornerParams, normal, keep, k_lo, feed, thickness,
 def _passed_or_zero(noise, value, maybe: np.ndarray, surely: np.ndarray):
     """A corner's share of a sum: value where every loop of the box has passed it, 0 where
     none can have, their hull between (a new symbol only when some box needs it)."""
-    from fuzzyc.verifier.reach.affine import where
+    from fuzzyc.verifier.reach.affine import join_common, where
     zero = noise.form(0.0)
     if not maybe.any():
         return zero
     between = maybe & ~surely
-    either = _join(noise, zero, value) if between.any() else zero
+    either = join_common(zero, noise.form(value)) if between.any() else zero
     return where(surely, value, where(between, either, zero))
-
-
-def _join(noise, a, b):
-    """A form holding a and b at every point of the symbols (each loop takes one of them).
-    Per symbol a common generator m: their mean where both have one, 0 where only one does;
-    then a(eps) - (c + m eps) lies within R_a = |c_a - c| + sum |g_a - m| (b likewise), and
-    the join is c + m eps + max(R_a, R_b) eps_new, c the centres' mean. So joining the same
-    form with a different last symbol (a keep from another period) gives that form again
-    with one new symbol, where the joins' mean would widen with every period."""
-    from fuzzyc.verifier.reach.affine import Affine
-    a, b = noise.form(a), noise.form(b)
-    width = max(a.g.shape[1], b.g.shape[1])
-    ga, gb = (np.pad(x.g, ((0, 0), (0, width - x.g.shape[1]))) for x in (a, b))
-    common = np.where((ga != 0) & (gb != 0), 0.5 * (ga + gb), 0.0)
-    c = 0.5 * (a.c + b.c)
-    reach = np.maximum(np.abs(a.c - c) + np.abs(ga - common).sum(axis=1),
-                       np.abs(b.c - c) + np.abs(gb - common).sum(axis=1))
-    return noise.widen(Affine(noise.sym, c, common), reach)

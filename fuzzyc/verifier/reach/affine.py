@@ -191,6 +191,23 @@ def join(pairs: list[tuple[Affine, Affine]]) -> list[Affine]:
             for i, (a, b) in enumerate(pairs)]
 
 
+def join_common(a: Affine, b: Affine) -> Affine:
+    """A form holding a and b at every point of the symbols (each loop takes one of them), for
+    one quantity joined alone. Per symbol a common generator m: their mean where both have
+    one, 0 where only one does; then a(eps) - (c + m eps) lies within R_a = |c_a - c| +
+    sum |g_a - m| (b likewise), and the join is c + m eps + max(R_a, R_b) eps_new, c the
+    centres' mean. So joining the same form with a different last symbol (a value from
+    another period) gives that form again with one new symbol, where `join`'s hull would add
+    one per differing symbol."""
+    width = max(a.g.shape[1], b.g.shape[1])
+    ga, gb = a._padded(width), b._padded(width)
+    common = np.where((ga != 0) & (gb != 0), 0.5 * (ga + gb), 0.0)
+    c = 0.5 * (a.c + b.c)
+    reach = np.maximum(np.abs(a.c - c) + np.abs(ga - common).sum(axis=1),
+                       np.abs(b.c - c) + np.abs(gb - common).sum(axis=1))
+    return Affine(a.sym, c, common).with_error(reach)
+
+
 def monotone(f: Callable[[np.ndarray], np.ndarray], increasing: bool = True) -> BoxFunction:
     """The interval extension of a monotone (possibly discontinuous) function: its ends."""
     def box(lo, hi):

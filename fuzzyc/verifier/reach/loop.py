@@ -125,9 +125,10 @@ class SetLoop:
                     controller.params[name] = value
             for key, form in varied.items():
                 kind, name = key.split(".", 1)
-                value = form if key not in after else \
-                    self.once.param(sym, form, after[key], at[key], t) if self.once else \
-                    per_period(sym, form, after[key], at[key], t)
+                value = form
+                if key in after:
+                    stepped = self.once.param if self.once else per_period
+                    value = stepped(sym, form, after[key], at[key], t)
                 if kind == "controller":
                     controller.params[name] = value
                 elif key in after:          # a stepped plant input (the workpiece height)
