@@ -5,10 +5,12 @@ plants/wedm_corner.py) once, as one batch of the eight rows of Table 4 (50 mm at
 40 mm^2/min; 21 mm at 175, 125, 75, 40 mm^2/min), and prints per angle the corner error of
 normal machining and of the controlled cut (um, the mean of the path's corners at that angle)
 and the machining time of both. Table 4's own numbers are held out of the project: hold these
-against them.
+against them: `--against FILE` does it (plants/corner_validation.py: the file's format, the
+score and the exit status).
 """
 from __future__ import annotations
 
+import argparse
 import sys
 
 import numpy as np
@@ -46,9 +48,28 @@ def markdown(conditions: np.ndarray, result: dict[str, np.ndarray]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def main() -> int:
-    sys.stdout.write(markdown(TABLE4_CONDITIONS, predict()))
-    return 0
+def main(argv: list[str] | None = None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m fuzzyc.plants.corner_table",
+                                     description=__doc__.split("\n\n")[0])
+    parser.add_argument("--against", metavar="FILE",
+                        help="measured errors (CSV, plants/corner_validation.py): score the "
+                             "model at their rows; exit 0 when the validation target is met")
+    args = parser.parse_args(argv)
+    if args.against is None:
+        sys.stdout.write(markdown(TABLE4_CONDITIONS, predict()))
+        return 0
+    from fuzzyc.errors import FuzzycError
+
+    from . import corner_validation as validation
+    try:
+        measured = validation.read_measured(args.against)
+    except FuzzycError as exc:
+        sys.stderr.write(f"{exc}\n")
+        return 2
+    predicted = predict(measured.conditions)
+    result = validation.score(measured, predicted)
+    sys.stdout.write(validation.report(measured, predicted, result))
+    return 0 if result.met else 1
 
 
 if __name__ == "__main__":
