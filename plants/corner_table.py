@@ -67,7 +67,8 @@ def main(argv: list[str] | None = None) -> int:
         sys.stderr.write(f"{exc}\n")
         return 2
     predicted = predict(measured.conditions)
-    result = validation.score(measured, predicted)
+    result = validation.score(measured, predicted,
+                              validation.commanded_reduction(measured.conditions))
     sys.stdout.write(validation.report(measured, predicted, result))
     return 0 if result.met else 1
 
