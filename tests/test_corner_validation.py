@@ -52,8 +52,14 @@ def test_target_met_when_every_controlled_cell_is_within_25_percent(tmp_path, pr
     assert "model machining time: at most +7.0%" in out and "\ntarget met\n" in out
 
 
-def test_target_missed_and_cells_marked_when_the_model_is_off(tmp_path, predicted, capsys):
-    # model / measured = 1 / 1.4 = 0.714: 28.6 % under, outside; every cell is marked
+def test_target_missed_and_cells_marked_when_the_model_is_off(tmp_path, predicted, capsys,
+                                                            monkeypatch):
+    # model / measured = 1 / 1.4 = 0.714: 28.6 % under, outside; every cell is marked.
+    # The loop at the file's rows is the fixture's (the test above runs it through main)
+    def same_rows(rows):
+        assert rows.tolist() == ROWS.tolist()
+        return predicted
+    monkeypatch.setattr(corner_table, "predict", same_rows)
     path = measured_file(tmp_path, predicted, 1.4)
     assert corner_table.main(["--against", str(path)]) == 1
     out = capsys.readouterr().out
