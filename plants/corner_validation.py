@@ -42,7 +42,8 @@ import numpy as np
 from fuzzyc.errors import Diagnostic, FuzzycError, read_source, source_lines
 from fuzzyc.model import SourceLoc
 
-from .wedm_corner import FIT, TABLE2_ANGLES, lag_factor
+from . import scenario as scenarios
+from .wedm_corner import FIT, TABLE2_ANGLES, corner_error
 
 ANGLES = tuple(int(a) for a in TABLE2_ANGLES)
 COLUMNS = ("thickness", "feed", *(f"normal_{a}" for a in ANGLES),
@@ -145,11 +146,11 @@ def _number(word: str) -> float | None:
 
 
 def commanded_reduction(conditions: np.ndarray, like: float = 1.0) -> np.ndarray:
-    """The reduction y * like (%) the shipped 27-rule controller commands at each Table 2 angle
-    of each row (thickness mm, feed mm^2/min), its inputs steady: (N, 5). (Its low-pass starts
-    at its input, so the first sample is already the steady value.)"""
+    """The reduction y * like (%) that the corner_path loop's controller (the 27 rules) commands
+    at each Table 2 angle of each row (thickness mm, feed mm^2/min), its inputs steady: (N, 5).
+    (Its low-pass starts at its input, so the first sample is already the steady value.)"""
     import fuzzyc
-    model = fuzzyc.load(fuzzyc.example("wedm_corner.fz"))
+    model = fuzzyc.load(scenarios.load("corner_path").rulebase_path())
     model.params["like"].value = float(like)
     conditions = np.asarray(conditions, float)
     rows, cols = len(conditions), len(ANGLES)
@@ -164,10 +165,9 @@ def force_linear_floor(conditions: np.ndarray, reduction: np.ndarray) -> np.ndar
     """keep s x / (E0 + s x) per cell (module docstring): the least ratio controlled / normal
     of any model whose lag and vibration follow the force, the edge over-cut removed."""
     conditions = np.asarray(conditions, float)
-    x = lag_factor(conditions[:, 1:2], conditions[:, 0:1], FIT.guide_gap)
-    force = FIT.slope * x
+    normal = corner_error(FIT, conditions[:, 1:2], conditions[:, 0:1], TABLE2_ANGLES)
     keep = 1.0 - np.clip(np.asarray(reduction, float), 0.0, 100.0) / 100.0
-    return keep * force / (FIT.edge + force)
+    return keep * (normal - FIT.edge) / normal
 
 
 @dataclass(frozen=True)
