@@ -3,8 +3,16 @@
 Definitions (stated once, used by the summaries, the demo table and the tests):
 - settling_time: the first time after which |y - target| stays within `band` to the end
   (NaN if it never settles).
-- overshoot: how far y goes past the target on the far side from where it started, in y's
-  units (0 if it never crosses): max(sign * (y - target)), sign = sign(target - y[0]).
+- overshoot: how far y goes past the target on the far side of a set-point step, in y's units
+  (0 if it never crosses). A step is a run of samples where the target changes (a jump, or
+  the ramp a smoothed jump becomes; changes under STEP_TOL relative are rounding); it lasts
+  until the next step. Its direction is sign(target at the end of the change - y just before
+  it); the first stretch, from t = 0, takes sign(target[0] - y[0]). So a loop that starts at
+  its set point (y[0] = target[0]: sign 0) has nothing to overshoot until the set point steps,
+  and then the step counts. The excess is direction * (y - target) at every sample
+  (overshoot_excess); overshoot = max(0, its max over the run): the worst of the steps.
+  The verifier's `overshoot S below X` is the same excess with S's final value (mean of the
+  last 10 % of the run) as the target: one step, direction sign(final - S[0]).
 - steady_state_error: mean |y - target| over the last `tail` fraction of the run.
 - chattering: the mean absolute change per sample over the last `tail` fraction of the run
   (the feed-chattering figure: sum |u(k) - u(k-1)| / samples).
@@ -15,6 +23,9 @@ Definitions (stated once, used by the summaries, the demo table and the tests):
 from __future__ import annotations
 
 import numpy as np
+
+
+STEP_TOL = 1e-9     # relative: a target change smaller than this is rounding, not a step
 
 
 def _tail(x: np.ndarray, tail: float) -> np.ndarray:
@@ -34,10 +45,34 @@ def settling_time(time: np.ndarray, y: np.ndarray, target, band: float) -> np.nd
     return np.where(ever, settled, time[0])
 
 
-def overshoot(y: np.ndarray, target) -> np.ndarray:
+def overshoot_excess(y: np.ndarray, target) -> np.ndarray:
+    """(T, ...) how far y is past the target of the step in force, toward the far side (> 0:
+    overshooting; 0 throughout a stretch where y starts on its target)."""
+    y = np.asarray(y, dtype=float)
     tgt = _target(target, y)
-    sign = np.sign(tgt[0] - y[0])
-    return np.maximum(0.0, np.max(sign * (y - tgt), axis=0))
+    # a step: a run of samples where the target changes (a jump, or the ramp a smoothed jump
+    # becomes); changes within rounding (a moving average of a constant) are none
+    changing = np.zeros(y.shape, dtype=bool)
+    changing[1:] = np.abs(np.diff(tgt, axis=0)) > STEP_TOL * np.maximum(
+        1.0, np.maximum(np.abs(tgt[1:]), np.abs(tgt[:-1])))
+    starts = changing.copy()
+    starts[1:] &= ~changing[:-1]
+    starts[0] = True
+    rows = np.arange(len(y)).reshape((-1,) + (1,) * (y.ndim - 1))
+    # where each run of changes ends: the target the step goes to
+    stable = np.where(changing, len(y), rows)
+    end = np.minimum.accumulate(stable[::-1], axis=0)[::-1]
+    goal = np.take_along_axis(tgt, np.maximum(np.minimum(end, len(y)) - 1, rows), axis=0)
+    goal = np.where(changing, goal, tgt)
+    before = np.concatenate([y[:1], y[:-1]])            # y just before each sample
+    sign_at = np.where(starts, np.sign(goal - before), 0.0)
+    # carry each step's direction over its stretch (index of the latest step, per loop)
+    latest = np.maximum.accumulate(np.where(starts, rows, 0), axis=0)
+    return np.take_along_axis(sign_at, latest, axis=0) * (y - tgt)
+
+
+def overshoot(y: np.ndarray, target) -> np.ndarray:
+    return np.maximum(0.0, np.max(overshoot_excess(y, target), axis=0))
 
 
 def steady_state_error(y: np.ndarray, target, tail: float = 0.2) -> np.ndarray:

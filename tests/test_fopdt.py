@@ -65,13 +65,19 @@ def test_bad_params_are_located_errors(tmp_path):
     assert "time_constant must be > 0" in str(info.value)
 
 
-def test_shipped_scenario_fuzzy_pi_and_baseline_settle_without_overshoot():
-    # the note of fopdt_step.yaml: both settle, neither overshoots, the PI (kick on the
-    # set-point step) settles first
+def test_shipped_scenario_fuzzy_pi_and_baseline_settle_and_the_pi_overshoots():
+    # the note of fopdt_step.yaml: both settle, the PI (kick on the set-point step) first; y
+    # and r start at 0 and r steps to 1 at 1 s: the overshoot is measured past the step (the
+    # fuzzy PI never crosses 1, the PI peaks at 1.058 at 5.7 s)
     sc = scenario.load("fopdt_step")
-    fuzzy = summarize(sc, simulate(sc))
-    pi = summarize(sc, simulate(sc, baseline=True))
+    fuzzy_trace, pi_trace = simulate(sc), simulate(sc, baseline=True)
+    fuzzy, pi = summarize(sc, fuzzy_trace), summarize(sc, pi_trace)
     settle = "settling time (5 %)"
     assert 15 < fuzzy[settle]["mean"] < 21 and 4 < pi[settle]["mean"] < 8
-    assert fuzzy["overshoot"]["mean"] == 0 and pi["overshoot"]["mean"] == 0
+    assert fuzzy["overshoot"]["mean"] == 0 and fuzzy_trace["y"].max() < 1
+    peak = pi_trace["y"][:, 0].max()
+    assert pi["overshoot"]["mean"] == pytest.approx(peak - 1) and round(peak, 3) == 1.058
+    assert pi_trace.time[pi_trace["y"][:, 0].argmax()] == pytest.approx(5.7)
+    note = " ".join(" ".join(sc.notes).split())
+    assert "the PI overshoots by 0.058 (y peaks at 1.058 at 5.7 s)" in note
     assert fuzzy["error after 30 s"]["mean"] < 0.01 and pi["error after 30 s"]["mean"] < 0.01

@@ -24,7 +24,9 @@ Meaning of the properties (the choices a user should know):
 - monotone OUT DIR in IN where V is T: on the tables, along IN's terms (sorted by peak) with
   the other inputs fixed, in the cells of the guard; in the continuous space, where the guard
   is fully true (membership 1, e.g. e1 = 1 for a triangle peaking at 1).
-- overshoot S below X: max over time of S minus its final value (mean of the last 10 %).
+- overshoot S below X: how far S goes past its final value F (mean of the last 10 %) on the
+  far side from where it started: max over time of sign(F - S[0]) * (S - F), at most X
+  (runtime.metrics.overshoot_excess with F as the target; 0 when S starts at F).
 - A violation the file expects is written as `note "finding: <property text> -- <why>"`;
   for a rule-table violation the note must name every reported table place ([...] in the
   report), so a new bad cell is never hidden by an old note.

@@ -6,6 +6,7 @@ import numpy as np
 import sympy
 
 from ..model import Property
+from ..runtime.metrics import overshoot_excess
 
 
 class UnknownSignal(KeyError):
@@ -57,9 +58,10 @@ def evaluate(check: Property, time: np.ndarray, signals: dict[str, np.ndarray],
         target = _values(a["target"], signals, params, shape, time).astype(float)
         bad = ~(np.abs(y - target) <= a["tolerance"]) & (time >= a["by"] - 1e-9)[:, None]
         return bad.any(axis=0), _first(time, bad)
-    # overshoot: how far the signal rises above its final value (mean of the last 10 %)
+    # overshoot: runtime.metrics' definition with the final value (mean of the last 10 %) as
+    # the target: how far S goes past it on the far side from where S started
     final = np.mean(y[-max(1, len(y) // 10):], axis=0)
-    bad = ~(y - final <= a["limit"])
+    bad = ~(overshoot_excess(y, final) <= a["limit"])
     return bad.any(axis=0), _first(time, bad)
 
 

@@ -109,16 +109,25 @@ class _Tally:
     reached: np.ndarray
     lows: list | None = None
     highs: list | None = None
+    downward: np.ndarray | None = None      # overshoot: the box may start above its final value
 
 
 def _overshoot(check: Property, tally: _Tally, t: float) -> None:
-    """`overshoot X below L`: X - final <= L at every period, final the mean of X over the
-    last 10 % of the periods (temporal.py). On the sets: the largest upper bound of X less
-    the mean of the lower bounds over the last 10 % (the correlation between the peak and the
-    final value is dropped: sound, looser)."""
-    lows = np.array(tally.lows)
-    final = lows[-max(1, len(lows) // 10):].mean(axis=0)
-    slack = check.args["limit"] - (np.max(tally.highs, axis=0) - final)
+    """`overshoot X below L`: sign(final - X(0)) * (X - final) <= L at every period, final the
+    mean of X over the last 10 % of the periods (temporal.py, runtime.metrics). On the sets,
+    upward: the largest upper bound of X less the mean of the lower bounds over the last 10 %;
+    downward the mirror; a box whose start may lie on either side of its final value must bound
+    both (the correlation between the peak and the final value is dropped: sound, looser)."""
+    lows, highs = np.array(tally.lows), np.array(tally.highs)
+    tail = max(1, len(lows) // 10)
+    final_lo, final_hi = lows[-tail:].mean(axis=0), highs[-tail:].mean(axis=0)
+    may_down = ~(highs[0] <= final_lo)             # written so that a NaN bound keeps both
+    up = np.where(~(lows[0] >= final_hi), highs.max(axis=0) - final_lo, -np.inf)
+    down = np.where(may_down, final_hi - lows.min(axis=0), -np.inf)
+    need = np.maximum(up, down)
+    tally.downward = may_down
+    final = final_lo
+    slack = check.args["limit"] - np.where(np.isneginf(need), 0.0, need)   # starts at final
     tally.slack = slack
     tally.proved = np.isfinite(slack) & (slack >= MARGIN * (1.0 + np.abs(final)))
     tally.reached = np.where(tally.proved, t, 0.0)
@@ -222,12 +231,15 @@ def _take(boxes: dict, idx: np.ndarray) -> dict:
 
 
 def _take_tally(t: _Tally, idx: np.ndarray) -> _Tally:
-    return _Tally(t.proved[idx], t.slack[idx], t.reached[idx])
+    return _Tally(t.proved[idx], t.slack[idx], t.reached[idx],
+                  downward=None if t.downward is None else t.downward[idx])
 
 
 def _evidence(check: Property, i: int, leaves, full: dict, duration: float, seconds: float,
               settings: Settings) -> Evidence:
     pred, start, end = _predicate(check)
+    two_sided = check.kind == "overshoot" and any(
+        tallies[i].downward is not None and tallies[i].downward.any() for _, tallies in leaves)
     proved = np.concatenate([tallies[i].proved for _, tallies in leaves])
     slack = np.concatenate([tallies[i].slack for _, tallies in leaves])
     reached = np.concatenate([tallies[i].reached for _, tallies in leaves])
@@ -243,7 +255,7 @@ def _evidence(check: Property, i: int, leaves, full: dict, duration: float, seco
         bound = _bound_text(pred, float(slack.min())) if check.kind != "eventually" else \
             f"`{pred}` holds by t = {reached.max():.6g} s"
         if check.kind == "overshoot":
-            bound = _overshoot_text(check, float(slack.min()))
+            bound = _overshoot_text(check, float(slack.min()), two_sided)
         return Evidence("reach", Status.PROVED,
                         f"{bound} for all loops with {where} over {horizon} ({n} boxes, "
                         f"{seconds:.2f} s; {assumption})", cases=n)
@@ -255,7 +267,8 @@ def _evidence(check: Property, i: int, leaves, full: dict, duration: float, seco
     held = f"hold `{pred}` only up to t = {got}"
     if check.kind == "overshoot":          # decided at the end, in the box that overshoots most
         worst = int(np.argmin(slack))
-        held = f"bound the overshoot only by {_overshoot_text(check, float(slack[worst]))}"
+        held = (f"bound the overshoot only by "
+                f"{_overshoot_text(check, float(slack[worst]), two_sided)}")
         tight = "the same"
     box_lo, box_hi = _leaf_box(leaves, worst)
     box = ", ".join(f"{k} in [{box_lo[k]:.6g}, {box_hi[k]:.6g}]" for k in box_lo)
@@ -266,9 +279,11 @@ def _evidence(check: Property, i: int, leaves, full: dict, duration: float, seco
                     f"{settings.max_boxes}; {seconds:.2f} s; {assumption})", cases=n)
 
 
-def _overshoot_text(check: Property, slack: float) -> str:
-    return (f"{check.args['signal']} - final <= {check.args['limit'] - slack:.6g} (final: the "
-            f"mean of the last 10 % of the run)")
+def _overshoot_text(check: Property, slack: float, two_sided: bool = False) -> str:
+    past = (f"the overshoot of {check.args['signal']} past final" if two_sided else
+            f"{check.args['signal']} - final")     # upward only when every box starts below
+    return (f"{past} <= {check.args['limit'] - slack:.6g} (final: the mean of the last 10 % of "
+            f"the run)")
 
 
 def _leaf_box(leaves, index: int) -> tuple[dict, dict]:
