@@ -134,4 +134,5 @@ def prove_monotone(rb: RuleBase, output: str, input_: str, direction: str, where
     point = {v.name: float(a[j]) for v, a, j in zip(rb.inputs, axes, idx)}
     return Evidence("proof", Status.VIOLATED, f"{output} moves against `{direction}` by "
                     f"{float(step[idx]):.6g} from {input_}={axes[k][idx[k]]:g} to "
-                    f"{axes[k][idx[k] + 1]:g}", point=point)
+                    f"{axes[k][idx[k] + 1]:g}", point=point,
+                    to_point={**point, input_: float(axes[k][idx[k] + 1])})

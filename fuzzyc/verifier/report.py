@@ -31,6 +31,9 @@ def format_result(r: Result) -> str:
             lines.append(f"      ... and {len(e.cells) - MAX_CELLS} more")
         if e.point and e.status == Status.VIOLATED:
             lines.append("      at " + ", ".join(f"{k}={v:.6g}" for k, v in e.point.items()))
+        if e.to_point and e.status == Status.VIOLATED:
+            lines.append("      then " + ", ".join(f"{k}={v:.6g}"
+                                                   for k, v in e.to_point.items()))
         if e.trace and e.status == Status.VIOLATED:
             lines.append(f"      trace: {trace_summary(e.trace)}")
     if r.status == Status.VIOLATED:
@@ -79,7 +82,8 @@ def _plain(value):
 
 def _evidence_json(e) -> dict:
     return {"method": e.method, "status": e.status.value, "detail": e.detail, "cases": e.cases,
-            "cells": e.cells, "point": e.point, "trace": _plain(e.trace)}
+            "cells": e.cells, "point": e.point, "to_point": e.to_point,
+            "trace": _plain(e.trace)}
 
 
 def to_json(results: list[Result]) -> dict:

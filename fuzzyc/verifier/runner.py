@@ -41,7 +41,7 @@ def covers_violation(note: str, evidence: list[Evidence]) -> bool:
     tables report (the [...] part of each cell), so a new bad cell is never hidden by an old
     note. Violations found by proof or search are explained by the note as a whole."""
     for e in evidence:
-        if e.method == "table" and e.status == Status.VIOLATED:
+        if e.method == "table" and e.status in (Status.VIOLATED, Status.WARNING):
             for cell in e.cells:
                 places = re.findall(r"\[([^\]]+)\]", cell)
                 if not places or not all(p in note for p in places):
@@ -152,7 +152,8 @@ def check_property(model: Model, prop: Property, options: Options) -> list[Evide
         return [proved, search.covers(rb, a["inputs"], a["level"], budget)]
     if prop.kind == "monotone":
         args = (a["output"], a["input"], a["direction"], a["where"])
-        evidence = [flat_only or tables.monotone(rb, *args),
+        # the table only remarks or warns: the output is a defuzzified blend, not a cell
+        evidence = [flat_only or _table_remark(tables.monotone(rb, *args)),
                     _unless_beyond(rb) or proof.prove_monotone(rb, *args)]
         if evidence[-1].status == Status.UNDECIDED:
             evidence += search.monotone(rb, *args, budget, n, s)
@@ -160,6 +161,21 @@ def check_property(model: Model, prop: Property, options: Options) -> list[Evide
     if prop.kind == "bounded":
         return _bounded(model, a["signal"], a["lo"], a["hi"], options)
     return [Evidence("none", Status.UNDECIDED, f"unknown property kind `{prop.kind}`")]
+
+
+def _table_remark(table: Evidence) -> Evidence:
+    """A monotone property is about the defuzzified output, which the rule table does not fix:
+    a monotone table is no proof (max-min center of area dips inside cells) and a table that
+    goes against the direction (a reversal, or a cell holding two conclusions from OR rules)
+    is no violation until an evaluation shows the output moving back. Either is a remark."""
+    if table.status == Status.PROVED:
+        return Evidence("table", Status.UNDECIDED, f"remark: the rule table is monotone "
+                        f"({table.detail}); that decides nothing about the defuzzified output")
+    if table.status == Status.VIOLATED:
+        return Evidence("table", Status.WARNING, f"{table.detail} on the rule table; a warning "
+                        f"about the table: the verdict rests on evaluations of the output",
+                        cells=table.cells)
+    return table
 
 
 def _unless_flat(rb) -> Evidence | None:

@@ -75,24 +75,28 @@ def monotone(rb: RuleBase, output: str, input_: str, direction: str, where,
         b = a.copy()
         b[k] = axes[k][idx[k] + 1]
         grid = Evidence("grid", Status.VIOLATED, _against(rb, o, k, direction, a, b),
-                        cases=y.size, point=_point(rb, a))
+                        cases=y.size, point=_point(rb, a), to_point=_point(rb, b))
         return [grid]
 
     var = rb.inputs[k]
     strategy = st.tuples(_input_strategy(rb, where), st.floats(0.0, 1.0))
 
-    def check(example):
+    def moved(example):
         x, frac = example
         x2 = x.copy()
         x2[k] = x[k] + frac * (var.hi - x[k])
+        return x, x2
+
+    def check(example):
+        x, x2 = moved(example)
         y2 = engine.evaluate(rb, np.stack([x, x2]))[:, o]
         return None if (y2[1] - y2[0]) * sign >= -TOL else _against(rb, o, k, direction, x, x2)
 
     found = _hypothesis(check, strategy, max_examples, seed)
     if found:
-        (x, _), message = found
-        return [grid, Evidence("hypothesis", Status.VIOLATED, message, cases=max_examples,
-                               point=_point(rb, x))]
+        x, x2 = moved(found[0])
+        return [grid, Evidence("hypothesis", Status.VIOLATED, found[1], cases=max_examples,
+                               point=_point(rb, x), to_point=_point(rb, x2))]
     return [grid, Evidence("hypothesis", Status.HELD, f"{max_examples} examples",
                            cases=max_examples)]
 
