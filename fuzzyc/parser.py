@@ -11,6 +11,7 @@ from importlib import resources
 from pathlib import Path
 
 from lark import Lark, Token, Tree
+from lark.lark import PostLex
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from .builder import Builder
@@ -41,10 +42,45 @@ READABLE = {
 }
 
 
+class _Names(PostLex):
+    """NAME is in every state of lark's contextual lexer: a keyword string then matches only
+    when NAME matches exactly it (lark turns that NAME into the keyword), so `ruleset`, `isA`,
+    `iffy` are names, never a keyword with letters glued on.  A NAME still spelled like a
+    keyword stands where the keyword does not: it becomes KEYWORD_AS_NAME, which no rule
+    accepts (`_report` says what to write); a name in backticks loses them."""
+    always_accept = ("NAME",)
+
+    def process(self, stream):
+        for tok in stream:
+            if tok.type in ("NAME", "DOTTED_NAME"):
+                if tok in keywords():      # `controller.Vset`: a dotted name is never a keyword
+                    tok = tok.update(type="KEYWORD_AS_NAME")
+                elif "`" in tok:
+                    tok = tok.update(value=tok.replace("`", ""))
+            yield tok
+
+
+def _grammar() -> str:
+    return resources.files("fuzzyc").joinpath("grammar/fuzzyc.lark").read_text()
+
+
 @functools.lru_cache(maxsize=1)
 def _lark() -> Lark:
-    grammar = resources.files("fuzzyc").joinpath("grammar/fuzzyc.lark").read_text()
-    return Lark(grammar, parser="lalr", start=["start", "statements"], propagate_positions=True)
+    return Lark(_grammar(), parser="lalr", start=["start", "statements"],
+                propagate_positions=True, postlex=_Names())
+
+
+@functools.lru_cache(maxsize=1)
+def keywords() -> frozenset[str]:
+    """Every word of the grammar (its quoted literals): a name spelled like one is written in
+    backticks, `rule`."""
+    code = re.sub(r"//[^\n]*", "", _grammar())
+    return frozenset(re.findall(r'"([A-Za-z_][A-Za-z0-9_]*)"', code))
+
+
+def fz_name(name: str) -> str:
+    """`name` as .fz text: in backticks when it is a keyword."""
+    return f"`{name}`" if name in keywords() else name
 
 
 def load(path: str | Path) -> Model:
@@ -149,6 +185,11 @@ def _report(exc: UnexpectedInput | None, reporter: Reporter) -> None:
                                               "closing `}` of the controller is missing")
         return
     token: Token = exc.token
+    if token.type == "KEYWORD_AS_NAME":
+        reporter.error(reporter.loc(token.line, token.column),
+                       f"`{token}` is a keyword, not a name; a name spelled like a keyword is "
+                       f"written in backticks (`{token}` with the backticks typed)")
+        return
     expected = sorted({READABLE.get(t, f"`{t.lower()}`") for t in exc.expected
                        if not t.startswith("__")})
     reporter.error(reporter.loc(token.line, token.column),

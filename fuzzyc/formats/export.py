@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import re
+from typing import Callable
 
 import numpy as np
 import sympy
@@ -102,11 +103,13 @@ def all_singletons(var: Variable) -> bool:
 
 
 def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str,
-                  problems: list[str], says_any: bool = False) -> str:
+                  problems: list[str], says_any: bool = False,
+                  say: Callable[[str], str] = str) -> str:
     """Rule r as `if x is not very A and ... then y is B<also>z is C with w` (FLL, FCL, .fz
     share this shape; `also` joins conclusions).  Lower-case keywords: FCL's are
     case-insensitive, and fuzzylite 6 reads FCL rules only in lower case (measured).
-    `says_any`: a rule without clauses (it always fires) is `if x is any` (fuzzylite's)."""
+    `says_any`: a rule without clauses (it always fires) is `if x is any` (fuzzylite's).
+    `say` writes a variable or term name (.fz quotes its keywords)."""
     rb = model.rulebase
 
     def clause(i: int, t: int, negated: bool, hedge: Hedge) -> str:
@@ -114,7 +117,7 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
         words = ["not"] if negated else []
         if hedge != Hedge.NONE:
             words.append(hedge_words.get(hedge, hedge.name.lower()))  # else refused already
-        return " ".join([v.name, "is", *words, v.names[t] if t >= 0 else "any"])
+        return " ".join([say(v.name), "is", *words, say(v.names[t]) if t >= 0 else "any"])
 
     condition = rb.describe_condition(r, clause, ("and", "or", "not"))
     if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.HEDGE):
@@ -129,7 +132,7 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
         condition = f"{rb.inputs[0].name} is any"
     elif not condition:
         problems.append(f"rule {r + 1} has no clause, which the format cannot say")
-    conclusions = [f"{v.name} is {v.names[int(rb.consequents[r, o])]}"
+    conclusions = [f"{say(v.name)} is {say(v.names[int(rb.consequents[r, o])])}"
                    for o, v in enumerate(rb.outputs) if rb.consequents[r, o] >= 0]
     text = f"if {condition} then {also.join(conclusions)}"
     if rb.weights[r] != 1.0:

@@ -5,7 +5,8 @@ Inputs become `input` declarations with their terms, outputs `var` + `terms` and
 reading aid of the source, not part of the model).  A model with a signal chain is written as
 its bare rule base, with warnings naming what was left out.  A model of several rule blocks is
 written as `block NAME { ... }`s (each with its full inference), chained blocks included: the
-file evaluates as the model.
+file evaluates as the model.  A name spelled like a .fz keyword is written in backticks
+(`rule`); a name that is no identifier at all is refused (`unsayable_names`).
 """
 from __future__ import annotations
 
@@ -14,12 +15,12 @@ import math
 import numpy as np
 
 from ..model import (Aggregation, Defuzzifier, Hedge, Implication, Model, SNorm,
-                     TermKind, TNorm, Variable)
+                     TermKind, TNorm, Variable, chain_output_names)
 from ..builder.terms import PLAIN_SHAPES, term_core
 from ..escape import one_line
 from ..membership import linear_coefficients
+from ..parser import fz_name, keywords
 from .blocks import block_names, block_view, file_variables, linear_on, read_inputs
-from .common import OUTPUT_SUFFIX
 from .export import (left_out, model_identifier, num, refuse, rule_sentence, unsayable_functions,
                      unsayable_names)
 
@@ -37,7 +38,7 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     inputs, outputs = file_variables(model)
     several = len(model.blocks) > 1
     problems = unsayable_names(model, ".fz") + unsayable_functions(model, ".fz", False, False)
-    lines = [f"controller {model_identifier(model)} {_string(model.title)} {{"
+    lines = [f"controller {fz_name(model_identifier(model))} {_string(model.title)} {{"
              .replace("  ", " ")]
     ranges = [_holding_peaks(var) for var in inputs]
     notes = [*model.notes, *(f"`{var.name}` range [{num(var.lo)}, {num(var.hi)}] widened to "
@@ -46,27 +47,29 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
                              if (lo, hi) != (var.lo, var.hi))]
     lines += [f"  note {_string(n)}" for n in notes]
     for var, (lo, hi) in zip(inputs, ranges):
-        lines.append(f"  input {var.name}{_unit(var)} in [{num(lo)}, {num(hi)}]")
+        lines.append(f"  input {fz_name(var.name)}{_unit(var)} in [{num(lo)}, {num(hi)}]")
     for var in inputs:
-        lines.append(f"  terms {var.name} : {_terms(var, problems)}".rstrip())
+        lines.append(f"  terms {fz_name(var.name)} : {_terms(var, problems)}".rstrip())
     for rb in model.blocks:
         # a block of a .fz file reads the variables its rules name, in declaration order
         read = read_inputs(rb, inputs + outputs) if several else rb.inputs
         for var in rb.outputs:
             var = linear_on(var, rb.inputs, read, problems)
-            lines.append(f"  var {var.name}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}] "
-                         f"default {num(var.default)}")
-            lines.append(f"  terms {var.name} : {_terms(var, problems, len(read))}")
+            lines.append(f"  var {fz_name(var.name)}{_unit(var)} "
+                         f"in [{num(var.lo)}, {num(var.hi)}] default {num(var.default)}")
+            lines.append(f"  terms {fz_name(var.name)} : {_terms(var, problems, len(read))}")
     if several:
-        for name, rb in zip(block_names(model), model.blocks):
+        for name, rb in zip(block_names(model, keywords()), model.blocks):
             lines += [f"  block {name} {{",
                       *("  " + line for line in _block_lines(block_view(model, rb), problems)),
                       "  }"]
     else:
         lines += _block_lines(model, problems)
-    for var in outputs:
-        lines.append(f"  output {var.name}{OUTPUT_SUFFIX}{_unit(var)} "
-                     f"in [{num(var.lo)}, {num(var.hi)}] = {var.name}")
+    # `y_out`, or `y_out2` when the file has a `y_out` of its own: as the importers name it
+    chain = chain_output_names([v.name for v in outputs], [v.name for v in inputs + outputs])
+    for var, out in zip(outputs, chain):
+        lines.append(f"  output {fz_name(out)}{_unit(var)} "
+                     f"in [{num(var.lo)}, {num(var.hi)}] = {fz_name(var.name)}")
     lines.append("}")
     refuse(model, ".fz", problems)
     if warnings is not None:
@@ -83,11 +86,11 @@ def _block_lines(model: Model, problems: list[str]) -> list[str]:
     for o, var in enumerate(rb.outputs):
         if var.name in rb.output_choices:
             own = rb.inference_of(o)
-            lines.append(f"  inference {var.name}: " + ", ".join(
+            lines.append(f"  inference {fz_name(var.name)}: " + ", ".join(
                 f"{key} = {words[getattr(own, field)]}"
                 for key, field, words in FZ_INFERENCE[3:]))    # aggregation, defuzzify
     for r in range(rb.n_rules):
-        lines.append("  rule " + rule_sentence(model, r, FZ_HEDGES, ", ", problems))
+        lines.append("  rule " + rule_sentence(model, r, FZ_HEDGES, ", ", problems, say=fz_name))
     return lines
 
 
@@ -111,13 +114,14 @@ def _unit(var: Variable) -> str:
 
 def _terms(var: Variable, problems: list[str], n_inputs: int = 0) -> str:
     linear = linear_coefficients(var, n_inputs) if np.any(var.kinds == TermKind.LINEAR) else None
-    return ", ".join(f"{name} = linear({', '.join(num(c) for c in linear[t])})"
+    return ", ".join(f"{fz_name(name)} = linear({', '.join(num(c) for c in linear[t])})"
                      if kind == TermKind.LINEAR else
-                     f"{name} = discrete({', '.join(map(num, var.term_numbers(t)))})"
+                     f"{fz_name(name)} = discrete({', '.join(map(num, var.term_numbers(t)))})"
                      if kind == TermKind.DISCRETE else
                      f"{name} = function"      # refused (unsayable_functions): never written
                      if kind == TermKind.FUNCTION else
-                     f"{name} = {_shape(TermKind(int(kind)), p, var.name, name, problems)}"
+                     f"{fz_name(name)} = "
+                     f"{_shape(TermKind(int(kind)), p, var.name, name, problems)}"
                      for t, (name, kind, p) in enumerate(zip(var.names, var.kinds, var.params)))
 
 
