@@ -567,10 +567,13 @@ class Model:
     @classmethod
     def of_rulebase(cls, rb: RuleBase, name: str) -> "Model":
         """rb alone as a controller: its inputs read as signals, each output `y` written as it
-        is to `y_out` (the importers' convention; benchmarks and tests of wide rule bases)."""
+        is to `y_out` (the importers' convention, `chain_output_names`; benchmarks and tests of
+        wide rule bases)."""
+        names = chain_output_names([v.name for v in rb.outputs],
+                                   [v.name for v in (*rb.inputs, *rb.outputs)])
         return cls(name, [rb], signals=[Signal(v.name, v.lo, v.hi) for v in rb.inputs],
-                   outputs=[Output(v.name + "_out", OutputKind.DIRECT, sympy.Symbol(v.name),
-                                   v.lo, v.hi, init=v.lo) for v in rb.outputs])
+                   outputs=[Output(out, OutputKind.DIRECT, sympy.Symbol(v.name),
+                                   v.lo, v.hi, init=v.lo) for out, v in zip(names, rb.outputs)])
 
     @property
     def rulebase(self) -> RuleBase:
@@ -587,3 +590,21 @@ class Model:
     def rulebase_input_sources(self) -> list[str]:
         """Names of the signals/steps that feed the rule base's inputs, in input order."""
         return [v.name for v in self.rulebase.inputs]
+
+
+def chain_output_names(outputs: list[str], taken: list[str]) -> list[str]:
+    """The names of the signal-chain outputs that pass rule-base outputs `y` through (the
+    importers', `Model.of_rulebase`'s, the .fz writer's): `y_out`, or `y_out2`, `y_out3`, ...
+    when that meets one of the `taken` names (every variable of the file) or an earlier choice.
+    Names meet as C identifiers do, upper-cased (`escape.check_c_names`), so no user name is
+    shadowed in eval's columns, in the controller's signals or in the C header."""
+    from .escape import c_identifier     # escape imports errors, which imports this module
+    used = {c_identifier(n).upper() for n in taken}
+    names = []
+    for y in outputs:
+        name, n = f"{y}_out", 2
+        while c_identifier(name).upper() in used:
+            name, n = f"{y}_out{n}", n + 1
+        used.add(c_identifier(name).upper())
+        names.append(name)
+    return names

@@ -34,11 +34,24 @@ def _fail(message: str) -> FuzzycError:
     return FuzzycError([Diagnostic(None, message)])
 
 
+# The headers' step functions hold each signal in a local `v_NAME` (an output of the fixed-point
+# chain also in `u_NAME`, `reciprocal_NAME`): a user name is always behind one of these prefixes,
+# so a C keyword (`int`, `return`) is a name like any other.  The functions and types of the
+# header start with the controller's name and `_`, so that must not begin with one of them
+# (`v_clamp` for a signal `clamp` would hide the function v_clamp of a controller `v`).
+LOCAL_PREFIXES = ("v_", "u_", "reciprocal_")
+
+
 def check_c_model_names(model: Model) -> None:
     """Every name that becomes part of a C identifier in the headers, checked for clashes."""
     rb = model.rulebase
     check_c_names([x.name for x in (*model.signals, *model.steps, *model.outputs,
                                     *rb.inputs, *rb.outputs)] + list(model.params))
+    prefix = c_identifier(model.name) + "_"
+    if prefix.startswith(LOCAL_PREFIXES):
+        raise _fail(f"the controller's name `{model.name}` makes the header's functions start "
+                    f"with `{prefix}`, as its local variables do (v_NAME, u_NAME, "
+                    "reciprocal_NAME for the signals): rename the controller")
 
 
 def _table(real: RealType, rows) -> str:

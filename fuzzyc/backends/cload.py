@@ -32,12 +32,12 @@ STRICT_FLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Wconversi
 SHIM = """\
 #include "{name}.h"
 /* Batch entry points for ctypes: doubles in and out, one call per step of the whole batch. */
-int fz_state_size(void) {{ return (int)sizeof({name}_state); }}
-void fz_init({name}_state *s, int n) {{
+int {entry}_state_size(void) {{ return (int)sizeof({name}_state); }}
+void {entry}_init({name}_state *s, int n) {{
     int b;
     for (b = 0; b < n; ++b) {name}_init(&s[b]);
 }}
-void fz_step({name}_state *s, int n, const double *in, double *out) {{
+void {entry}_step({name}_state *s, int n, const double *in, double *out) {{
     int b, k;
     for (b = 0; b < n; ++b) {{
         {real} x[{P}N_SIGNALS], y[{P}N_OUTPUTS];
@@ -46,7 +46,7 @@ void fz_step({name}_state *s, int n, const double *in, double *out) {{
         for (k = 0; k < {n_out}; ++k) out[b * {n_out} + k] = (double)y[k];
     }}
 }}
-void fz_rulebase(int n, const double *in, double *out) {{
+void {entry}_rulebase(int n, const double *in, double *out) {{
     int b, k;
     for (b = 0; b < n; ++b) {{
         {real} x[{P}N_RB_INPUTS], y[{P}N_RB_OUTPUTS];
@@ -127,10 +127,17 @@ def compile_shared(sources: dict[str, str], main: str, flags: tuple[str, ...] = 
     return target
 
 
+def shim_prefix(model: Model) -> str:
+    """The prefix of the shim's entry points: `fz`, or `fzb` for a controller named `fz`
+    (whose header defines fz_init, fz_step, fz_rulebase itself)."""
+    return "fzb" if c_identifier(model.name) == "fz" else "fz"
+
+
 def controller_sources(model: Model, numeric: str) -> dict[str, str]:
     """The files CController compiles: NAME.h and the batch shim, shim.c, that includes it."""
     name = c_identifier(model.name)
     shim = SHIM.format(name=name, P=name.upper() + "_", real=REAL_OF[numeric],
+                       entry=shim_prefix(model),
                        n_in=len(model.signals), n_out=len(model.outputs))
     return {f"{name}.h": c_backend.generate_header(model, numeric), "shim.c": shim}
 
@@ -144,12 +151,15 @@ class CController:
         self.input_names = [s.name for s in model.signals]
         self.output_names = [o.name for o in model.outputs]
         path = compile_shared(controller_sources(model, numeric), "shim.c")
-        self._lib = ctypes.CDLL(str(path))
+        lib, entry = ctypes.CDLL(str(path)), shim_prefix(model)
+        self._step, self._rulebase, self._init = (getattr(lib, f"{entry}_{f}")
+                                                  for f in ("step", "rulebase", "init"))
         dptr = ctypes.POINTER(ctypes.c_double)
-        self._lib.fz_step.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr]
-        self._lib.fz_rulebase.argtypes = [ctypes.c_int, dptr, dptr]
-        self._lib.fz_init.argtypes = [ctypes.c_void_p, ctypes.c_int]
-        self._state_size = self._lib.fz_state_size()
+        self._step.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr]
+        self._rulebase.argtypes = [ctypes.c_int, dptr, dptr]
+        self._init.argtypes = [ctypes.c_void_p, ctypes.c_int]
+        self._lib = lib
+        self._state_size = getattr(lib, f"{entry}_state_size")()
         self.signals: dict[str, np.ndarray] = {}
         self.reset(batch)
 
@@ -157,7 +167,7 @@ class CController:
         if batch is not None:
             self.batch = int(batch)
         self._states = ctypes.create_string_buffer(max(1, self.batch) * self._state_size)
-        self._lib.fz_init(self._states, self.batch)
+        self._init(self._states, self.batch)
         self.signals = {}
 
     @staticmethod
@@ -173,7 +183,7 @@ class CController:
             [np.broadcast_to(np.asarray(inputs[k], dtype=float), (n,)) for k in self.input_names],
             axis=1))
         y = np.empty((n, len(self.output_names)))
-        self._lib.fz_step(self._states, n, self._ptr(x), self._ptr(y))
+        self._step(self._states, n, self._ptr(x), self._ptr(y))
         outputs = {k: y[:, o].copy() for o, k in enumerate(self.output_names)}
         # Only the chain's ends are visible from C (the intermediate signals are locals).
         self.signals = {**{k: x[:, i].copy() for i, k in enumerate(self.input_names)}, **outputs}
@@ -186,7 +196,7 @@ class CController:
         if x.shape[1] != len(rb.inputs):
             raise ValueError(f"expected {len(rb.inputs)} input columns, got {x.shape[1]}")
         y = np.empty((x.shape[0], len(rb.outputs)))
-        self._lib.fz_rulebase(x.shape[0], self._ptr(x), self._ptr(y))
+        self._rulebase(x.shape[0], self._ptr(x), self._ptr(y))
         return y
 
 

@@ -16,6 +16,10 @@ PURE_FUNCTIONS = {"clamp": 3, "abs": 1, "min": None, "max": None, "sqrt": 1, "ex
 
 STATEFUL_FUNCTIONS = {"delta": 1, "prev": 1, "lowpass": 3}
 
+# The names the builder generates (the hidden steps of delta, prev, lowpass) start with this;
+# a declared name may not (docs/language.md), so the two never meet.
+RESERVED_PREFIX = "__"
+
 BINARY_OPS = ("add", "sub", "mul", "div", "pow")
 
 
@@ -232,7 +236,8 @@ class ChainBuilder:
                 return None, None
             coeffs = (a, b)
         self._hidden_count += 1
-        name = f"_{node.name}{self._hidden_count}_{owner}"
+        # RESERVED_PREFIX: no declared name starts so (core._declare), so none is overwritten
+        name = f"{RESERVED_PREFIX}{node.name}{self._hidden_count}_{owner}"
         self._add_step(Step(name, op, arg, coeffs, units.format_unit(unit) if unit else None,
                             hidden=True, loc=node.loc))
         self.units[name] = unit

@@ -11,7 +11,7 @@ from .. import units
 from ..errors import Reporter
 from ..model import Model, Output, Param, Property, Signal, SourceLoc, Step
 from ..syntax import Expr, Name, Stmt
-from .chain import ChainBuilder
+from .chain import RESERVED_PREFIX, ChainBuilder
 from .properties import PropertiesBuilder
 from .rules import BlockSpec, RulesBuilder
 from .terms import LinguisticVar, TermsBuilder
@@ -55,6 +55,12 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder):
         self.rep.error(loc, message)
 
     def _declare(self, name: Name, what: str) -> bool:
+        if name.text.startswith(RESERVED_PREFIX):
+            self.error(name.loc, f"`{name.text}`: names starting with `{RESERVED_PREFIX}` are "
+                                 "reserved for the names fuzzyc generates (the memories of "
+                                 f"delta, prev and lowpass); give this {what} another name")
+            self.broken.add(name.text)      # no follow-on `unknown name` where it is read
+            return False
         if name.text in self.declared:
             first = self.declared[name.text]
             self.error(name.loc, f"`{name.text}` is already declared at line {first.line}; "

@@ -229,7 +229,7 @@ class RulesBuilder:
                     learnable: bool = False, label: str = "") -> int | None:
         """A term name, or a number: a singleton consequent of its own."""
         if isinstance(term, Num):
-            name = Name(label or f"_v{len(var.terms)}", term.loc)
+            name = Name(label or _fresh_term(var), term.loc)
             if not (var.lo <= term.value <= var.hi):
                 self.error(term.loc, f"value {term.value:g} is outside `{var.name}`'s range "
                                      f"[{var.lo:g}, {var.hi:g}]")
@@ -436,3 +436,12 @@ class RulesBuilder:
             if any(params[n_inputs + 1:]):     # zeros are the (T, 4) padding
                 self.error(loc, f"linear `{name}` has more coefficients than c0 and one per "
                                 f"rule-base input ({n_inputs})")
+
+
+def _fresh_term(var: LinguisticVar) -> str:
+    """A name for a numeric conclusion's own term: `_vN` (N its index), or `_vN_2`, ... when
+    the file already gave that name to a term of `var` (no user term is taken over)."""
+    name, n = f"_v{len(var.terms)}", 2
+    while name in var.term_index:
+        name, n = f"_v{len(var.terms)}_{n}", n + 1
+    return name

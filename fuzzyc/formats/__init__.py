@@ -3,7 +3,7 @@ model; export the model's rule base to .fz, FLL, FCL and MATLAB FIS.
 
 Importers give the Model the .fz front end would give for the same rule base: one raw input per
 rule-base input (same name), one DIRECT output `NAME_out` per rule-base output, saturated to its
-range.  Whatever a file says that the model cannot carry is an error with its place; nothing is
+range (`NAME_out2`, ... when the file has a `NAME_out` of its own: model.chain_output_names).  Whatever a file says that the model cannot carry is an error with its place; nothing is
 dropped silently (defaults and settings the model replaces are recorded in `Model.notes`).
 Exports write the bare rule base and return warnings naming what was left out.
 """

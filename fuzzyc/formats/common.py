@@ -16,10 +16,12 @@ from ..errors import Reporter, suggest
 from ..formula import Formula
 from ..membership import discrete_problem, monotonic
 from ..model import (Aggregation, CondOp, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
-                     SourceLoc, TermKind, Variable)
+                     SourceLoc, TermKind, Variable, chain_output_names)
 
 INF = math.inf
-OUTPUT_SUFFIX = "_out"   # .fz needs the signal-chain output named apart from the rule-base output
+# .fz needs the signal-chain output named apart from the rule-base output: `y_out`, or `y_out2`
+# when the file has a `y_out` of its own (model.chain_output_names)
+OUTPUT_SUFFIX = "_out"
 
 
 @dataclass
@@ -219,9 +221,11 @@ class Collected:
         return Model(
             name=self.name, blocks=blocks, title=self.title or f"imported from {path}",
             signals=[Signal(v.name, v.lo, v.hi, loc=v.loc) for v in inputs],
-            outputs=[Output(v.name + OUTPUT_SUFFIX, OutputKind.DIRECT, sympy.Symbol(v.name),
+            outputs=[Output(out, OutputKind.DIRECT, sympy.Symbol(v.name),
                             v.lo, v.hi, init=v.lo, loc=v.loc)
-                     for v in outputs],
+                     for out, v in zip(chain_output_names([v.name for v in outputs],
+                                                          [*self.inputs, *self.outputs]),
+                                       outputs)],
             source_path=path, source_text=text, notes=list(self.notes))
 
 
