@@ -1,40 +1,41 @@
-"""Lets the suite run from a source checkout as well as from an installed package.
+"""The suite tests the installed package, not the source tree.
 
-Installed, `runtime/` and `plants/` are `fuzzyc.runtime` and `fuzzyc.plants` (setuptools
-package-dir). From the bare tree they are not, so alias them here when the import fails.
+`make test` builds the wheel, installs it with the newest dependencies pip resolves into a fresh
+venv and runs pytest from a folder outside the source tree, with FUZZYC_WHEEL naming the wheel.
+Then `fuzzyc` must come from that venv's site-packages: a module missing from the wheel fails
+here as it would for a user. The repository root is appended to sys.path (after site-packages)
+only so that the test helpers under tests/ (`tests.fuzz`) import.
 """
-import importlib
 import importlib.util
 import os
 import pathlib
+import shutil
+import subprocess
 import sys
 
+import fuzzyc
+import pytest
 from hypothesis import settings
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+    sys.path.append(str(ROOT))
+
+INSTALLED_FROM = pathlib.Path(fuzzyc.__file__).resolve().parent
+if os.environ.get("FUZZYC_WHEEL") and INSTALLED_FROM == ROOT / "fuzzyc":
+    raise SystemExit(f"FUZZYC_WHEEL is set but fuzzyc was imported from the source tree "
+                     f"({INSTALLED_FROM}), not from the installed wheel")
 
 
-def _alias(name: str, folder: str) -> None:
-    try:
-        importlib.import_module(name)
-        return
-    except ImportError:
-        pass
-    init = ROOT / folder / "__init__.py"
-    spec = importlib.util.spec_from_file_location(
-        name, init, submodule_search_locations=[str(ROOT / folder)])
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module
-    parent, _, child = name.rpartition(".")
-    setattr(sys.modules[parent], child, module)
-    spec.loader.exec_module(module)
-
-
-_alias("fuzzyc.runtime", "runtime")
-_alias("fuzzyc.plants", "plants")
-_alias("fuzzyc.rulebases", "rulebases")
+def pytest_report_header(config):
+    wheel = os.environ.get("FUZZYC_WHEEL")
+    lines = [f"fuzzyc imported from {INSTALLED_FROM}"
+             + (f" (wheel {pathlib.Path(wheel).name})" if wheel else " (no wheel: a development run)")]
+    freeze = subprocess.run([sys.executable, "-m", "pip", "freeze", "--exclude-editable",
+                             "--disable-pip-version-check"],
+                            capture_output=True, text=True).stdout.split()
+    lines.append("resolved: " + ", ".join(p for p in freeze if not p.startswith("fuzzyc")))
+    return lines
 
 
 # The suite is a gate, so its property tests draw the same examples on every run
@@ -43,3 +44,33 @@ _alias("fuzzyc.rulebases", "rulebases")
 settings.register_profile("gate", derandomize=True)
 settings.register_profile("explore", derandomize=False)
 settings.load_profile("explore" if os.environ.get("FUZZYC_EXPLORE") else "gate")
+
+
+# the folders that become the package (setup.py's mapping) and the files that go with them
+SHIPPED = ("pyproject.toml", "setup.py", "README.md", "LICENSE", "fuzzyc", "runtime", "plants",
+           "rulebases", "examples")
+
+
+@pytest.fixture(scope="session")
+def built_wheel(tmp_path_factory):
+    """(wheel path, build log): the wheel `make test` installed, or in a development run one
+    built here from a copy of the shipped files (so nothing else of the tree can leak in)."""
+    if os.environ.get("FUZZYC_WHEEL"):
+        wheel = pathlib.Path(os.environ["FUZZYC_WHEEL"])
+        return wheel, (wheel.parent / "build.log").read_text()
+    tmp = tmp_path_factory.mktemp("wheel")
+    src = tmp / "src"
+    src.mkdir()
+    for name in SHIPPED:
+        if (ROOT / name).is_dir():
+            shutil.copytree(ROOT / name, src / name,
+                            ignore=shutil.ignore_patterns("__pycache__", "*.so", "build"))
+        else:
+            shutil.copy(ROOT / name, src / name)
+    # the development venv's setuptools when it has them (no downloads), else pip's isolation
+    offline = ["--no-build-isolation"] if importlib.util.find_spec("wheel") else []
+    build = subprocess.run([sys.executable, "-m", "pip", "wheel", "--no-deps", *offline, "-v",
+                            "-w", str(tmp / "dist"), str(src)],
+                           cwd=tmp, capture_output=True, text=True, timeout=300)
+    assert build.returncode == 0, build.stdout + build.stderr
+    return next((tmp / "dist").glob("fuzzyc-*.whl")), build.stdout + build.stderr
