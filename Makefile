@@ -1,34 +1,65 @@
 # Two entry points for a fresh machine: `make demo` and `make test`.
-# Both create .venv when it is missing and (re)install the package when pyproject.toml changes.
+# `make demo` works in .venv (created when missing, the package installed editable for
+# development, reinstalled when pyproject.toml or setup.py change).
+# `make test` tests what a user installs: it builds the wheel, installs it with the newest
+# dependency versions pip resolves into a fresh venv (.venv-test, made anew every run) and runs
+# the suite from a folder outside the source tree (PYTHONSAFEPATH: no source on the path).
+# The oracle targets (conformance, fuzz, proofs) run in that same installed venv.
 PYTHON ?= python3
 VENV   := .venv
 PY     := $(VENV)/bin/python
 STAMP  := $(VENV)/.installed
+TEST_VENV := .venv-test
+TPY    := $(CURDIR)/$(TEST_VENV)/bin/python
+TSTAMP := $(TEST_VENV)/.installed
+WHEELS := build/wheel
+PIP_Q  := -q --disable-pip-version-check
+# run the installed package from elsewhere: the source tree is never on sys.path
+INSTALLED = cd "$$(mktemp -d)" && PYTHONSAFEPATH=1 FUZZYC_WHEEL="$$(ls $(CURDIR)/$(WHEELS)/fuzzyc-*.whl)" \
+            FUZZYC_PYFUZZYLITE_VENV=$(CURDIR)/$(PYFL_VENV)
+PYTEST_ROOT = -c $(CURDIR)/pyproject.toml --rootdir $(CURDIR)
+# pyproject's testpaths apply only when pytest starts in the root: name them
+TESTPATHS = $(CURDIR)/tests $(CURDIR)/rulebases $(CURDIR)/docs
 
-.PHONY: demo test bench proofs c-proofs loop-proofs fuzz explore clean conformance
+.PHONY: demo test test-venv bench proofs c-proofs loop-proofs fuzz explore clean conformance
 
-$(STAMP): pyproject.toml
+$(STAMP): pyproject.toml setup.py
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV) || { echo "python3 -m venv failed: on Debian install python3-venv (apt-get install python3-venv)"; exit 1; }
-	$(PY) -m pip install -q --disable-pip-version-check --upgrade pip setuptools wheel
-	$(PY) -m pip install -q --disable-pip-version-check -e '.[test,dask,gym]'
+	$(PY) -m pip install $(PIP_Q) --upgrade pip setuptools wheel
+	$(PY) -m pip install $(PIP_Q) -e '.[test,dask,gym]'
 	@touch $(STAMP)
+
+# A fresh venv with the wheel built from this tree; the resolved versions are printed in the
+# test header (tests/conftest.py) and kept in $(TEST_VENV)/resolved.txt.
+test-venv:
+	rm -rf $(TEST_VENV) $(WHEELS) build/lib build/bdist.*
+	@$(PYTHON) -m venv $(TEST_VENV) || { echo "python3 -m venv failed: on Debian install python3-venv (apt-get install python3-venv)"; exit 1; }
+	$(TPY) -m pip install $(PIP_Q) --upgrade pip
+	$(TPY) -m pip wheel $(PIP_Q) --no-deps -v -w $(WHEELS) . > $(TEST_VENV)/build.log 2>&1 || { cat $(TEST_VENV)/build.log; exit 1; }
+	cp $(TEST_VENV)/build.log $(WHEELS)/build.log
+	$(TPY) -m pip install $(PIP_Q) --upgrade --upgrade-strategy eager "$$(ls $(WHEELS)/fuzzyc-*.whl)[test,dask,gym]"
+	$(TPY) -m pip freeze --disable-pip-version-check > $(TEST_VENV)/resolved.txt
+	@touch $(TSTAMP)
+
+$(TSTAMP):
+	$(MAKE) test-venv
 
 demo: $(STAMP)
 	$(PY) -m fuzzyc.demo
 
-test: $(STAMP)
-	$(PY) -m pytest -q -n 2 --dist loadfile -rs
+test: test-venv
+	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -n 2 --dist loadfile -rs $(TESTPATHS)
 
 # What CI proves beyond `make test`: every header of the corpora under EVA, and every shipped
 # closed loop on sets at a tenth of its horizon (box budget 8; a smoke run of the machinery).
 proofs: c-proofs
-	$(PY) benchmarks/bench_verify.py --proofs-only --quick
+	$(INSTALLED) $(TPY) $(CURDIR)/benchmarks/bench_verify.py --proofs-only --quick
 
 # Frama-C EVA over the corpora's headers (tests/test_c_proofs.py, marker `proofs`, left out of
 # the default selection in pyproject.toml; the shipped rule bases' headers are proved in
 # `make test`); skipped without frama-c.
-c-proofs: $(STAMP)
-	$(PY) -m pytest -q -n 2 --dist loadfile -m proofs -rs tests/test_c_proofs.py
+c-proofs: $(TSTAMP)
+	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -n 2 --dist loadfile -m proofs -rs $(CURDIR)/tests/test_c_proofs.py
 
 # pyfuzzylite 8 pins numpy < 2: a venv of its own, for its example files and as a live oracle.
 PYFL_VENV := .venv-pyfuzzylite
@@ -39,21 +70,21 @@ $(PYFL_VENV)/.installed:
 
 # The conformance table (every example file of fuzzylite 6, pyfuzzylite 8 and the Octave
 # toolkit against the tools themselves), then the live oracle tests.
-conformance: $(STAMP) $(PYFL_VENV)/.installed
-	$(PY) -m fuzzyc.conformance
-	$(PY) -m pytest -q -m conformance -rs
+conformance: $(TSTAMP) $(PYFL_VENV)/.installed
+	$(INSTALLED) $(TPY) -m fuzzyc.conformance
+	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -m conformance -rs $(TESTPATHS)
 
 # 10,000 hostile inputs (docs/fuzzing.md); fails on any traceback or unlocated rejection
-fuzz: $(STAMP)
-	$(PY) -m tests.fuzz --inputs 10000
+fuzz: $(TSTAMP)
+	$(INSTALLED) PYTHONPATH=$(CURDIR) $(TPY) -m tests.fuzz --inputs 10000
 
 # The property tests (fixed examples in `make test`) with fresh random seeds, 10 rounds:
 # a search for new counterexamples, not a gate (docs/fuzzing.md)
 PROPERTY_TESTS = $(shell grep -l "@given" tests/test_*.py)
-explore: $(STAMP)
+explore: $(TSTAMP)
 	for round in 1 2 3 4 5 6 7 8 9 10; do \
-	  FUZZYC_EXPLORE=1 $(PY) -m pytest -q -n 2 --dist loadfile \
-	    $(PROPERTY_TESTS) || exit 1; done
+	  ($(INSTALLED) FUZZYC_EXPLORE=1 $(TPY) -m pytest $(PYTEST_ROOT) -q -n 2 --dist loadfile \
+	    $(addprefix $(CURDIR)/,$(PROPERTY_TESTS))) || exit 1; done
 
 bench: $(STAMP)
 	$(PY) benchmarks/run_all.py
@@ -64,4 +95,4 @@ loop-proofs: $(STAMP)
 	$(PY) benchmarks/bench_verify.py --proofs-only
 
 clean:
-	rm -rf $(VENV) $(PYFL_VENV) build *.egg-info out
+	rm -rf $(VENV) $(TEST_VENV) $(PYFL_VENV) build *.egg-info out

@@ -19,7 +19,7 @@ from pathlib import Path
 import numpy as np
 
 ROOT = Path(__file__).resolve().parents[1]
-sys.path.insert(0, str(ROOT))
+sys.path.append(str(ROOT))   # after site-packages: fuzzyc is the installed one
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from common import markdown_table, median_seconds, write_result  # noqa: E402

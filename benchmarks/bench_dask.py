@@ -25,7 +25,6 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
-from bench_loop import _import_paths  # noqa: E402
 
 VARIANTS = {"in this process": None, "1 Dask worker": 1, "2 Dask workers": 2}
 
@@ -51,7 +50,6 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--chunk", type=int, default=10_000, help="loops per task")
     ap.add_argument("--repeats", type=int, default=3)
     args = ap.parse_args(argv)
-    _import_paths()
     from fuzzyc.plants.scenario import load
     from common import markdown_table, write_result
     scenario = load("wedm_finish", {"duration": str(args.seconds)})

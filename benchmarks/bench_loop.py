@@ -21,15 +21,6 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def _import_paths() -> None:
-    """From a source checkout, alias runtime/ and plants/ as the installed package has them."""
-    try:
-        import fuzzyc.runtime  # noqa: F401
-    except ImportError:
-        sys.path.insert(0, str(ROOT))
-        sys.path.insert(0, str(ROOT / "tests"))
-        import conftest  # noqa: F401  (the aliasing lives there)
-
 
 def _scenario(seconds: float, batch: int):
     from fuzzyc.plants.scenario import load
@@ -110,7 +101,6 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--repeats", type=int, default=5)
     ap.add_argument("--seconds", type=float, default=20.0, help="simulated seconds per run")
     args = ap.parse_args(argv)
-    _import_paths()
     from fuzzyc.atomic import write_text
     load_before = os.getloadavg()[0]
     rows = []

@@ -27,7 +27,8 @@ import time
 import numpy as np
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
-sys.path[:0] = [str(ROOT), str(ROOT / "benchmarks")]
+sys.path.insert(0, str(ROOT / "benchmarks"))
+sys.path.append(str(ROOT))   # after site-packages: fuzzyc is the installed one
 
 from common import markdown_table, median_seconds, write_result  # noqa: E402
 from fuzzyc.backends.c import HeaderWriter  # noqa: E402
