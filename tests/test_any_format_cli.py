@@ -14,8 +14,9 @@ from fuzzyc.plants import scenario as scenarios
 from fuzzyc.runtime.simulate import simulate
 from fuzzyc.verifier import Options, verify_file, verify_model
 from fuzzyc.verifier.runner import default_properties
+from conftest import ROOT
 
-CORPUS = Path("tests/format_corpus")
+CORPUS = ROOT / "tests/format_corpus"
 FAST = Options(max_examples=5, grid_budget=2000)
 
 
@@ -89,11 +90,11 @@ def test_a_fz_without_verify_gets_the_same_defaults(tmp_path, capsys):
 
 
 def test_a_fz_with_verify_runs_only_its_own_properties(capsys):
-    model = load("rulebases/edm_sink_gap.fz")
+    model = load(f"{ROOT}/rulebases/edm_sink_gap.fz")
     results = verify_model(model, Options(max_examples=5, only="co"))   # covers, consistent...
     assert [r.prop for r in results] == [p for p in model.properties if "co" in p.text]
     assert all("default:" not in r.name and r.prop.loc is not None for r in results)
-    status = main(["verify", "rulebases/edm_sink_gap.fz", "--only", "consistent"])
+    status = main(["verify", f"{ROOT}/rulebases/edm_sink_gap.fz", "--only", "consistent"])
     out = capsys.readouterr().out
     assert status == 0 and "declares no properties" not in out
     assert "PROVED   edm_sink_gap.fz::consistent" in out
@@ -233,7 +234,7 @@ def test_learn_on_an_imported_model_says_it_has_no_learnable_terms(tmp_path, cap
 
 
 def test_learn_names_the_learnable_outputs_when_table_is_wrong(tmp_path, capsys):
-    status = main(["learn", "rulebases/milling_neurofuzzy.fz", "--scenario", "milling_step",
+    status = main(["learn", f"{ROOT}/rulebases/milling_neurofuzzy.fz", "--scenario", "milling_step",
                    "-o", str(tmp_path / "out.fz"), "--table", "feed"])
     assert status == 2
     assert "output `feed` has no learnable terms (choose one of du with --table)" in \

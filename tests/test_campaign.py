@@ -15,6 +15,7 @@ from fuzzyc.plants.scenario import load
 from fuzzyc.runtime.campaign import Cluster, chunks, map_chunks, simulate_campaign
 from fuzzyc.runtime.simulate import loop_metrics, simulate, summarize
 from fuzzyc.verifier import Options, verify_model
+from conftest import ROOT
 
 BATCH, SEED = 61, 5
 
@@ -131,7 +132,7 @@ def _edm_faults():
     """The shipped EDM sinking servo's closed-loop property with sensor faults: 20 drawn
     cases, some of which break it (tests/test_verify_disturbances.py)."""
     from fuzzyc.parser import load as load_model
-    model = load_model("rulebases/edm_sink_gap.fz")
+    model = load_model(f"{ROOT}/rulebases/edm_sink_gap.fz")
     model.properties = [p for p in model.properties
                         if p.kind == "closed_loop" and p.args["faults"]]
     return model

@@ -13,8 +13,9 @@ from fuzzyc.cli import compile as cli_compile
 from fuzzyc.cli import main
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import load_any
-from fuzzyc.model import MIN_FIRING, SourceLoc
+from fuzzyc.model import ACTIVATION_FLOOR, SourceLoc
 from fuzzyc.parser import parse
+from conftest import ROOT
 
 needs_gcc = pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
 
@@ -163,7 +164,7 @@ def test_issue_denormal_range_is_rejected_with_its_place(tmp_path, capsys):
 
 def test_importers_meet_the_same_number_limits(tmp_path):
     fis = tmp_path / "huge.fis"
-    text = open("tests/format_corpus/sugeno.fis").read().replace("Range=[0 1]",
+    text = open(f"{ROOT}/tests/format_corpus/sugeno.fis").read().replace("Range=[0 1]",
                                                                   "Range=[0 1e300]", 1)
     fis.write_text(text)
     with pytest.raises(FuzzycError, match="huge.fis:15:1: error: `x`: the number 1e.300 is "
@@ -281,7 +282,7 @@ def test_fixed_header_at_the_combination_limit():
 
 # -- never NaN, C and engine agree outside the range --------------------------------------------
 
-SUGENO_LINEAR = "tests/format_corpus/sugeno_linear.fis"
+SUGENO_LINEAR = f"{ROOT}/tests/format_corpus/sugeno_linear.fis"
 
 
 def _eval(capsys, *args) -> str:
@@ -309,9 +310,9 @@ def test_issue_ts_huge_input_reads_the_range_edge(capsys):
     assert data["outputs"]["z"] == pytest.approx(22 / 1.5)
 
 
-@pytest.mark.parametrize("path", ["tests/format_corpus/sugeno.fis", SUGENO_LINEAR,
-                                  "rulebases/wedm_three_region.fz",
-                                  "rulebases/milling_neurofuzzy.fz"])
+@pytest.mark.parametrize("path", [f"{ROOT}/tests/format_corpus/sugeno.fis", SUGENO_LINEAR,
+                                  f"{ROOT}/rulebases/wedm_three_region.fz",
+                                  f"{ROOT}/rulebases/milling_neurofuzzy.fz"])
 def test_every_rule_base_kind_is_finite_for_hostile_inputs(path):
     rb = load_any(path).rulebase
     hostile = np.array([np.nan, np.inf, -np.inf, 1e308, -1e308, 0.0])
@@ -324,28 +325,29 @@ def test_every_rule_base_kind_is_finite_for_hostile_inputs(path):
 @needs_gcc
 def test_issue_float_header_agrees_with_the_engine_far_outside_the_range():
     """sugeno.fis at x = -3, y = +-1e30: the only positive activation is rule 2's
-    0.5 * probor(0, bell(y)) with bell(1e30) = 1/(1 + (2e30)^4) ~ 6e-122 < MIN_FIRING: no rule
+    0.5 * probor(0, bell(y)) with bell(1e30) = 1/(1 + (2e30)^4) ~ 6e-122 < ACTIVATION_FLOOR: no rule
     fires, both give the default 5 (the float header could not hold 6e-122: it gave 5 while
     the engine said 8)."""
     from fuzzyc.backends.cload import CController
-    model = load_any("tests/format_corpus/sugeno.fis")
+    model = load_any(f"{ROOT}/tests/format_corpus/sugeno.fis")
     x = np.array([[-3.0, 1e30], [-3.0, -1e30], [0.5, 1e30]])
     expected = [[5.0], [5.0], [8.0]]          # x = 0.5: rule 2 at 0.5 * probor(0.5, ~0) -> b = 8
     assert engine.evaluate(model.rulebase, x) == pytest.approx(np.array(expected))
     assert CController(model, numeric="float").evaluate(x) == pytest.approx(np.array(expected))
 
 
-def test_an_activation_below_min_firing_does_not_fire():
-    # one rule on L = gauss(0, 1): at x = 12, mu = exp(-144/2) = exp(-72) = 5.4e-32 < MIN_FIRING:
-    # nothing fires -> y's default 0.5; at x = 11.5, exp(-132.25/2) = 1.9e-29 fires -> A = 0
+def test_an_activation_below_the_floor_does_not_fire():
+    # one rule on L = gauss(0, 1): at x = 7.5, mu = exp(-56.25/2) = exp(-28.125) = 6.1e-13 <
+    # ACTIVATION_FLOOR: nothing fires -> y's default 0.5; at x = 7, exp(-49/2) = 2.3e-11 fires
+    # -> A = 0
     text = controller(x_range="[0, 20]", x_terms="L = gauss(0, 1), H = gauss(20, 1)",
                       rules=["rule if x is L then y is A"]).replace(
         "var y in [0, 1]", "var y in [0, 1] default 0.5")
     rb = parse(text).rulebase
-    x = np.array([[12.0], [11.5]])
-    assert engine.activations(rb, x)[:, 0] == pytest.approx([0.0, np.exp(-66.125)], rel=1e-12)
+    x = np.array([[7.5], [7.0]])
+    assert engine.activations(rb, x)[:, 0] == pytest.approx([0.0, np.exp(-24.5)], rel=1e-12)
     assert engine.evaluate(rb, x)[:, 0].tolist() == [0.5, 0.0]
-    assert MIN_FIRING == 1e-30
+    assert ACTIVATION_FLOOR == 1e-12
 
 
 def _scaled_file(s: float) -> str:

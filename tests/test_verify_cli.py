@@ -3,8 +3,9 @@ import json
 import xml.etree.ElementTree as ET
 
 from fuzzyc.cli import main
+from conftest import ROOT
 
-CORNER = open("rulebases/wedm_corner.fz").read()
+CORNER = open(f"{ROOT}/rulebases/wedm_corner.fz").read()
 
 
 def _run(capsys, *args):
@@ -14,7 +15,7 @@ def _run(capsys, *args):
 
 
 def test_shipped_file_holds_with_findings_as_expected_failures(capsys, tmp_path):
-    status, out, _ = _run(capsys, "rulebases/wedm_corner.fz", "--report", str(tmp_path))
+    status, out, _ = _run(capsys, f"{ROOT}/rulebases/wedm_corner.fz", "--report", str(tmp_path))
     assert status == 0
     assert "PROVED   wedm_corner.fz::covers feedrate, thickness, angle at least 0.5" in out
     assert "FINDING  wedm_corner.fz::monotone y increasing in feedrate" in out
@@ -52,13 +53,13 @@ def test_a_flipped_cell_exits_1_and_names_the_cell_and_the_command(capsys, tmp_p
 
 
 def test_only_selects_properties(capsys):
-    status, out, _ = _run(capsys, "rulebases/wedm_corner.fz", "--only", "complete")
+    status, out, _ = _run(capsys, f"{ROOT}/rulebases/wedm_corner.fz", "--only", "complete")
     assert status == 0 and "1 properties: 1 proved" in out
 
 
 def test_bad_input_exits_2_with_the_diagnostic(capsys, tmp_path):
     path = tmp_path / "bad.fz"
     path.write_text(CORNER.replace("complete y", "complete nothere"))
-    status, _, err = _run(capsys, str(path), "rulebases/wedm_corner.fz")
+    status, _, err = _run(capsys, str(path), f"{ROOT}/rulebases/wedm_corner.fz")
     assert status == 2
     assert "bad.fz:" in err and "nothere" in err

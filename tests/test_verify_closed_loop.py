@@ -7,6 +7,7 @@ import pytest
 from fuzzyc.parser import parse
 from fuzzyc.verifier import Options, Status, verify_model
 from toy_gap import scenario, toy_plant, toy_servo  # noqa: F401  (fixtures)
+from conftest import ROOT
 
 
 def test_correct_servo_holds_on_every_case(toy_plant, scenario):
@@ -54,7 +55,7 @@ def test_wedm_sign_error_in_the_error_gain_is_caught_in_closed_loop():
     # GE2 = -10 instead of 10: e2 > 0 now means "abnormal ratio too high", so the controller
     # slows the feed when it should speed up and the ratio never climbs from 25 % to Yr2.
     from fuzzyc.parser import load
-    model = load("rulebases/wedm_three_region.fz")
+    model = load(f"{ROOT}/rulebases/wedm_three_region.fz")
     loop = next(p for p in model.properties if p.kind == "closed_loop")
     check = next(c for c in loop.args["checks"] if c.kind == "eventually")
     model.properties = [dataclasses.replace(
@@ -70,7 +71,7 @@ def test_wedm_sign_error_in_the_error_gain_is_caught_in_closed_loop():
 # ---------------------------------------------------------------- the corner controller
 def _corner_loop_only(text=None):
     from fuzzyc.parser import load
-    model = parse(text, "rulebases/wedm_corner.fz") if text else load("rulebases/wedm_corner.fz")
+    model = parse(text, f"{ROOT}/rulebases/wedm_corner.fz") if text else load(f"{ROOT}/rulebases/wedm_corner.fz")
     model.properties = [p for p in model.properties if p.kind == "closed_loop"]
     # the plant moves the wire exactly, so a 2 s period only coarsens the times (and halves
     # the test's run time)
@@ -84,7 +85,7 @@ CORNER_FAST = dict(max_examples=3, seed=0, shrink_rounds=2)
 def test_corner_sign_error_in_the_users_like_is_caught_against_normal_machining():
     # reduction = -y * like: the output saturates at 0 %, the feed is never cut, and the
     # summed corner error equals normal machining's (ratio 1, not < 0.5) on every drawn cut.
-    text = open("rulebases/wedm_corner.fz").read()
+    text = open(f"{ROOT}/rulebases/wedm_corner.fz").read()
     model = _corner_loop_only(text.replace("= y * like", "= -y * like"))
     error, time_ = verify_model(model, Options(**CORNER_FAST))
     assert error.status == Status.VIOLATED and error.finding is None
@@ -117,10 +118,10 @@ def test_corner_precision_like_costs_more_than_ten_percent_time():
 def test_corner_sign_error_in_the_lowpass_is_refused_by_the_compiler():
     # b = -0.2 (or a = -0.8) would make F_ave negative; the builder refuses it at its place
     from fuzzyc.errors import FuzzycError
-    text = open("rulebases/wedm_corner.fz").read()
+    text = open(f"{ROOT}/rulebases/wedm_corner.fz").read()
     with pytest.raises(FuzzycError, match=r"wedm_corner.fz:\d+:\d+: error: lowpass\(x, a, b\) "
                                           r"needs 0 <= a < 1 and b > 0"):
-        parse(text.replace("param b = 0.2", "param b = -0.2"), "rulebases/wedm_corner.fz")
+        parse(text.replace("param b = 0.2", "param b = -0.2"), f"{ROOT}/rulebases/wedm_corner.fz")
 
 
 def test_baseline_signals_need_a_scenario_with_a_baseline(toy_plant, scenario):
@@ -137,7 +138,7 @@ def test_milling_sign_error_in_a_gain_is_caught_after_learning(gain, value):
     # the control case). With GE or GU negated the learning rule pushes the weights the wrong
     # way: the feed stays at its initial 75 mm/min and the force sits near 544 N.
     from fuzzyc.parser import load
-    model = load("rulebases/milling_neurofuzzy.fz")
+    model = load(f"{ROOT}/rulebases/milling_neurofuzzy.fz")
     loop = next(p for p in model.properties if p.kind == "closed_loop")
     check = next(c for c in loop.args["checks"] if c.kind == "eventually")
     model.properties = [dataclasses.replace(loop, args={
@@ -161,7 +162,7 @@ def test_edm_sign_error_in_vmax_is_caught_on_the_sinking_scenario():
     # Vmax = -2 mm/s on the real edm_sink plant (not the toy): the servo retracts when it
     # should advance, so the mean voltage never settles to Vset (every loop, at the `by` time)
     from fuzzyc.parser import load
-    model = load("rulebases/edm_sink_gap.fz")
+    model = load(f"{ROOT}/rulebases/edm_sink_gap.fz")
     model.properties = [p for p in model.properties if p.kind == "closed_loop"]
     model.params["Vmax"].value = -2.0
     results = verify_model(model, Options(max_examples=3, seed=0, shrink_rounds=1))

@@ -8,12 +8,13 @@ from fuzzyc.model import set_entries
 from fuzzyc.parser import load
 from fuzzyc.verifier import Options, Status, verify_model
 from fuzzyc.verifier.report import format_result
+from conftest import ROOT
 
 FAST = dict(max_examples=10, grid_budget=4000)
 
 
 def _model(name):
-    return load(f"rulebases/{name}.fz")
+    return load(f"{ROOT}/rulebases/{name}.fz")
 
 
 def _check(model, only):

@@ -4,6 +4,7 @@ import pytest
 
 from fuzzyc.parser import parse
 from fuzzyc.verifier import Options, Status, verify_model
+from conftest import ROOT
 
 ONE_INPUT = """controller t {
   input x in [0, 10]
@@ -80,7 +81,7 @@ def test_sum_product_corner_table_is_proved_monotone_and_max_min_is_not():
     from fuzzyc.model import Aggregation, TNorm
     from fuzzyc.parser import load
     from fuzzyc.verifier import proof
-    rb = load("rulebases/wedm_corner.fz").rulebase
+    rb = load(f"{ROOT}/rulebases/wedm_corner.fz").rulebase
     published = proof.prove_monotone(rb, "y", "feedrate", "increasing", [])
     assert published.status == Status.UNDECIDED
     rb.inference.and_, rb.inference.aggregation = TNorm.PRODUCT, Aggregation.SUM
@@ -96,7 +97,7 @@ def test_sum_product_proof_names_the_wedm_critical_region_reversal():
     from fuzzyc.model import Aggregation, TNorm
     from fuzzyc.parser import load
     from fuzzyc.verifier import proof
-    rb = load("rulebases/wedm_three_region.fz").rulebase
+    rb = load(f"{ROOT}/rulebases/wedm_three_region.fz").rulebase
     rb.inference.and_, rb.inference.aggregation = TNorm.PRODUCT, Aggregation.SUM
     evidence = proof.prove_monotone(rb, "du1", "e2", "increasing", [("e1", 1, False)])
     assert evidence.status == Status.VIOLATED

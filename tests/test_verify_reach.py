@@ -16,6 +16,7 @@ from fuzzyc.verifier.reach.affine import Affine, Symbols, join
 from fuzzyc.verifier.reach.decide import Settings, prove
 from fuzzyc.verifier.reach.loop import SetLoop
 from fuzzyc.verifier.result import Status
+from conftest import ROOT
 
 SLOW = settings(max_examples=4, deadline=None, derandomize=True,
                 suppress_health_check=list(HealthCheck))
@@ -66,7 +67,7 @@ def _random_rulebase(base, data):
 @settings(max_examples=25, deadline=None, suppress_health_check=list(HealthCheck))
 @given(data=st.data())
 def test_rule_base_bounds_hold_every_sampled_input(name, data):
-    base = load(f"rulebases/{name}.fz").rulebase
+    base = load(f"{ROOT}/rulebases/{name}.fz").rulebase
     rb = _random_rulebase(base, data) if data.draw(st.booleans()) else base
     lo = np.array([[data.draw(st.floats(v.lo, v.hi)) for v in rb.inputs]])
     width = np.array([[data.draw(st.floats(0, (v.hi - v.lo) / 3)) for v in rb.inputs]])
@@ -78,7 +79,7 @@ def test_rule_base_bounds_hold_every_sampled_input(name, data):
 
 
 def _edm(mutate=None, which: int = 0):
-    model = load("rulebases/edm_sink_gap.fz")
+    model = load(f"{ROOT}/rulebases/edm_sink_gap.fz")
     if mutate:
         mutate(model)
     prop = [p for p in model.properties if p.kind == "closed_loop"][which]
@@ -171,7 +172,7 @@ def test_join_of_two_forms_by_hand():
 
 
 def test_unsupported_pieces_are_refused_by_name():
-    model = load("rulebases/edm_sink_gap.fz")
+    model = load(f"{ROOT}/rulebases/edm_sink_gap.fz")
     faults = [p for p in model.properties if p.kind == "closed_loop"][2]
     scen = scenarios.load(faults.args["scenario"], {})
     (evidence,) = prove(model, faults, faults.args["checks"], scen)
@@ -179,9 +180,9 @@ def test_unsupported_pieces_are_refused_by_name():
     assert "sensor faults" in evidence.detail
     # the baseline's signals (a second loop beside the first) have no set-valued twin
     from fuzzyc.parser import parse
-    text = open("rulebases/wedm_corner.fz").read().replace(
+    text = open(f"{ROOT}/rulebases/wedm_corner.fz").read().replace(
         "error_sum < 0.5 * normal_error_sum", "error_sum < 0.5 * baseline_error_sum")
-    corner = parse(text, "rulebases/wedm_corner.fz")
+    corner = parse(text, f"{ROOT}/rulebases/wedm_corner.fz")
     prop = next(p for p in corner.properties if p.kind == "closed_loop")
     scen = scenarios.load(prop.args["scenario"], {})
     evidence = prove(corner, prop, prop.args["checks"], scen)
@@ -212,7 +213,7 @@ def test_verify_prove_on_the_command_line(capsys, tmp_path):
     """`fuzzyc verify --prove` on the EDM file cut to 50 ms: the sets prove `always gap > 5`
     beside the search's held cases, and say which assumption they rest on."""
     from fuzzyc.cli.main import main
-    text = open("rulebases/edm_sink_gap.fz").read().replace("for 3 s", "for 0.05 s")
+    text = open(f"{ROOT}/rulebases/edm_sink_gap.fz").read().replace("for 3 s", "for 0.05 s")
     path = tmp_path / "edm_sink_gap.fz"
     path.write_text(text)
     status = main(["verify", str(path), "--prove", "--prove-boxes", "4", "--only", "gap > 5",
@@ -287,7 +288,7 @@ def test_milling_peak_force_bounds_hold_every_sampled_point(x, width, ft, ft_wid
 
 
 def _milling():
-    model = load("rulebases/milling_neurofuzzy_learned.fz")
+    model = load(f"{ROOT}/rulebases/milling_neurofuzzy_learned.fz")
     return model, next(p for p in model.properties if p.kind == "closed_loop")
 
 

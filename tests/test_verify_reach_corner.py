@@ -14,6 +14,7 @@ from fuzzyc.verifier.closed_loop import _Loop
 from fuzzyc.verifier.reach.affine import Affine, Symbols
 from fuzzyc.verifier.reach.loop import Noise, SetLoop
 from fuzzyc.verifier.result import Status
+from conftest import ROOT
 
 PARAMS = W.CornerParams()
 ANGLES = np.unique(np.round(PARAMS.path.corner_angle, 3))     # 30 60 90 120 150 deg
@@ -144,8 +145,8 @@ def test_every_plain_run_lies_in_the_set_steps(f0, fw, h0, hw, dt, width, seed):
 
 
 def _corner(mutate=None, period=None):
-    text = open("rulebases/wedm_corner.fz").read()
-    model = parse(text if mutate is None else mutate(text), "rulebases/wedm_corner.fz")
+    text = open(f"{ROOT}/rulebases/wedm_corner.fz").read()
+    model = parse(text if mutate is None else mutate(text), f"{ROOT}/rulebases/wedm_corner.fz")
     prop = next(p for p in model.properties if p.kind == "closed_loop")
     if period:
         prop.args.setdefault("set", {})["period"] = period

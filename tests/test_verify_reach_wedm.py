@@ -12,6 +12,7 @@ from fuzzyc.verifier.reach.affine import Affine, Symbols
 from fuzzyc.verifier.reach.loop import Noise, SetLoop
 from fuzzyc.verifier.result import Status
 from tests.test_verify_reach import stepped_row
+from conftest import ROOT
 
 SLOW = settings(max_examples=4, deadline=None, derandomize=True,
                 suppress_health_check=list(HealthCheck))
@@ -84,7 +85,7 @@ def test_every_sampled_plant_step_lies_in_the_set_step(data, sigmas, seed):
 
 
 def _wedm(mutate=None):
-    model = load("rulebases/wedm_three_region.fz")
+    model = load(f"{ROOT}/rulebases/wedm_three_region.fz")
     if mutate:
         mutate(model)
     return model, next(p for p in model.properties if p.kind == "closed_loop")

@@ -9,8 +9,9 @@ import numpy as np
 import pytest
 
 from fuzzyc.parser import parse
+from conftest import ROOT
 
-SERVO = open("rulebases/edm_sink_gap.fz").read()
+SERVO = open(f"{ROOT}/rulebases/edm_sink_gap.fz").read()
 
 
 @dataclasses.dataclass
