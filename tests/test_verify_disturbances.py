@@ -13,6 +13,7 @@ from fuzzyc.parser import parse
 from fuzzyc.verifier import Options, Status, verify_model
 from fuzzyc.verifier import closed_loop
 from toy_gap import SERVO, scenario, toy_plant, toy_servo  # noqa: F401  (fixtures)
+from conftest import ROOT
 
 FAST = dict(max_examples=20, seed=1)
 
@@ -125,7 +126,7 @@ def test_a_stuck_sensor_is_found_and_shrunk(toy_plant, scenario, tmp_path):
 
 def test_a_set_point_the_scenario_changes_cannot_also_vary():
     from fuzzyc.parser import load
-    model = load("rulebases/wedm_three_region.fz")
+    model = load(f"{ROOT}/rulebases/wedm_three_region.fz")
     loop = next(p for p in model.properties if p.kind == "closed_loop")
     loop.args.update(scenario="wedm_setpoint", vary={"controller.Yr2": (0.4, 0.6)})
     model.properties = [loop]
@@ -184,7 +185,7 @@ def test_a_shrunk_case_fails_alone_with_its_own_noise():
     from fuzzyc.parser import load
     from fuzzyc.plants import scenario as scenarios
     from fuzzyc.verifier import temporal
-    model = load("rulebases/edm_sink_gap.fz")
+    model = load(f"{ROOT}/rulebases/edm_sink_gap.fz")
     model.properties = [p for p in model.properties
                         if p.kind == "closed_loop" and p.args["faults"]]
     (result,) = verify_model(model, Options(max_examples=20, seed=0))
@@ -196,6 +197,9 @@ def test_a_shrunk_case_fails_alone_with_its_own_noise():
     time, signals = loop.run([case])
     violated, when = temporal.evaluate(result.prop, time, signals, loop.params)
     assert violated[0] and when[0] == trace["violated_at"]
-    # the same noisy voltage, sample for sample, as in the reported trace
-    np.testing.assert_array_equal(signals["measured_voltage"][:, 0],
-                                  trace["signals"]["measured_voltage"])
+    # the same noisy voltage, sample for sample, as in the reported trace: what a replay
+    # promises (docs/verification.md) is the verdict and its time, and the signals to 1e-9
+    # relative -- a batch of one may round differently from the batch (numpy's SIMD kernels)
+    reported = trace["signals"]["measured_voltage"]
+    np.testing.assert_allclose(signals["measured_voltage"][:, 0], reported, rtol=1e-9,
+                               atol=1e-9 * np.max(np.abs(reported)))
