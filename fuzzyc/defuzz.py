@@ -48,11 +48,17 @@ from .model import (Aggregation, Defuzzifier, Implication, Inference, TermKind, 
 from .norms import combine, implied
 
 GRID_POINTS = 2001
-FLAT_TOLERANCE = 1e-12  # relative: how close to max(M) a value must be to count as a maximum
+# M counts as maximal where M >= top (1 - FLAT_TOLERANCE), top = max(M): relative, so that a
+# low top is not flat everywhere (the absolute top - 1e-12 made every point of a top of 1e-15
+# a maximum, the mean of maximum the range's midpoint; the float C's 4.8e-7 did at 1e-9)
+FLAT_TOLERANCE = 1e-12
 # assumption: at most 60 steps for the probsum bisector inside its piece: Newton's method
 # converges in a handful, and 60 halvings (the fallback) take a piece of any width below one ulp
 # of its position (2**-60 < eps / 2**8), so it is exact to the last bits either way.
 BISECTION_STEPS = 60
+# ulps a clip point may move toward its term's top (_at_level; the C headers do the same): the
+# rounding of a + h (b - a) or of d - h (d - c) is half an ulp, the term's value there a few
+AT_LEVEL_STEPS = 3
 # assumption: rules firing at once in a sample, for sizing chunks under probsum / bounded sum
 # (the rules that do not fire are dropped); a partitioned rule base fires at most 2**I, 8 for
 # the paper's three inputs.  More firing rules only make a chunk larger than planned.
@@ -485,7 +491,7 @@ def _at_level(point, level, params, sloped, toward):
     of its centroid, clipped at 1e-18 (where a + h (b - a) == a) it gave the unclipped
     centroid, 1/6 for 1/4 on [0, 0.5]."""
     a, b, c, d = (params[..., i] for i in range(4))
-    for _ in range(3):
+    for _ in range(AT_LEVEL_STEPS):
         short = sloped & (level > 0) & (trapezoid(point, a, b, c, d) < level)
         if not short.any():
             break
@@ -571,7 +577,7 @@ def _bisector(x0, dx, f0, f1, piece_area, area) -> np.ndarray:
 
 def _mean_of_maximum(x: np.ndarray, f: np.ndarray, default: float) -> np.ndarray:
     top = f.max(axis=1)
-    is_top = f >= (top - FLAT_TOLERANCE * np.maximum(top, 1.0))[:, None]
+    is_top = f >= (top * (1.0 - FLAT_TOLERANCE))[:, None]
     x0, x1 = x[:, :-1], x[:, 1:]
     plateau = is_top[:, :-1] & is_top[:, 1:]
     length = np.where(plateau, x1 - x0, 0.0)

@@ -66,12 +66,11 @@ Hedges on a clause: VERY mu^2, SOMEWHAT sqrt(mu), EXTREMELY mu^3, SELDOM sqrt(mu
   2 mu^2 if mu <= 1/2 else 1 - 2 (1-mu)^2; applied before NOT (1-mu).
 Rule activation: the clauses that are not wildcards (-1) combined with the rule's connective
   (AND: the t-norm, OR: the s-norm, folded left to right in input order; a rule of wildcards
-  only fires 1), times the rule weight; an activation below MIN_FIRING (1e-30) is 0: the rule
-  does not fire.  (Far outside an input's range memberships get tiny, e.g. 1e-122; the float
-  C header cannot hold those, and the threshold makes it and the engine say the same thing,
-  usually "no rule fires": the default.)
+  only fires 1), times the rule weight; an activation below ACTIVATION_FLOOR (1e-12) is 0: the
+  rule does not fire (see ACTIVATION_FLOOR: so an output whose rules all fire below it takes
+  its default, in the engine and in every back end).
   A rule with a nested condition (RuleBase.conditions[r], a postfix clause program) fires the
-  program's value instead, times the weight (the same MIN_FIRING threshold): CLAUSE pushes the
+  program's value instead, times the weight (the same ACTIVATION_FLOOR): CLAUSE pushes the
   hedged membership of one input's term (term -1: the truth 1 of `is any`); NOT replaces the top
   v by 1 - v; AND pops b, a and pushes T(a, b); OR pushes S(a, b); HEDGE replaces the top v by
   the hedge of v (a hedge on a compound condition, or on a clause already hedged: fuzzylite's
@@ -101,7 +100,8 @@ Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives 
              output's terms are all singletons, the masses alpha_j = AGG of act_r over rules
              concluding j give sum(alpha_j v_j)/sum(alpha_j).
   BISECTOR   the u splitting int M in two equal halves (exact on piecewise-linear terms).
-  MEAN_OF_MAXIMUM  the mean of the set where M is largest.
+  MEAN_OF_MAXIMUM  the mean of the set where M is largest (to rounding: where M >= top
+             (1 - 1e-12), relative to the top; fuzzyc.defuzz.FLAT_TOLERANCE).
   CENTER_OF_AREA   paper eq. 2: sum_j alpha_j peak_j / sum_j alpha_j, alpha_j = AGG of act_r over
              rules concluding term j; peak = (b+c)/2 of a trapezoid, the mean, centre, or value.
   WEIGHTED_AVERAGE  sum_r act_r z_r / sum_r act_r  (Takagi-Sugeno; z_r = peak of the consequent,
@@ -245,10 +245,25 @@ class Defuzzifier(IntEnum):
 
 
 PIECEWISE_LINEAR = (TermKind.TRAPEZOID, TermKind.SINGLETON)
-# The smallest rule activation that fires (see the module docstring): far above the smallest
-# normal float (1.2e-38), so a float back end computes every activation at or above it
-# without underflow wherever the numbers are within fuzzyc.limits.
-MIN_FIRING = 1e-30
+ACTIVATION_FLOOR = 1e-12
+"""The smallest rule activation that fires: a rule whose activation (after its weight) is
+below it does not fire, so an output whose rules all fire below it takes its default.
+
+This is the one statement of what a vanishing activation means; the engine (`norms.firing`)
+and every back end follow it: the float/double C headers test it (`fired`, its literal
+written from this constant), the lookup table samples the engine, and in the fixed-point
+headers it is below resolution (their smallest activation is one LSB, 2^-15 for q15 and 2^-28
+for q31: an activation below half an LSB is already 0 there).
+Why 1e-12 and not a tinier number: a rule firing at 1e-18 carries no information, yet alone
+it decided the output (its term instead of the default), and a shape clipped that low is
+below the rounding of its own break points (5 + 1e-18 * 4 == 5), so where the engine and the
+C round them differently their centroids, bisectors and means of maximum disagreed by units.
+At 1e-12 a clip point a + h (b - a) keeps apart from a while the term is wider than about
+1/4500 of |a| (h (b - a) > one ulp of a), and every area, moment and square of a level is a
+normal float (1e-24 > 1.2e-38).  Far outside an input's range memberships get tiny, e.g.
+1e-122, which float cannot hold: the floor makes the float header and the engine say the
+same thing there, usually "no rule fires".  Other tools differ (fuzzylite compares with a
+tolerance of 1e-6, `fuzzylite_compat.FL_EPSILON`); `--semantics` keeps their readings."""
 
 
 def set_entries(owner: Any, name: str, index: Any, value: Any) -> None:

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .model import MIN_FIRING, SNorm, TNorm
+from .model import ACTIVATION_FLOOR, SNorm, TNorm
 
 
 def _hamacher_product(a, b):
@@ -56,5 +56,5 @@ def combine(values: list[np.ndarray], norm: TNorm | SNorm, conjunction: bool) ->
 
 
 def firing(act: np.ndarray) -> np.ndarray:
-    """Rule activations with those below MIN_FIRING set to 0 (they do not fire)."""
-    return np.where(act < MIN_FIRING, 0.0, act)
+    """Rule activations with those below ACTIVATION_FLOOR set to 0 (they do not fire)."""
+    return np.where(act < ACTIVATION_FLOOR, 0.0, act)

@@ -37,7 +37,7 @@ from fuzzyc.engine import CompiledRuleBase, evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fcl, read_fis, read_fll, write_fcl, write_fis, write_fll
 from fuzzyc.formats.fz import write_fz
-from fuzzyc.model import Aggregation, Defuzzifier, Implication, Inference, TNorm
+from fuzzyc.model import ACTIVATION_FLOOR, Aggregation, Defuzzifier, Implication, Inference, TNorm
 from fuzzyc.parser import parse
 from fuzzyc.verifier import Status, proof
 from test_engine_core import SINGLE_OUT, TRI_OUT, driven, random_inputs, var, wedm_like
@@ -81,16 +81,18 @@ def test_probsum_keeps_the_digits_of_small_activations():
 
 
 def test_probsum_centroid_of_a_faint_symmetric_term_is_its_middle():
-    # one rule fires the triangle (0, 5, 10) at 1.3e-14 (a Gaussian's tail): product
-    # implication scales it, so its centroid is 5 at any level.  Found by CI's round-trip
-    # search: 1 - prod(1 - g) put it at 5.0018 (the lost digits of g are noise across u, and
-    # the unused term B's break point at 0.5 splits the pieces unevenly, so it does not cancel).
+    # one rule fires the triangle (0, 5, 10) at 1.3e-12 (a Gaussian's tail, just above
+    # ACTIVATION_FLOOR): product implication scales it, so its centroid is 5 at any level.
+    # Found by CI's round-trip search at 1.3e-14: 1 - prod(1 - g) put it at 5.0018 (the lost
+    # digits of g are noise across u, and the unused term B's break point at 0.5 splits the
+    # pieces unevenly, so it does not cancel).  At 1.3e-14, below the floor, it does not fire.
     out = var("y", {"A": ("tri", 0.0, 5.0, 10.0), "B": ("trap", 0.0, 0.0, 0.0, 0.5)},
               lo=0.0, hi=10.0)
-    for level in (1.3e-14, 1e-9, 0.5):
+    for level in (1.3e-14, 1.3e-12, 1e-9, 0.5):
         rb, x = driven([(level, "A")], out, aggregation=PROBSUM,
                        implication=Implication.PRODUCT, defuzzifier=Defuzzifier.CENTROID)
-        assert evaluate(rb, x)[0, 0] == pytest.approx(5.0, abs=1e-12)
+        expected = out.default if level < ACTIVATION_FLOOR else 5.0
+        assert evaluate(rb, x)[0, 0] == pytest.approx(expected, abs=1e-12)
 
 @pytest.mark.parametrize("aggregation, expected", [
     # a third rule concludes B (peak 2) at 0.6: (alpha_A * 1 + 0.6 * 2) / (alpha_A + 0.6)

@@ -325,8 +325,8 @@ def test_every_rule_base_kind_is_finite_for_hostile_inputs(path):
 @needs_gcc
 def test_issue_float_header_agrees_with_the_engine_far_outside_the_range():
     """sugeno.fis at x = -3, y = +-1e30: the only positive activation is rule 2's
-    0.5 * probor(0, bell(y)) with bell(1e30) = 1/(1 + (2e30)^4) ~ 6e-122 < ACTIVATION_FLOOR: no rule
-    fires, both give the default 5 (the float header could not hold 6e-122: it gave 5 while
+    0.5 * probor(0, bell(y)) with bell(1e30) = 1/(1 + (2e30)^4) ~ 6e-122 < ACTIVATION_FLOOR: no
+    rule fires, both give the default 5 (the float header could not hold 6e-122: it gave 5 while
     the engine said 8)."""
     from fuzzyc.backends.cload import CController
     model = load_any(f"{ROOT}/tests/format_corpus/sugeno.fis")

@@ -19,7 +19,7 @@ import numpy as np
 from ..engine import CompiledRuleBase
 from ..errors import Diagnostic, FuzzycError
 from ..escape import c_comment, c_identifier, check_c_names
-from ..model import (MIN_FIRING, Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
+from ..model import (ACTIVATION_FLOOR, Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
                      OutputKind, RuleBase, SNorm, TermKind, TNorm)
 from .c_area import AreaWriter, is_sampled
 from .c_cells import active_codes, cell_row_c, cell_table, cell_table_c, index_type, int_table
@@ -182,8 +182,9 @@ class HeaderWriter:
             f"static inline {t} {p}greater({t} a, {t} b) {{ return a > b ? a : b; }}",
             f"static inline {t} {p}clamp({t} x, {t} lo, {t} hi) "
             f"{{ return x < lo ? lo : (x > hi ? hi : x); }}",
-            "/* A rule activation below MIN_FIRING does not fire (as in the engine). */",
-            f"static inline {t} {p}fired({t} a) {{ return a < {lit(MIN_FIRING)} ? {lit(0)} : a; }}",
+            "/* An activation below the floor does not fire (fuzzyc.model.ACTIVATION_FLOOR). */",
+            f"static inline {t} {p}fired({t} a) "
+            f"{{ return a < {lit(ACTIVATION_FLOOR)} ? {lit(0)} : a; }}",
             f"static inline void {p}order({t} *a, {t} *b) "
             f"{{ {t} lo = {p}lesser(*a, *b); *b = {p}greater(*a, *b); *a = lo; }}",
             f"static inline {t} {p}ratio_or({t} num, {t} den, {t} fallback) "
@@ -300,7 +301,10 @@ class HeaderWriter:
                  f"static const unsigned char {self.P}CONSEQUENTS[{len(cons)}]"
                  f"[{self.P}N_RB_OUTPUTS] = {int_table(cons)};")
         if not np.all(rb.weights == 1.0):
-            weights = list(rb.weights) + ([0.0] if extra_row else [])
+            # a rule weighted below the floor never fires (its truth is <= 1): weight 0, which
+            # float holds where 1e-100 is no float at all (a NaN still reaches lit and fails)
+            weights = [0.0 if w < ACTIVATION_FLOOR else w for w in rb.weights] \
+                + ([0.0] if extra_row else [])
             self.out(f"static const {self.real.name} {self.P}WEIGHTS[{len(weights)}] = "
                      "{" + ", ".join(self.real.lit(w) for w in weights) + "};")
 

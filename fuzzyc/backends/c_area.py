@@ -27,8 +27,8 @@ from .c_centroid import CentroidEmitter, area_segments
 FLOAT_FLAT_TOLERANCE = 4 * 2.0 ** -23
 """assumption: the float C evaluates M with a few roundings (a line, a product or min, a sum
 over terms), so two points equal in exact arithmetic can differ by a few float ulps; 4 ulps
-of max(top, 1) count as the maximum (the engine's 1e-12 is below float resolution).  The
-double C uses the engine's FLAT_TOLERANCE."""
+of the top count as the maximum, M >= top (1 - 4 2^-23) (the engine's relative 1e-12 is
+below float resolution).  The double C uses the engine's FLAT_TOLERANCE."""
 
 FUNCTION_OF = {Defuzzifier.CENTROID: "centroid_of", Defuzzifier.BISECTOR: "bisector_of",
                Defuzzifier.MEAN_OF_MAXIMUM: "mom_of"}
@@ -167,7 +167,7 @@ class AreaWriter:
         t, p, lit = self.t, self.p, self.real.lit
         return [
             "/* Mean of maximum: the mean of the maximal plateaus, else of the distinct maximal "
-            f"points; maximal = within {self.tolerance():.3g} x max(top, 1) of the top. */",
+            f"points; maximal = at least top x (1 - {self.tolerance():.3g}). */",
             f"static inline {t} {p}mom_of({p}points at, const {t} *c, int n, {t} fallback) {{",
             f"    {t} top = {lit(0)}, floor_, total = {lit(0)}, sum = {lit(0)}, "
             f"points = {lit(0)}, count = {lit(0)}, u0, u1, f1;",
@@ -177,7 +177,7 @@ class AreaWriter:
             f"        top = {p}greater(top, f1);",
             "    }",
             "    if (!(top > 0)) return fallback;",
-            f"    floor_ = top - {lit(self.tolerance())} * {p}greater(top, {lit(1)});",
+            f"    floor_ = top * {lit(1.0 - self.tolerance())};",
             "    at(c, 0, &u0, &f1);",
             "    top0 = f1 >= floor_;",
             f"    if (top0) {{ points = u0; count = {lit(1)}; }}",
@@ -264,7 +264,7 @@ class AreaWriter:
                     f"  y[{o}] = index >= 0 ? index * {lit(step)} + {lit(var.lo)} : {fallback}; }}"]
         emitter = CentroidEmitter(self.real, self.p, self.inf)
         segments = area_segments(var)
-        n = sum(emitter.n_points(seg) for seg in segments)
+        n = emitter.polygon_size(segments)
         if n == 0:                    # no trapezoid reaches into [lo, hi]: M has no area
             return [f"y[{o}] = {fallback};"]
         code = [f"{{ {self.t} poly[{2 * n}];   /* the polygon of M: {n} (u, f) pairs */"]

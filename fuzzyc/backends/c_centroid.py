@@ -15,6 +15,7 @@ from itertools import combinations
 
 import numpy as np
 
+from ..defuzz import AT_LEVEL_STEPS
 from ..model import Aggregation, Implication, Inference, TermKind, Variable
 
 
@@ -89,10 +90,13 @@ class CentroidEmitter:
     def __init__(self, real, prefix: str, inference: Inference):
         self.real, self.p, self.inf = real, prefix, inference
 
-    def _value(self, line: Line, u: str, alpha: str) -> str:
+    def _line(self, line: Line, u: str) -> str:
         lit = self.real.lit
-        mu = lit(line.intercept) if line.slope == 0.0 else \
+        return lit(line.intercept) if line.slope == 0.0 else \
             f"({lit(line.slope)} * {u} + {lit(line.intercept)})"
+
+    def _value(self, line: Line, u: str, alpha: str) -> str:
+        mu = self._line(line, u)
         level = f"{alpha}[{line.term}]"
         if self.inf.implication == Implication.MIN:
             return f"{self.p}lesser({level}, {mu})"
@@ -106,14 +110,19 @@ class CentroidEmitter:
                 else f"({out} + {v})"
         return out
 
+    def _meets(self, seg: Segment) -> list[tuple[Line, Line]]:
+        """(line j, line k) where line j meets k's level (MIN implication: M bends there)."""
+        if self.inf.aggregation == Aggregation.SUM or self.inf.implication != Implication.MIN:
+            return []
+        return [(j, k) for j in seg.lines if j.slope != 0.0 for k in seg.lines]
+
     def _candidates(self, seg: Segment, alpha: str) -> list[str]:
         lit = self.real.lit
         if self.inf.aggregation == Aggregation.SUM:      # PRODUCT and SUM: linear in segment
             return []
         if self.inf.implication == Implication.MIN:   # line meets a level, or two lines cross
             return [f"({alpha}[{k.term}] - {lit(j.intercept)}) * {lit(1.0 / j.slope)}"
-                    for j in seg.lines if j.slope != 0.0 for k in seg.lines] + \
-                [lit(u) for u in seg.crossings]
+                    for j, k in self._meets(seg)] + [lit(u) for u in seg.crossings]
         out = []
         for j, k in combinations(seg.lines, 2):
             if j.slope == 0.0 and k.slope == 0.0:
@@ -123,6 +132,16 @@ class CentroidEmitter:
             den = f"({aj} * {lit(j.slope)} - {ak} * {lit(k.slope)})"
             out.append(f"{self.p}ratio_or({num}, {den}, {lit(seg.x0)})")
         return out
+
+    def _nudged(self, u: str, value: str, j: Line, k: Line, alpha: str) -> list[str]:
+        """u = where line j meets k's level, moved by an ulp or two toward j's top until j
+        reaches the level there (as the engine's defuzz._at_level): rounded, the point can fall
+        where j is already below the level, and M there below it ramps the plateau down (a
+        level of 1e-6 at 9 - 3e-6 in float rounds to 9, the foot, where j is 0)."""
+        toward = "INFINITY" if j.slope > 0 else "(-INFINITY)"
+        step = f"if ({self._line(j, u)} < {alpha}[{k.term}]) " \
+               f"{u} = {self.real.fn('nextafter')}({u}, {toward});"
+        return [f"{u} = {value};"] + [step] * AT_LEVEL_STEPS
 
     def n_points(self, seg: Segment) -> int:
         """How many points segment_points writes for `seg` (the candidates and both ends)."""
@@ -136,7 +155,11 @@ class CentroidEmitter:
         n = len(cands) + 2
         code = [f"{self.real.name} u[{n}], f[{n}];",
                 f"u[0] = {lit(seg.x0)}; u[{n - 1}] = {lit(seg.x1)};"]
+        meets = self._meets(seg)
         for i, c in enumerate(cands, start=1):
+            if i <= len(meets):
+                code += self._nudged(f"u[{i}]", c, *meets[i - 1], alpha)
+                c = f"u[{i}]"
             code.append(f"u[{i}] = {self.p}clamp({c}, {lit(seg.x0)}, {lit(seg.x1)});")
         for i in range(len(cands)):              # bubble network: fixed, data-independent
             for j in range(1, len(cands) - i):
@@ -158,11 +181,32 @@ class CentroidEmitter:
             code.append("}")
         return code
 
+    @staticmethod
+    def _gap(before: Segment | None, seg: Segment) -> bool:
+        """Whether no term is positive between `before` and `seg` (segments without lines
+        are left out): M is 0 there, which the polygon must say with points of its own."""
+        return before is not None and before.x1 < seg.x0
+
+    def polygon_size(self, segments: list[Segment]) -> int:
+        """The (u, f) pairs emit_polygon stores."""
+        return sum(self.n_points(seg) + 2 * self._gap(before, seg)
+                   for before, seg in zip([None] + segments[:-1], segments))
+
     def emit_polygon(self, segments: list[Segment], alpha: str, poly: str) -> list[str]:
         """Statements storing the whole polygon of M, segment after segment, as (u, f) pairs
-        in `poly` (2 * sum of n_points reals); a segment where nothing fired stores f = 0."""
+        in `poly` (polygon_size pairs); a segment where nothing fired stores f = 0, and so do
+        the two points at the ends of a gap between segments (M is linear between
+        consecutive points: without them a term with a vertical edge after a gap would ramp
+        up over the whole gap)."""
+        lit = self.real.lit
         code, offset = [], 0
-        for seg in segments:
+        for before, seg in zip([None] + segments[:-1], segments):
+            if self._gap(before, seg):
+                code.append(f"{poly}[{2 * offset}] = {lit(before.x1)}; "
+                            f"{poly}[{2 * offset + 1}] = {lit(0)}; "
+                            f"{poly}[{2 * offset + 2}] = {lit(seg.x0)}; "
+                            f"{poly}[{2 * offset + 3}] = {lit(0)};   /* M = 0 in the gap */")
+                offset += 2
             code.append(f"{{ /* [{seg.x0:.9g}, {seg.x1:.9g}] */")
             code += ["    " + s for s in self.segment_points(seg, alpha)]
             code.append(f"    {self.p}store({poly} + {2 * offset}, u, f, "

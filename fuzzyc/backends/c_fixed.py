@@ -21,6 +21,15 @@ sum (sum_j alpha_j z_j, not normalised, saturated to the output's range; its pea
 guard bits below the output LSB).  Others raise a diagnostic.  The C output is saturated to
 the output's range, so it is held against the engine's value clipped to that range (the two
 differ only where the engine leaves the range, which a weighted sum can).
+
+Vanishing activations: the engine drops an activation below `fuzzyc.model.ACTIVATION_FLOOR`
+(1e-12).  Here an activation is an integer of 2^-MF (a product of memberships or a weighted
+activation rounded to nearest), so the smallest that fires is one LSB, 2^-15 = 3.1e-5 (q15) or
+2^-28 = 3.7e-9 (q31), and below half an LSB an activation is already 0: everything the engine
+drops is 0 here as well (checked at import).  Between the floor and half an LSB the engine
+still fires a rule that the header does not; `derived_error_bound` holds only where every
+sample fires a concluding rule far above that (at least S_min), and says "not derived"
+otherwise.
 """
 from __future__ import annotations
 
@@ -32,8 +41,8 @@ from ..grid import place_values
 from ..limits import MAX_C_SLOT_COMBINATIONS, MAX_C_TABLE_CELLS
 from ..membership import LocalPartition, memberships
 from ..errors import Diagnostic, FuzzycError
-from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Model, OutputKind, RuleBase,
-                     TermKind, TNorm)
+from ..model import (ACTIVATION_FLOOR, Aggregation, Connective, Defuzzifier, Hedge, Model,
+                     OutputKind, RuleBase, TermKind, TNorm)
 from ..escape import c_comment, c_identifier
 from .c import check_c_model_names, check_supported
 from .c_cells import active_codes, cell_row_c, cell_table, cell_table_c
@@ -44,6 +53,8 @@ FORMATS = {
     "q15": ("int16_t", (1 << 15) - 1, 15),
     "q31": ("int32_t", (1 << 31) - 1, 28),
 }
+# the engine's floor lies below half an activation LSB of every format: what it drops is 0 here
+assert all(ACTIVATION_FLOOR < 2.0 ** -(mf + 1) for _, _, mf in FORMATS.values())
 # Stated worst-case |C - engine| as a fraction of each output's range, for inputs on the
 # fixed-point grid (the engine evaluated at the dequantized input).  Checked by
 # tests/test_c_fixed.py on >= 100,000 random inputs and every edge of every shipped rule base.
@@ -473,6 +484,8 @@ class FixedPointWriter:
                "to its range).",
                " * A `*` (any) in a rule counts as membership ONE exactly (min/product over "
                "the other inputs).",
+               f" * Activations are integers of 2^-{self.mf}: below half an LSB one is 0 (the "
+               f"engine's floor, {ACTIVATION_FLOOR:g}, lies below that).",
                " * Derived worst case (membership rounding + exact min/max + rounded "
                + ("weighted sum" if self.weighted_sum else "COA division") + ", see",
                " * fuzzyc.backends.c_fixed.derived_error_bound): " + self.derived_text() + ".",

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..defuzz import AT_LEVEL_STEPS
 from ..model import Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable
 from .c_area import FUNCTION_OF, AreaWriter, is_sampled
 
@@ -105,14 +106,23 @@ class ItemWriter:
 
     def _clip_points(self) -> list[str]:
         t, p, lit = self.t, self.p, self.real.lit
+        nextafter = self.real.fn("nextafter")
         return [
             "/* Where min(level, trapezoid q) bends: its rise and its fall meet the level (b and "
             "c at level 1, the edge at a vertical edge), clamped into [lo, hi]. */",
             f"static inline void {p}clip_points({t} level, const {t} q[6], {t} lo, {t} hi, "
             f"{t} at[2]) {{",
             f"    {t} h = {p}lesser(level, {lit(1)});",
-            f"    at[0] = {p}clamp(q[4] > 0 ? q[0] + h * (q[1] - q[0]) : q[1], lo, hi);",
-            f"    at[1] = {p}clamp(q[5] > 0 ? q[3] - h * (q[3] - q[2]) : q[2], lo, hi);",
+            "    at[0] = q[4] > 0 ? q[0] + h * (q[1] - q[0]) : q[1];",
+            "    at[1] = q[5] > 0 ? q[3] - h * (q[3] - q[2]) : q[2];",
+            "    /* rounded, a point can fall where the term is already below h (at its foot for "
+            "a tiny h): an ulp or two toward the top (the engine's defuzz._at_level) */",
+            *[f"    if ({p}trapezoid(at[0], q) < h) at[0] = {nextafter}(at[0], INFINITY);"
+              for _ in range(AT_LEVEL_STEPS)],
+            *[f"    if ({p}trapezoid(at[1], q) < h) at[1] = {nextafter}(at[1], -INFINITY);"
+              for _ in range(AT_LEVEL_STEPS)],
+            f"    at[0] = {p}clamp(at[0], lo, hi);",
+            f"    at[1] = {p}clamp(at[1], lo, hi);",
             "}",
         ]
 
@@ -127,11 +137,12 @@ class ItemWriter:
             f"    {t} a = {p}clamp(q[0], lo, hi), d = {p}clamp(q[3], lo, hi);",
             "    if (!(h > 0)) return;",
             f"    {p}clip_points(level, q, lo, hi, at);",
-            f"    if (q[4] > 0) {p}piece(a, at[0], (a - q[0]) * q[4], (at[0] - q[0]) * q[4], "
-            "area, moment);",
+            "    /* M = min(h, term): at a clip point moved toward the top the term exceeds h */",
+            f"    if (q[4] > 0) {p}piece(a, at[0], {p}lesser(h, (a - q[0]) * q[4]), "
+            f"{p}lesser(h, (at[0] - q[0]) * q[4]), area, moment);",
             f"    {p}piece(at[0], at[1], h, h, area, moment);",
-            f"    if (q[5] > 0) {p}piece(at[1], d, (q[3] - at[1]) * q[5], (q[3] - d) * q[5], "
-            "area, moment);",
+            f"    if (q[5] > 0) {p}piece(at[1], d, {p}lesser(h, (q[3] - at[1]) * q[5]), "
+            f"{p}lesser(h, (q[3] - d) * q[5]), area, moment);",
             "}",
         ]
 
