@@ -68,6 +68,11 @@ def resolve(name_or_path: str | Path) -> Path:
         return path
     if str(name_or_path) in available():
         return SCENARIO_DIR / f"{name_or_path}.yaml"
+    if path.suffix in (".yaml", ".yml") or len(path.parts) > 1:    # a path, not a shipped name
+        what = "not a file" if os.path.lexists(path) else "no such file"
+        raise FuzzycError([Diagnostic(None, f"{what}: {name_or_path} (a scenario file; the "
+                                            f"shipped scenarios are named without .yaml: "
+                                            f"{' '.join(available())})")])
     from fuzzyc.errors import suggest
     raise FuzzycError([Diagnostic(None, f"no scenario `{name_or_path}` — "
                                         f"{suggest(str(name_or_path), available())}")])

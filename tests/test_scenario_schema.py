@@ -1,6 +1,7 @@
 """Scenario files whose values have the wrong type: a located message (file:line:col of the
 offending value or key), never a traceback. The first five are the tracebacks of issue 13
 (plots, metrics and keys of the wrong type); the columns are counted by hand below."""
+import re
 from pathlib import Path
 
 import pytest
@@ -91,11 +92,20 @@ def test_alias_bomb_is_loaded_without_walking_every_path(tmp_path):
         S.load(path)
 
 
-@pytest.mark.parametrize("name", ["a" * 300, "a" * 300 + ".yaml", "x\0.yaml"])
-def test_a_name_the_system_refuses_is_no_scenario(name):
+@pytest.mark.parametrize("name, message", [("a" * 300, "no scenario"),
+                                           ("a" * 300 + ".yaml", "no such file"),
+                                           ("x\0.yaml", "no such file")])
+def test_a_name_the_system_refuses_is_no_scenario(name, message):
     # found by the fuzzer: a 300-character name made Path.exists() raise ENAMETOOLONG
-    with pytest.raises(FuzzycError, match="no scenario"):
+    with pytest.raises(FuzzycError, match=message):
         S.resolve(name)
+
+
+@pytest.mark.parametrize("name", ["examples/gymnasium/cartpole.yaml", "mine.yml", "sub/wedm_finish"])
+def test_a_missing_scenario_file_is_no_such_file(name):
+    with pytest.raises(FuzzycError, match=re.escape(f"no such file: {name} (")):
+        S.resolve(name)
+    assert S.resolve("wedm_finish") == S.SCENARIO_DIR / "wedm_finish.yaml"    # names still work
 
 
 EXAMPLES = sorted(str(p) for p in (Path(__file__).parents[1] / "examples").rglob("*.yaml"))
