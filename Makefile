@@ -48,11 +48,13 @@ demo: $(STAMP)
 	$(PY) -m fuzzyc.demo
 
 test: test-venv
-	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -n 2 --dist loadfile -rs $(TESTPATHS)
+	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -n 2 --dist loadfile -rfEs $(TESTPATHS)
 
-# What CI proves beyond `make test`: every header of the corpora under EVA, and every shipped
-# closed loop on sets at a tenth of its horizon (box budget 8; a smoke run of the machinery).
+# What CI proves beyond `make test`: every header of the corpora under EVA, a README proof row
+# reproduced by the installed console script, and every shipped closed loop on sets at a tenth
+# of its horizon (box budget 8; a smoke run of the machinery).
 proofs: c-proofs
+	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -m proofs -rs $(CURDIR)/tests/test_readme_proofs.py
 	$(INSTALLED) $(TPY) $(CURDIR)/benchmarks/bench_verify.py --proofs-only --quick
 
 # Frama-C EVA over the corpora's headers (tests/test_c_proofs.py, marker `proofs`, left out of
