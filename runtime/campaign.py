@@ -20,6 +20,10 @@ DEFAULT_CHUNK = 10_000   # loops per task: a WEDM loop step costs ~0.3 us batche
 
 
 SCHEDULER_SCHEMES = ("tcp", "tls")
+LOCAL_HOST = "127.0.0.1"   # --workers: nothing of the local cluster listens beyond this machine
+# where a tls:// scheduler's client certificate comes from (Dask's own config)
+TLS_ENV = ("DASK_DISTRIBUTED__COMM__TLS__CA_FILE, DASK_DISTRIBUTED__COMM__TLS__CLIENT__CERT "
+           "and DASK_DISTRIBUTED__COMM__TLS__CLIENT__KEY")
 
 
 @dataclass
@@ -134,20 +138,47 @@ def _client(cluster: Cluster) -> Iterator[Any]:
                                             "not installed: pip install 'fuzzyc[dask]'")]) \
             from None
     if cluster.scheduler:
+        from fuzzyc.errors import Diagnostic, FuzzycError
+        if cluster.scheduler.startswith("tls://") and not _tls_configured():
+            # Dask would fail with a TypeError about an ssl_context
+            raise FuzzycError([Diagnostic(None, f"{cluster.scheduler} needs TLS certificates: "
+                                                f"set {TLS_ENV} (docs/campaigns.md)")])
         try:
             client = Client(cluster.scheduler)
         except (ValueError, OSError) as exc:     # a malformed address, nobody listening
-            from fuzzyc.errors import Diagnostic, FuzzycError
             raise FuzzycError([Diagnostic(None, f"cannot reach the Dask scheduler at "
                                                 f"{cluster.scheduler}: {exc}")]) from None
         with client:
             yield client
         return
-    # processes, one thread each: the batched numpy loop holds the GIL between array calls
-    with LocalCluster(n_workers=cluster.workers, threads_per_worker=1, processes=True,
-                      dashboard_address=":0", silence_logs=logging.ERROR) as local, \
-            Client(local) as client:
+    # processes, one thread each: the batched numpy loop holds the GIL between array calls.
+    # Everything listens on 127.0.0.1 only, and the scheduler's HTTP server (which Dask always
+    # starts) gets no dashboard and no routes: with dashboard_address=":0" the dashboard and
+    # /json/identity.json answered on every interface. Workers read the routes from the
+    # config they are spawned with, so the config must hold while the cluster starts.
+    import dask
+    with dask.config.set({"distributed.scheduler.http.routes": [],
+                          "distributed.worker.http.routes": []}):
+        local = LocalCluster(n_workers=cluster.workers, threads_per_worker=1, processes=True,
+                             host=LOCAL_HOST, dashboard_address=f"{LOCAL_HOST}:0",
+                             scheduler_kwargs={"dashboard": False},
+                             silence_logs=logging.ERROR)
+    with local, Client(local) as client:
         yield client
+
+
+def _tls_configured() -> bool:
+    """True when the Dask config (its YAML files, DASK_* variables) gives the client a TLS
+    context: what Client(address) uses for a tls:// address. FuzzycError when the files it
+    names cannot be read (a traceback otherwise)."""
+    from distributed.security import Security
+
+    from fuzzyc.errors import Diagnostic, FuzzycError
+    try:
+        return Security().get_connection_args("client")["ssl_context"] is not None
+    except OSError as exc:      # ssl.SSLError is one too: a key that does not fit its cert
+        raise FuzzycError([Diagnostic(None, f"cannot use the TLS certificates of the Dask "
+                                            f"config ({TLS_ENV}): {exc}")]) from None
 
 
 @dataclass

@@ -97,6 +97,13 @@ NOT_COMMANDS = {
     "fuzzyc simulate ... --scheduler tcp://HOST:8786": "`...` and HOST are placeholders",
     "dask scheduler": "starts a Dask scheduler service (runs until stopped), Dask's own command",
     "dask worker tcp://HOST:8786 --nworkers 4 --nthreads 1": "HOST is a placeholder; a service",
+    "fuzzyc simulate ... --scheduler tls://HOST:8786":
+        "`...` and HOST are placeholders; tests/test_campaign_security.py runs --scheduler "
+        "tls://... with the DASK_DISTRIBUTED__COMM__TLS__ variables against a cluster it starts",
+    "dask scheduler --tls-ca-file ca.pem --tls-cert scheduler.pem --tls-key scheduler-key.pem":
+        "starts a Dask scheduler service, Dask's own command; the certificates are the user's",
+    "dask worker tls://HOST:8786 --tls-ca-file ca.pem --tls-cert worker.pem --tls-key "
+    "worker-key.pem --nworkers 4 --nthreads 1": "HOST is a placeholder; a service",
 }
 
 
