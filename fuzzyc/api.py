@@ -15,7 +15,7 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from .atomic import write_text
+from .atomic import atomic_path, write_text
 from .controller import Controller
 from .engine import Explanation
 from .errors import FuzzycError
@@ -237,19 +237,30 @@ def example(name: str) -> Path:
     return found[0]
 
 
-def copy_examples(destination: PathLike) -> list[Path]:
+def copy_examples(destination: PathLike, force: bool = False) -> list[Path]:
     """Copy the shipped examples into destination/rulebases, /scenarios, /c and /gymnasium
-    (made when missing); refuses (FuzzycError) to overwrite a file. Returns the written paths."""
+    (made when missing); refuses (FuzzycError) to overwrite a file unless force, and a file
+    where one of those folders goes. Returns the written paths.
+
+    Each file is written atomically: a symbolic link in the way is replaced, never followed
+    (shutil.copyfile followed a dangling one and created its target)."""
     from .errors import Diagnostic
     destination = Path(destination)
+    shipped = _shipped()
+    for folder in shipped:
+        place = destination / folder
+        if os.path.lexists(place) and not place.is_dir():
+            raise FuzzycError([Diagnostic(None, f"cannot copy the examples into {place}: it is "
+                                                "not a folder")])
     plan = [(source, destination / folder / source.name)
-            for folder, sources in _shipped().items() for source in sources]
-    existing = [target for _, target in plan if target.exists()]
-    if existing:
+            for folder, sources in shipped.items() for source in sources]
+    # lexists: a dangling link counts as a file there
+    existing = [target for _, target in plan if os.path.lexists(target)]
+    if existing and not force:
         raise FuzzycError([Diagnostic(None, f"not overwriting the {len(existing)} example files "
                                             f"already in {destination} (e.g. {existing[0]}): "
-                                            "choose another folder")])
+                                            "choose another folder, or give --force")])
     for source, target in plan:
-        target.parent.mkdir(parents=True, exist_ok=True)
-        shutil.copyfile(source, target)
+        with atomic_path(target) as tmp:
+            shutil.copyfile(source, tmp)    # tmp: a new regular file, not a link
     return [target for _, target in plan]

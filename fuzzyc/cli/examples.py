@@ -7,8 +7,12 @@ def add_parser(subparsers) -> None:
     p = subparsers.add_parser(
         "examples", help="list the shipped rule bases, scenarios and C example, or copy them",
         description="Without DIR: list the shipped examples with their titles. With DIR: copy "
-                    "them into DIR/rulebases, DIR/scenarios, DIR/c and DIR/gymnasium (never overwriting).")
+                    "them into DIR/rulebases, DIR/scenarios, DIR/c and DIR/gymnasium (never "
+                    "overwriting without --force).")
     p.add_argument("folder", nargs="?", metavar="DIR", help="folder to copy the examples into")
+    p.add_argument("--force", action="store_true",
+                   help="replace example files already in DIR (a link there is replaced, not "
+                        "followed)")
     p.set_defaults(run=run)
 
 
@@ -17,7 +21,7 @@ def run(args) -> int:
     if args.folder:
         from .common import check_output
         check_output(args.folder, folder=True)
-        copied = api.copy_examples(args.folder)
+        copied = api.copy_examples(args.folder, force=args.force)
         folders = sorted({path.parent.name for path in copied})
         print(f"copied {len(copied)} files into {args.folder}: "
               + ", ".join(f"{name}/" for name in folders))
