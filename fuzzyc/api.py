@@ -8,7 +8,7 @@ from __future__ import annotations
 
 import os
 import shutil
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -145,7 +145,8 @@ def verify(model: Model | PathLike, *, max_examples: int = 100, seed: int = 0,
            report_dir: PathLike | None = None,
            progress: Callable[[str], None] | None = None,
            cluster: Cluster | None = None, prove: bool = False,
-           prove_boxes: int = 64, noise_sigmas: float = 0.0) -> VerifyReport:
+           prove_boxes: int = 64, noise_sigmas: float = 0.0,
+           allow_import: Sequence[str] = ()) -> VerifyReport:
     """Check every property of a model (or of the file at that path); a model that declares
     none gets the structural defaults. `only` keeps the properties whose text contains it;
     `report_dir` receives the plots of closed-loop counterexamples; `progress` is called with
@@ -153,7 +154,8 @@ def verify(model: Model | PathLike, *, max_examples: int = 100, seed: int = 0,
     the closed-loop cases in chunks, on Dask with workers or a scheduler (docs/campaigns.md).
     `prove`: closed loops get sound reachable sets first (docs/proofs.md), split into at most
     `prove_boxes` boxes, Gaussian plant noise covered to `noise_sigmas` standard deviations
-    (0: not at all)."""
+    (0: not at all). `allow_import`: modules of yours the closed loops' scenarios may import
+    (a Gymnasium `env: module:Class`; docs/security.md): a scenario file alone imports none."""
     from .verifier import Options, verify_model
     from .verifier.report import VerifyReport
     if not isinstance(model, Model):
@@ -161,7 +163,8 @@ def verify(model: Model | PathLike, *, max_examples: int = 100, seed: int = 0,
     options = Options(backend=backend, max_examples=max_examples, seed=seed,
                       report_dir=None if report_dir is None else str(report_dir), only=only,
                       progress=progress, cluster=cluster, prove=prove,
-                      prove_boxes=prove_boxes, noise_sigmas=noise_sigmas)
+                      prove_boxes=prove_boxes, noise_sigmas=noise_sigmas,
+                      allow_import=tuple(_modules(allow_import)))
     return VerifyReport(verify_model(model, options))
 
 
@@ -178,7 +181,8 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
              settings: Mapping[str, Any] | None = None, baseline: bool = False,
              randomize: bool = False, backend: str = "numpy", seed: int = 0,
              pace: str = "sim", progress: bool | None = False,
-             cluster: Cluster | None = None, semantics: str = "exact") -> Simulation:
+             cluster: Cluster | None = None, semantics: str = "exact",
+             allow_import: Sequence[str] = ()) -> Simulation:
     """Run a scenario (a shipped name such as "wedm_rough" or a YAML path) with its own rule
     base or the rule file `rulebase` (any format `load` reads); `settings` overrides scenario keys, dotted as in
     `fuzzyc simulate --set` ({"duration": 2, "plant.tension": 800}); `baseline` runs the
@@ -187,14 +191,17 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
     on stderr (None: when it is a terminal). `cluster` (fuzzyc.runtime.campaign.Cluster) runs
     the loops in chunks, on Dask with workers or a scheduler, with the same numbers; then
     `trace` holds the first 20 loops and `metrics` are over all of them (docs/campaigns.md).
-    `semantics`: a source tool's arithmetic (docs/formats.md)."""
+    `semantics`: a source tool's arithmetic (docs/formats.md). `allow_import`: modules of
+    yours the scenario may import (a Gymnasium `env: module:Class`, docs/security.md); the
+    plants, baselines and observers a scenario names otherwise come from
+    fuzzyc.plants.registry, and a scenario file alone imports nothing."""
     from fuzzyc.plants.scenario import load as load_scenario
     from fuzzyc.runtime.simulate import simulate as run_scenario, summarize
     overrides = dict(settings or {})
     if rulebase is not None:
         from .formats import absolute_ref
         overrides["controller.rulebase"] = absolute_ref(os.fspath(rulebase))
-    loaded = load_scenario(scenario, overrides)
+    loaded = load_scenario(scenario, overrides, allow_import=_modules(allow_import))
     if cluster is not None:
         from fuzzyc.runtime.campaign import simulate_campaign
         campaign = simulate_campaign(loaded, batch, cluster, baseline=baseline, backend=backend,
@@ -204,6 +211,11 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
                          randomize=randomize, progress=progress, pace=pace,
                          semantics=semantics)
     return Simulation(loaded, trace, summarize(loaded, trace))
+
+
+def _modules(allow_import: Sequence[str] | str) -> list[str]:
+    """allow_import as a list (one name given as a string is one module, not its letters)."""
+    return [allow_import] if isinstance(allow_import, str) else list(allow_import or ())
 
 
 # -- the shipped examples ---------------------------------------------------------------------

@@ -3,7 +3,8 @@
     plant:
       model: gymnasium
       env: CartPole-v1            # a registered id (gymnasium.make), or module:Class, a
-                                  # gymnasium.Env subclass imported by name (importlib)
+                                  # gymnasium.Env subclass of a module the user allowed
+                                  # (--allow-import MODULE; never the file alone)
       kwargs: {}                  # keyword arguments of gymnasium.make or of the class
       observations: [x, x_dot, theta, theta_dot]   # observation index -> bus name
                                   # (a list, null skips an index; or a mapping {2: theta})
@@ -32,7 +33,8 @@ from typing import Any, Callable
 
 import numpy as np
 
-from .scenario_schema import finite_number
+from .registry import ALLOW_HINT, allowed_module
+from .scenario_schema import finite_number, shown
 
 MODEL = "gymnasium"
 KEYS = {"model", "env", "kwargs", "observations", "action", "discrete"}
@@ -67,8 +69,9 @@ class GymPlant:
     OUTPUTS, initial_state, step), so the loop, the scenario checks and the verifier take it
     as they take ours. `error(dotted, message)` makes a FuzzycError at a scenario key."""
 
-    def __init__(self, params: GymParams, error: Callable[[str, str], Exception]):
-        self.params, self.error = params, error
+    def __init__(self, params: GymParams, error: Callable[[str, str], Exception],
+                 allow_import: tuple[str, ...] = ()):
+        self.params, self.error, self.allow_import = params, error, allow_import
         self.INPUTS = self.REQUIRED_INPUTS = tuple(params.action)
         self.OUTPUTS = (*params.observations.values(), *EPISODE)
 
@@ -120,6 +123,7 @@ class GymPlant:
             raise self.error("plant.env", str(exc)) from None
 
     def _factory(self, gym, params: GymParams) -> Callable[[], Any]:
+        check_import(params.env, self.allow_import, self.error)   # again: nothing unasked
         ref = CLASS_REF.fullmatch(params.env)
         if ref is None:                    # a registered id
             def make():
@@ -221,7 +225,7 @@ def from_scenario(scenario) -> GymPlant:
 
     def need(ok: bool, key: str, what: str):
         if not ok:
-            raise err(f"plant.{key}", f"must be {what}, got {spec.get(key)!r}")
+            raise err(f"plant.{key}", f"must be {what}, got {shown(spec.get(key))}")
 
     for key in spec:
         if key not in KEYS:
@@ -230,6 +234,8 @@ def from_scenario(scenario) -> GymPlant:
                                       f"{suggest(str(key), sorted(KEYS))}")
     need(isinstance(spec.get("env"), str) and spec["env"] != "", "env",
          "an environment id (CartPole-v1) or module:Class")
+    allow = tuple(getattr(scenario, "allow_import", ()))
+    check_import(spec["env"], allow, err)
     kwargs = spec.get("kwargs") or {}
     need(isinstance(kwargs, dict) and all(isinstance(k, str) for k in kwargs), "kwargs",
          "a mapping of keyword arguments")
@@ -254,7 +260,23 @@ def from_scenario(scenario) -> GymPlant:
     if twice:
         raise err("plant.observations", f"`{twice[0]}` names two observations")
     return GymPlant(GymParams(spec["env"], dict(kwargs), observations, list(action), discrete),
-                    err)
+                    err, allow)
+
+
+def check_import(env: str, allow_import: tuple[str, ...], err) -> None:
+    """Refuse, before anything is imported, an `env` that would import a module the user did
+    not allow: `module:Class`, and gymnasium's own `module:Id-v0` (gymnasium.make imports the
+    module). A plain id is looked up in Gymnasium's registry only."""
+    if ":" not in env:
+        return
+    module = env.partition(":")[0]
+    if not allowed_module(module, allow_import):
+        allowed = ", ".join(allow_import) or "none"
+        raise err("plant.env", f"{shown(env, '`')} would import the module "
+                               f"{shown(module, '`')}, and a scenario file cannot make fuzzyc "
+                               f"import code; name an environment id registered with Gymnasium "
+                               f"(CartPole-v1, Pendulum-v1, ...), or {ALLOW_HINT} "
+                               f"(allowed now: {allowed})", of_value=True)
 
 
 def _integer(value) -> bool:

@@ -31,11 +31,14 @@ Format (every key but `plant` optional):
 (`plant.tension=800` reaches into `plant.params` when `plant` has no key `tension`); values are
 read as YAML scalars (numbers, booleans, strings), never evaluated. Mistakes are FuzzycErrors
 at the offending key or value (file:line:col); scenario_schema checks the shape on loading.
+
+A scenario is data: the YAML is read within limits (scenario_yaml), and the plant, baseline and
+observers it names come from plants/registry.py; a module of the user's (a Gymnasium
+environment class) is imported only when `allow_import` (--allow-import) names it.
 """
 from __future__ import annotations
 
 import dataclasses
-import importlib
 import inspect
 import os
 import re
@@ -49,7 +52,7 @@ import yaml
 from fuzzyc.errors import Diagnostic, FuzzycError
 from fuzzyc.model import SourceLoc
 
-from . import gym_env
+from . import gym_env, registry, scenario_yaml
 
 SCENARIO_DIR = Path(__file__).resolve().parent / "scenarios"
 RULEBASE_SETTING = "controller.rulebase"    # what FILE on the command line sets
@@ -86,7 +89,7 @@ class _Marks:
         self.keys: dict[str, tuple[int, int]] = {}
         self.values: dict[str, tuple[int, int]] = {}
         try:
-            root = yaml.compose(text)
+            root = scenario_yaml.compose(text)
         except yaml.YAMLError:
             root = None
         if root is not None:
@@ -130,6 +133,8 @@ class Scenario:
     marks: _Marks = field(repr=False)
     text: str = field(repr=False, default="")
     settings: dict[str, str] = field(default_factory=dict)   # the --set overrides applied
+    # modules of the user's that may be imported (--allow-import): never from the file itself
+    allow_import: tuple[str, ...] = ()
 
     # --- plain views of the data -------------------------------------------------------------
     @property
@@ -186,15 +191,19 @@ class Scenario:
         line, col = self.marks.at(dotted, of_value)
         lines = YAML_BREAK.split(self.text)
         source = lines[line - 1] if 1 <= line <= len(lines) else None
+        from .scenario_schema import capped    # a key of the file's is any length
         return FuzzycError([Diagnostic(SourceLoc(str(self.path), line, col),
-                                       f"`{dotted}`: {message}", source)])
+                                       f"`{capped(dotted)}`: {message}", source)])
 
     def plant_module(self):
         """The plant module of fuzzyc.plants the scenario names, or for `model: gymnasium` a
         GymPlant, which has what a plant module has (plants/gym_env.py)."""
         if self.plant_name == gym_env.MODEL:
             return gym_env.from_scenario(self)
-        return _plant_attr(self, "plant.model", self.plant_name, None)
+        try:
+            return registry.plant_module(self.plant_name)
+        except KeyError:
+            raise self.error("plant.model", unknown_plant(self.plant_name)) from None
 
     def plant_params(self, batch: int = 1, rng: np.random.Generator | None = None,
                      randomize: bool = False):
@@ -226,9 +235,14 @@ class Scenario:
         return params
 
     def make(self, dotted: str, spec: dict):
-        """Instantiate `plants.<module>.<callable>(**params)` named by spec["make"]."""
-        module_name, _, attr = str(spec.get("make", "")).rpartition(".")
-        factory = _plant_attr(self, f"{dotted}.make", module_name, attr)
+        """Instantiate `plants.<module>.<callable>(**params)` named by spec["make"], one of
+        registry.BASELINES (dotted "baseline") or registry.OBSERVERS ("observers.N")."""
+        kind = "baseline" if dotted == "baseline" else "observer"
+        try:
+            factory = registry.factory(kind, spec.get("make"))
+        except (KeyError, TypeError):        # TypeError: not a string (the API)
+            raise self.error(f"{dotted}.make", unknown_factory(kind, spec.get("make")),
+                             of_value=True) from None
         given = spec.get("params") or {}
         _check_types(self, f"{dotted}.params", given, _typical_values(factory))
         try:
@@ -265,23 +279,26 @@ class Scenario:
         return path
 
 
-def _plant_attr(scenario: Scenario, dotted: str, module_name: str, attr: str | None):
-    package = __name__.rpartition(".")[0]
-    try:
-        module = importlib.import_module(f"{package}.{module_name}")
-    except ModuleNotFoundError as exc:
-        if not str(exc.name or "").endswith(module_name):
-            raise
-        raise scenario.error(dotted, f"no plant module `{module_name}`") from None
-    if attr is None:
-        return module
-    if not hasattr(module, attr):
-        raise scenario.error(dotted, f"plant module `{module_name}` has no `{attr}`")
-    return getattr(module, attr)
+def unknown_plant(name) -> str:
+    """The message for a plant.model not in the registry."""
+    from .scenario_schema import shown
+    return (f"no plant module {shown(name, '`')}; a scenario names one of: "
+            f"{', '.join((*registry.PLANTS, gym_env.MODEL))}")
+
+
+def unknown_factory(kind: str, name) -> str:
+    """The message for a baseline.make / observers.N.make not in the registry."""
+    from .scenario_schema import shown
+    article = "an" if kind[0] in "aeiou" else "a"
+    return (f"{shown(name, '`')} is not {article} {kind} of fuzzyc.plants; a scenario names "
+            f"one of: "
+            f"{', '.join(registry.FACTORIES[kind])} (a scenario is data: it cannot name "
+            f"other code)")
 
 
 # a required param (no default) of these annotations is checked as if it had such a default
-_ANNOTATED = {"float": 0.0, "int": 0, "bool": False, float: 0.0, int: 0, bool: False}
+_ANNOTATED = {"float": 0.0, "int": 0, "bool": False, "str": "",
+              float: 0.0, int: 0, bool: False, str: ""}
 
 
 def _typical_values(factory) -> dict:
@@ -295,7 +312,7 @@ def _typical_values(factory) -> dict:
 def _check_types(scenario: Scenario, dotted: str, given: dict, defaults: dict) -> None:
     """A param whose default is a number must be given a finite number, one whose default is a
     bool a bool (the plants compute with them: a string would fail deep inside a run)."""
-    from .scenario_schema import finite_number, shown
+    from .scenario_schema import NAME, finite_number, shown
     for key, value in given.items():
         default = defaults.get(key)
         if isinstance(default, bool):
@@ -304,6 +321,8 @@ def _check_types(scenario: Scenario, dotted: str, given: dict, defaults: dict) -
             # an array: one value per loop of a batch (the Python API, not YAML)
             ok, what = (np.all(np.isfinite(value)) if isinstance(value, np.ndarray) and
                         value.dtype.kind in "if" else finite_number(value)), "a finite number"
+        elif isinstance(default, str):      # a signal name (input_name: 1.0e-300 was sorted)
+            ok, what = isinstance(value, str) and NAME.fullmatch(value) is not None, "a name"
         else:
             continue
         if not ok:
@@ -346,37 +365,64 @@ def _apply_override(data: dict, key: str, value: Any) -> None:
     node[last] = value
 
 
-def load(name_or_path: str | Path, overrides: dict[str, str] | None = None) -> Scenario:
+def load(name_or_path: str | Path, overrides: dict[str, str] | None = None,
+         allow_import=()) -> Scenario:
+    """The scenario, checked. allow_import: modules of the user's a Gymnasium plant may import
+    (`env: module:Class`), given by the user (--allow-import), never by the file."""
     path = resolve(name_or_path)
     text = _read(path)
     try:
-        data = yaml.safe_load(text)
+        data = scenario_yaml.load(text)
     except yaml.YAMLError as exc:
         raise _yaml_error(path, text, exc) from None
     if not isinstance(data, dict):
         raise FuzzycError([Diagnostic(SourceLoc(str(path), 1, 1),
                                       "a scenario file must be a YAML mapping")])
-    scenario = Scenario(path.stem, path, data, _Marks(text), text, dict(overrides or {}))
+    allow = (allow_import,) if isinstance(allow_import, str) else tuple(allow_import or ())
+    scenario = Scenario(path.stem, path, data, _Marks(text), text, dict(overrides or {}), allow)
     for key, raw in (overrides or {}).items():
         try:
-            _apply_override(data, key, yaml.safe_load(str(raw)))
+            _apply_override(data, key, _override_value(key, str(raw)))
         except _NotAMapping as exc:    # e.g. `controller:` left empty, FILE sets its rule base
             raise scenario.error(exc.dotted, f"must be a mapping: `{key}` is set inside it "
                                              "(by FILE or --set)") from None
-        except (KeyError, yaml.YAMLError):
-            raise FuzzycError([Diagnostic(None, f"--set {key}={raw}: `{key}` does not name a "
-                                                f"scenario setting of {path}")]) from None
+        except KeyError:
+            from .scenario_schema import capped
+            raise FuzzycError([Diagnostic(None, f"--set {capped(f'{key}={raw}')}: "
+                                                f"`{capped(key)}` does not name a scenario "
+                                                f"setting of {path}")]) from None
     from .scenario_schema import check
     check(scenario)
     return scenario
 
 
+def _override_value(key: str, raw: str):
+    """A --set value, read as YAML within the same limits as a file."""
+    from .scenario_schema import capped
+    where = f"--set {capped(f'{key}={raw}')}"
+    problem = scenario_yaml.too_long(raw)
+    if problem:
+        raise FuzzycError([Diagnostic(None, f"{where}: {problem}")])
+    try:
+        return scenario_yaml.load(raw)
+    except yaml.YAMLError as exc:
+        mark = getattr(exc, "problem_mark", None)
+        at = "" if mark is None else f" (at character {mark.index + 1} of the value)"
+        problem = getattr(exc, "problem", None) or exc
+        raise FuzzycError([Diagnostic(None, f"{where}: the value is not valid YAML: "
+                                            f"{problem}{at}")]) from None
+
+
 def _read(path: Path) -> str:
     """The file as text; a byte that is not UTF-8 is an error at its line and column."""
     try:
-        raw = path.read_bytes()
+        with open(path, "rb") as file:
+            raw = file.read(scenario_yaml.MAX_BYTES + 1)   # no more than the limit is read
     except OSError as exc:
         raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc.strerror}")]) from None
+    if len(raw) > scenario_yaml.MAX_BYTES:
+        raise FuzzycError([Diagnostic(SourceLoc(str(path), 1, 1), f"the file is larger than "
+                                      f"a scenario may be ({scenario_yaml.MAX_BYTES:,} bytes)")])
     try:
         return raw.decode("utf-8")
     except UnicodeDecodeError as exc:

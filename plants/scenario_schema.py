@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 import re
+import reprlib
 
 from fuzzyc.errors import suggest
 
@@ -35,9 +36,23 @@ def finite_number(value) -> bool:
         return False
 
 
-def shown(value) -> str:
-    text = repr(value)
-    return text if len(text) <= 40 else text[:37] + "..."
+SHOWN = 80                  # characters of a user's value a message shows
+_REPR = reprlib.Repr()      # bounded work: a few items, a few levels, short strings
+_REPR.maxlevel, _REPR.maxlist, _REPR.maxdict, _REPR.maxtuple, _REPR.maxset = 3, 6, 6, 6, 6
+_REPR.maxstring = _REPR.maxother = _REPR.maxlong = SHOWN
+
+
+def capped(text: str, limit: int = SHOWN) -> str:
+    """`text` cut to `limit` characters, an ellipsis marking the cut."""
+    return text if len(text) <= limit else text[:limit - 3] + "..."
+
+
+def shown(value, quote: str = "") -> str:
+    """A value of the user's for a message: repr (of a string: the string between `quote`s,
+    when given), bounded in length and in the work it takes (never repr the whole of it)."""
+    if quote and isinstance(value, str):
+        return f"{quote}{capped(value)}{quote}"
+    return capped(_REPR.repr(value))
 
 
 def _is_text(value) -> bool:
@@ -113,6 +128,10 @@ def check(scenario) -> None:
     if not isinstance(plant, dict) or "model" not in plant:
         c.fail("plant", "a scenario needs `plant:` with `model:`", of_value=False)
     c.text("plant.model", plant["model"], NAME, "the name of a plant module")
+    from . import registry
+    from .scenario import unknown_plant
+    if plant["model"] not in (*registry.PLANTS, gym_env.MODEL):
+        c.fail("plant.model", unknown_plant(plant["model"]))
     c.mapping("plant.params", plant.get("params"))
     c.numbers("plant.randomize", plant.get("randomize"), "a relative spread (a finite number)")
     _controller(c, data.get("controller") or {})
@@ -145,9 +164,16 @@ def _controller(c: _Checker, spec: dict) -> None:
 
 
 def _make(c: _Checker, dotted: str, spec) -> None:
+    """A baseline or observer: `make` one of the registry's (plants/registry.py), checked by
+    name before anything is imported."""
     if spec is None:
         return
+    from . import registry
+    from .scenario import unknown_factory
     c.text(f"{dotted}.make", spec.get("make"), MAKE, "module.Callable of fuzzyc.plants")
+    kind = "baseline" if dotted == "baseline" else "observer"
+    if spec["make"] not in registry.FACTORIES[kind]:
+        c.fail(f"{dotted}.make", unknown_factory(kind, spec["make"]))
     c.mapping(f"{dotted}.params", spec.get("params"))
 
 

@@ -129,13 +129,14 @@ TANK = """  model: gymnasium
   kwargs: {rate: 2.0, limit: 1.0}
   observations: {1: level10, 0: level}
   action: inflow"""
+TOY = ["gym_toy_env"]     # the user's module: imported only when allowed (docs/security.md)
 
 
 def test_a_class_by_name_with_kwargs_and_a_continuous_action(gym, tmp_path):
     # the controller asks for inflow 5; the Box is [-1, 1], so 1 reaches the tank: the level
     # rises 2 * 1 * 0.1 = 0.2 a step from its start l0 in [0, 0.01); it reaches the limit 1.0
     # in the 5th step (0.8 + l0 < 1 <= 1.0 + l0): terminated, then held
-    sc = scenarios.load(toy_scenario(tmp_path, TANK))
+    sc = scenarios.load(toy_scenario(tmp_path, TANK), allow_import=TOY)
     trace = simulate(sc, batch=4)
     start = trace["level"][0] - 0.2
     assert ((0 <= start) & (start < 0.01)).all()
@@ -147,9 +148,9 @@ def test_a_class_by_name_with_kwargs_and_a_continuous_action(gym, tmp_path):
     assert (trace["return"][-1] == 5).all() and (trace["truncated"] == 0).all()
 
 
-def error(path, *calls):
+def error(path, *calls, allow=TOY):
     with pytest.raises(FuzzycError) as info:
-        sc = scenarios.load(path)
+        sc = scenarios.load(path, allow_import=allow)
         for call in calls:
             call(sc)
     return info.value.diagnostics[0].format()
@@ -157,6 +158,7 @@ def error(path, *calls):
 
 def test_mistakes_in_a_gym_plant_are_located(gym, tmp_path):
     run = [lambda sc: simulate(sc)]
+    allowed = ["no_such_module", "collections", "os"]    # past the allow: the class checks
     cases = [
         (TANK.replace("gym_toy_env:Tank", "CartPol-v1"), "toy.yaml:3", "CartPol"),
         (TANK.replace("gym_toy_env:Tank", "no_such_module:Tank"), "toy.yaml:3",
@@ -175,13 +177,16 @@ def test_mistakes_in_a_gym_plant_are_located(gym, tmp_path):
         (TANK.replace("action: inflow", "action: [inflow, 3]"), "toy.yaml:6", "output name"),
     ]
     for plant, where, what in cases:
-        message = error(toy_scenario(tmp_path, plant), *run)
+        message = error(toy_scenario(tmp_path, plant), *run, allow=TOY + allowed)
         assert where in message and what in message, (plant, message)
+    # not allowed: refused at the key, naming the option (tests/test_security_scenarios.py)
+    message = error(toy_scenario(tmp_path, TANK), *run, allow=())
+    assert "toy.yaml:3" in message and "--allow-import" in message
 
 
 def test_a_nan_action_stops_the_run_with_a_message(gym, tmp_path):
     from fuzzyc.plants import gym_env
-    sc = scenarios.load(toy_scenario(tmp_path, TANK))
+    sc = scenarios.load(toy_scenario(tmp_path, TANK), allow_import=TOY)
     plant = sc.plant_module()
     state = plant.initial_state(plant.params, 2)
     with pytest.raises(FuzzycError, match=r"`inflow` is nan in loop 1 at t = 0.3 s"):

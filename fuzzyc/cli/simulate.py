@@ -44,8 +44,18 @@ def add_parser(subparsers) -> None:
                         f"draws: a big batch would make a huge file; `all` writes every loop); "
                         f"the metrics always cover the whole batch")
     p.add_argument("-o", "--out", default="out/simulate", help="output folder")
+    add_allow_import(p)
     add_campaign_arguments(p)
     p.set_defaults(run=run)
+
+
+def add_allow_import(parser) -> None:
+    """--allow-import MODULE: the one way a scenario's `module:Class` gets imported (the user
+    says so here; the YAML file alone never imports code, docs/security.md)."""
+    parser.add_argument("--allow-import", action="append", default=[], metavar="MODULE",
+                        help="let scenarios import MODULE (and its submodules) for a "
+                             "Gymnasium `env: MODULE:Class`; repeat for more (a scenario file "
+                             "alone imports nothing)")
 
 
 def csv_loops(text: str) -> int | None:
@@ -126,7 +136,8 @@ def run(args) -> int:
                         settings=parse_sets(args.sets), baseline=baseline,
                         randomize=args.randomize, backend=args.backend, seed=args.seed,
                         pace=args.pace, progress=True if args.progress else None,
-                        cluster=cluster, semantics=args.semantics)
+                        cluster=cluster, semantics=args.semantics,
+                        allow_import=args.allow_import)
 
     run = run_loop(args.baseline)
     scenario, trace, summary = run.scenario, run.trace, run.metrics

@@ -16,6 +16,7 @@ import sys
 from ..formats.tool_semantics import with_tool_semantics
 from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, at_least,
                      check_output, cluster_from, non_negative)
+from .simulate import add_allow_import
 from ..errors import FuzzycError
 
 
@@ -39,6 +40,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--noise-sigmas", type=non_negative, default=0.0, metavar="K",
                    help="cover Gaussian plant noise up to K standard deviations (0: not at "
                         "all; the proof states it)")
+    add_allow_import(p)
     add_campaign_arguments(p)
     add_semantics(p)
     p.set_defaults(run=run)
@@ -94,7 +96,8 @@ def run(args) -> int:
                                          report_dir=args.report, progress=progress,
                                          cluster=cluster, prove=args.prove,
                                          prove_boxes=args.prove_boxes,
-                                         noise_sigmas=args.noise_sigmas).results
+                                         noise_sigmas=args.noise_sigmas,
+                                         allow_import=args.allow_import).results
             except FuzzycError as exc:
                 progress.done()
                 for diagnostic in exc.diagnostics:

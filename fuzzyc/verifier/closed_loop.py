@@ -35,7 +35,8 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     a = prop.args
     learning = {k.split(".", 1)[1]: v for k, v in a["set"].items() if k.startswith("learn.")}
     overrides = {k: str(v) for k, v in a["set"].items() if not k.startswith("learn.")}
-    scen = scenarios.load(a["scenario"], overrides)
+    scen = scenarios.load(a["scenario"], overrides,
+                          allow_import=getattr(options, "allow_import", ()))
     problem = _unsupported(scen, a, options.backend)
     if problem:
         return [[Evidence("closed-loop", Status.UNDECIDED, problem)] for _ in checks]

@@ -34,6 +34,7 @@ class Options:
     prove: bool = False             # closed loops: reachable sets first (fuzzyc.verifier.reach)
     prove_boxes: int = 64           # branch-and-bound budget of boxes per closed loop
     noise_sigmas: float = 0.0       # Gaussian plant noise covered up to this many sigma
+    allow_import: tuple = ()        # modules a scenario may import (--allow-import), no more
 
 
 def covers_violation(note: str, evidence: list[Evidence]) -> bool:
