@@ -20,6 +20,7 @@ from .controller import Controller
 from .engine import Explanation
 from .errors import FuzzycError
 from .model import Model
+from .numbers import real_array
 
 if TYPE_CHECKING:
     from fuzzyc.runtime.campaign import Cluster
@@ -71,7 +72,7 @@ def evaluate(model: Model, inputs: Mapping[str, Any]) -> dict[str, np.ndarray]:
     rb = model.rulebase
     names = [v.name for v in rb.inputs]
     _check_names(model, inputs, names)
-    columns = np.broadcast_arrays(*(np.asarray(inputs[n], dtype=float) for n in names))
+    columns = np.broadcast_arrays(*(real_array(n, inputs[n]) for n in names))
     shape = columns[0].shape if columns else ()
     x = np.column_stack([c.ravel() for c in columns]) if columns else np.empty((1, 0))
     y = engine_evaluate(rb, x)
@@ -84,7 +85,10 @@ def explain(model: Model, point: Mapping[str, float]) -> Explanation:
     from .engine import explain as engine_explain
     names = [v.name for v in model.rulebase.inputs]
     _check_names(model, point, names)
-    return engine_explain(model.rulebase, np.array([float(point[n]) for n in names]))
+    values = [real_array(n, point[n]) for n in names]
+    if any(v.ndim for v in values):
+        raise ValueError("explain takes one point: a number per input, not arrays")
+    return engine_explain(model.rulebase, np.array([float(v) for v in values]))
 
 
 def _check_names(model: Model, given: Mapping[str, Any], names: list[str]) -> None:
@@ -197,6 +201,12 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
     fuzzyc.plants.registry, and a scenario file alone imports nothing."""
     from fuzzyc.plants.scenario import load as load_scenario
     from fuzzyc.runtime.simulate import simulate as run_scenario, summarize
+    from .limits import MAX_BATCH
+    # before the scenario allocates anything (--batch 3e7 took 2 GB before failing)
+    if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) \
+            or not 1 <= batch <= MAX_BATCH:
+        raise ValueError(f"batch is a whole number of loops from 1 to {MAX_BATCH:,} "
+                         f"(fuzzyc.limits.MAX_BATCH), not {batch!r}")
     overrides = dict(settings or {})
     if rulebase is not None:
         from .formats import absolute_ref

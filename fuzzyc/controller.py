@@ -32,6 +32,7 @@ import sympy
 from .engine import compiled
 from .expr import clip, compile_value
 from .model import Model, Op, OutputKind, TermKind, set_entries
+from .numbers import real_array
 from .ordered import Held
 
 
@@ -109,13 +110,20 @@ class Controller:
             return value
         return np.broadcast_to(np.asarray(value, dtype=float), (n,)).copy()
 
+    def _input(self, name: str, value, n: int) -> np.ndarray:
+        """A raw input as a float (N,) array: `_column`, for real numbers only (ValueError
+        naming the input for None, a string, a bool, a datetime, a masked array...)."""
+        if type(value) is np.ndarray and value.shape == (n,) and value.dtype == np.float64:
+            return value        # the usual case: no check needed
+        return self._column(real_array(name, value), n)
+
     def step(self, inputs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
         """One sample for every loop: raw inputs (N,) each -> controller outputs (N,) each."""
         n = self.batch
         env: dict = dict(self.params)
         try:
             for name in self.input_names:
-                env[name] = self._column(inputs[name], n)
+                env[name] = self._input(name, inputs[name], n)
         except KeyError:
             missing = [name for name in self.input_names if name not in inputs]
             raise KeyError(f"no value for input(s): {', '.join(missing)}") from None

@@ -29,7 +29,7 @@ GRAMMAR = r"""
 ?unary: power | "-" unary -> neg | "+" unary
 ?power: atom | atom ("^" | "**") unary -> pow
 ?atom: NUMBER -> num | NAME -> name | NAME "(" [sum ("," sum)*] ")" -> call | "(" sum ")"
-NUMBER: /(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?/
+NUMBER: /([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?/
 NAME: /[A-Za-z_][A-Za-z0-9_]*/
 %ignore /[ \t]+/
 """

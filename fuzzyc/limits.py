@@ -30,6 +30,14 @@ MAX_RULEBASE_OUTPUTS = 32        # rule-base output variables
 MAX_MAGNITUDE = 1e12             # |every number| (0 aside)
 MIN_MAGNITUDE = 1e-12            # |every non-zero number|
 MIN_RELATIVE_WIDTH = 1e-5        # hi - lo >= this * max(|lo|, |hi|)
+# Nesting of an expression (.fz) or a rule condition (FLL, FCL): the front ends and the
+# builder recurse through it, and Python's stack stops near 1000 frames.
+MAX_NESTING = 200
+MAX_HEDGES = 16                  # hedges on one clause or conclusion (FLL, FCL): each nests
+# Not limits of a file.  `simulate --batch` (and api.simulate's batch): the loops' arrays take
+# about 1 kB a loop (wedm_rough: 1e6 loops, 0.98 GB); checked before any is allocated.
+MAX_BATCH = 1_000_000
+MAX_FILE_NAME_BYTES = 255        # a generated file's name (NAME.h), as ext4, XFS, APFS, NTFS
 # Not limits of the file but of the C headers.  The cell table (term tuple -> rules): indexed
 # by the cell code up to this many cells, past it this many occupied cells found by binary
 # search; past that the float/double header loops over every rule, q15/q31 refuse.

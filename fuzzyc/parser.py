@@ -16,16 +16,15 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from .builder import Builder
 from .errors import Reporter, shown_char, source_lines
-from .limits import check_model, number_problem, read_rule_file
+from .limits import MAX_NESTING, check_model, number_problem, read_rule_file
 from .model import Model
 from .syntax import ToSyntax
 
 STATEMENT_KEYWORDS = ("period", "param", "input", "let", "var", "terms", "inference", "rule",
                       "table", "output", "note", "verify", "block")
 
-# Tree depth the transformer and the builder recurse through (Python's stack stops near 1000
-# frames; a statement and its expression's operators each take a level).
-MAX_NESTING = 200
+# MAX_NESTING (fuzzyc.limits): the tree depth the transformer and the builder recurse through
+# (a statement and its expression's operators each take a level).
 
 # How the parser's terminal names read in a message.
 READABLE = {

@@ -37,6 +37,26 @@ def fold_left(node: Expr, leaf, binary):
     return value
 
 
+# What fuzzyc.expr (the engine) and the C back end compute, besides symbols and real numbers.
+COMPUTED = (sympy.Add, sympy.Mul, sympy.Pow, sympy.Min, sympy.Max, sympy.Abs, sympy.exp,
+            sympy.log, sympy.sign)
+
+
+def uncomputable(expr) -> str | None:
+    """Why the engine and the C back end cannot compute `expr` (a node sympy made of it that
+    neither has, or a number that is not real, as log(-1) = I*pi), else None."""
+    for node in sympy.preorder_traversal(expr):
+        if node.is_number:
+            if not node.is_extended_real:
+                return (f"this expression makes `{node}` (sympy's value of it), which is not a "
+                        "real number")
+        elif not isinstance(node, (sympy.Symbol, *COMPUTED)):
+            return (f"sympy rewrites this expression with `{node}`, and the engine and the C "
+                    f"back end have no `{type(node).__name__}` (they compute + - * / ^, abs, "
+                    "min, max, clamp, sqrt, exp, log): write it another way")
+    return None
+
+
 class ChainBuilder:
     """The statements and expressions of the signal chain (a part of `Builder`)."""
 
@@ -72,7 +92,7 @@ class ChainBuilder:
         if not self._declare(name, "signal"):
             return
         declared = units.make(s.data["unit"]) if s.data["unit"] else None
-        expr, unit = self._sympy(s.data["expr"], allow_stateful=True, owner=name.text)
+        expr, unit = self._expression(s.data["expr"], allow_stateful=True, owner=name.text)
         rng = self._range(s.data["range"], f"`{name.text}`") if s.data["range"] else None
         if expr is None or (s.data["range"] and rng is None):
             self.broken.add(name.text)
@@ -110,7 +130,7 @@ class ChainBuilder:
                 self.error(expr_node.loc, "integrate takes one argument: the increment per sample")
                 return
             inner = inner[0]
-        expr, _unit = self._sympy(inner, allow_stateful=False)
+        expr, _unit = self._expression(inner, allow_stateful=False)
         if expr is None or rng is None:
             return
         if kind == OutputKind.RECIPROCAL_INCREMENT and rng[0] <= 0:
@@ -129,8 +149,26 @@ class ChainBuilder:
         return (name in self.params or name in self.signals or name in self.step_by_name
                 or (name in self.vars and not self.vars[name].is_input))
 
+    def _expression(self, node: Expr, allow_stateful: bool, owner: str = ""):
+        """(sympy expression, unit) for an expression node; (None, None) after an error.
+
+        The symbols are built real (signals and params are real numbers), so that sympy's
+        automatic rewrites stay real: abs(exp(a)) is exp(a), not exp(re(a)) as for a complex
+        `a`. The result has plain symbols, as the rest of fuzzyc names them (a real and a
+        plain symbol of the same name are different symbols to sympy)."""
+        expr, unit = self._sympy(node, allow_stateful, owner)
+        if expr is None:
+            return None, None
+        expr = expr.xreplace({x: sympy.Symbol(x.name) for x in expr.free_symbols})
+        problem = uncomputable(expr)
+        if problem is not None:
+            self.error(node.loc, problem)
+            return None, None
+        return expr, unit
+
     def _sympy(self, node: Expr, allow_stateful: bool, owner: str = ""):
-        """(sympy expression, unit) for an expression node; (None, None) after an error."""
+        """(sympy expression with real symbols, unit) for an expression node; (None, None)
+        after an error. Callers outside the recursion use `_expression`."""
         op = node.op
         if op == "constant":
             value, is_int = node.args
@@ -145,7 +183,7 @@ class ChainBuilder:
                 known = sorted([*self.params, *self.signals, *steps, *outs])
                 self.error(node.loc, f"unknown name `{name}`: {suggest(name, known)}")
                 return None, None
-            return sympy.Symbol(name), self.units.get(name)
+            return sympy.Symbol(name, real=True), self.units.get(name)
         if op == "call":
             return self._call(node, allow_stateful, owner)
         if op == "neg":
@@ -220,7 +258,7 @@ class ChainBuilder:
         return function(values[0]), None
 
     def _stateful(self, node: Expr, owner: str):
-        arg, unit = self._sympy(node.args[0], True, owner)
+        arg, unit = self._expression(node.args[0], True, owner)
         if arg is None:
             return None, None
         coeffs = (0.0, 0.0)
@@ -241,4 +279,4 @@ class ChainBuilder:
         self._add_step(Step(name, op, arg, coeffs, units.format_unit(unit) if unit else None,
                             hidden=True, loc=node.loc))
         self.units[name] = unit
-        return sympy.Symbol(name), unit
+        return sympy.Symbol(name, real=True), unit

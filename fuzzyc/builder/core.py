@@ -81,7 +81,7 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder):
 
     def _constant(self, expr: Expr, what: str) -> float | None:
         """A build-time constant: numbers and params only (e.g. lowpass coefficients)."""
-        value = self._sympy(expr, allow_stateful=False)[0]
+        value = self._expression(expr, allow_stateful=False)[0]
         if value is None:
             return None
         value = value.subs({sympy.Symbol(n): p.value for n, p in self.params.items()})

@@ -8,6 +8,8 @@ import tempfile
 from pathlib import Path
 
 from ..atomic import cannot_write
+from ..limits import MAX_BATCH
+from ..numbers import not_a_number, parse_integer, parse_number
 
 # What every command that reads through formats.load_any says of its rule-file argument.
 RULE_FILE_HELP = ("a .fz, .fll, .fcl or .fis rule file; FILE.fcl::NAME reads the FUNCTION_BLOCK "
@@ -23,20 +25,33 @@ def add_semantics(parser) -> None:
     parser.add_argument("--semantics", default="exact", metavar="TOOL[:N]", help=SEMANTICS_HELP)
 
 
-def at_least(low: int):
-    """An argparse type: an integer of at least `low`; argparse refuses anything else (exit 2)
-    instead of a traceback deep in the run (`--batch 0`, a negative `--seed`)."""
+def at_least(low: int | None, high: int | None = None):
+    """An argparse type: an integer of at least `low` (and at most `high`); argparse refuses
+    anything else (exit 2, naming the option) instead of a traceback deep in the run (`--batch
+    0`, a negative `--seed`, `--batch 99999999999`)."""
     def integer(text: str) -> int:
-        value = int(text)
-        if value < low:
+        value = parse_integer(text)
+        if value is None:
+            raise argparse.ArgumentTypeError(f"`{text}` is not a whole number")
+        if low is not None and value < low:
             raise argparse.ArgumentTypeError(f"must be at least {low}, got {value}")
+        if high is not None and value > high:
+            raise argparse.ArgumentTypeError(f"must be at most {high:,}, got {value:,}")
         return value
     return integer
 
 
+# a whole number in ASCII digits (int() also takes `1_0` and `５`); the command checks its range
+whole_number = at_least(None)
+# --batch: checked here, before the loops' arrays are allocated (fuzzyc.limits.MAX_BATCH)
+batch_size = at_least(1, MAX_BATCH)
+
+
 def finite(text: str) -> float:
     """An argparse type: a finite number (`--eta nan` trained a whole run, then failed)."""
-    value = float(text)
+    value = parse_number(text)
+    if value is None:
+        raise argparse.ArgumentTypeError(not_a_number(text))
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"must be a finite number, got {text}")
     return value
@@ -95,12 +110,12 @@ def _unwritable(path: Path, folder: bool) -> str | None:
 def add_campaign_arguments(parser) -> None:
     """--workers / --scheduler / --chunk: run the loops in chunks, on Dask (runtime.campaign)."""
     where = parser.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=int, metavar="N",
+    where.add_argument("--workers", type=whole_number, metavar="N",
                        help="run the loops in chunks on a local Dask cluster of N processes "
                             "(pip install 'fuzzyc[dask]'); the numbers do not change")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run the chunks on a running Dask cluster (tcp://host:8786)")
-    parser.add_argument("--chunk", type=int, metavar="LOOPS",
+    parser.add_argument("--chunk", type=whole_number, metavar="LOOPS",
                         help="loops per task (default 10000; alone: chunks in this process)")
 
 

@@ -4,9 +4,10 @@ from __future__ import annotations
 import shutil
 from pathlib import Path
 
-from ..errors import Diagnostic, FuzzycError
+from ..errors import Diagnostic, FuzzycError, source_lines
+from ..model import SourceLoc
 from ..formats.tool_semantics import with_tool_semantics
-from .common import RULE_FILE_HELP, add_semantics, check_output
+from .common import RULE_FILE_HELP, add_semantics, check_output, whole_number
 
 NUMERIC = ("float", "double", "q15", "q31")
 
@@ -22,7 +23,7 @@ def add_parser(subparsers) -> None:
     p.add_argument("--numeric", choices=NUMERIC, default="float",
                    help="arithmetic of the generated code (target c); q15/q31 emit the whole "
                         "chain on integers, NAME_q15.h / NAME_q31.h")
-    p.add_argument("--resolution", type=int, default=33,
+    p.add_argument("--resolution", type=whole_number, default=33,
                    help="grid points per input (target lut)")
     add_semantics(p)
     p.add_argument("--prove", action="store_true",
@@ -46,6 +47,28 @@ def _print_fixed_point_bounds(model, numeric: str) -> None:
         + " of the output's range")
 
 
+def _check_file_name(file: str, model_name: str, filename: str) -> None:
+    """FuzzycError, at the model's name in the file where it is found there, when the header's
+    file name would pass MAX_FILE_NAME_BYTES (the system refuses it: `File name too long`)."""
+    from ..formats import split_block
+    from ..limits import MAX_FILE_NAME_BYTES, read_rule_file
+    size = len(filename.encode())
+    # fuzzyc.atomic writes it first as `.NAME.h.<12 hex digits>.h`: 16 bytes longer
+    longest = MAX_FILE_NAME_BYTES - 16
+    if size <= longest:
+        return
+    path = split_block(file)[0]
+    lines = source_lines(read_rule_file(path))
+    where = next(((n, line) for n, line in enumerate(lines, 1) if model_name in line), None)
+    loc = None if where is None else SourceLoc(str(path), where[0], where[1].index(model_name) + 1)
+    raise FuzzycError([Diagnostic(
+        loc, f"the model name ({len(model_name)} characters) would make the header's file name "
+             f"{size} bytes long: at most {longest} (a file name has at most "
+             f"{MAX_FILE_NAME_BYTES} bytes, fuzzyc.limits.MAX_FILE_NAME_BYTES, and the header is "
+             "first written under a name 16 bytes longer); give the model a shorter name",
+        None if where is None else where[1])])
+
+
 def run(args) -> int:
     from ..api import compile_c, compile_lut, load
     from ..backends.cload import STRICT_FLAGS, footprint, measured_entry_points
@@ -58,6 +81,9 @@ def run(args) -> int:
                                             "frama-c-base); nothing was written")])
     model = with_tool_semantics(load(args.file), args.semantics, "compile")
     name = c_identifier(model.name)
+    suffix = "_lut" if args.target == "lut" else {"float": "", "double": ""}.get(
+        args.numeric, "_" + args.numeric)
+    _check_file_name(args.file, model.name, f"{name}{suffix}.h")     # as api.compile_* name it
     if args.target == "lut":
         header = compile_lut(model, args.resolution)
         for var in model.rulebase.outputs:

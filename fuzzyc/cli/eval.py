@@ -22,6 +22,7 @@ import numpy as np
 from .common import RULE_FILE_HELP, add_semantics, check_output
 from ..errors import Diagnostic, FuzzycError, read_source, source_lines
 from ..model import Model
+from ..numbers import not_a_number, parse_number
 
 
 def add_parser(subparsers) -> None:
@@ -68,10 +69,10 @@ def parse_assignments(model: Model, pairs: list[str], core: bool,
             raise _fail(f"`{name}` is not an input of {model.name}; its inputs are "
                         f"{', '.join(names)}" + ("" if core else " (use --core for the rule "
                                                                "base's scaled inputs)"))
-        try:
-            values[name] = float(text)
-        except ValueError:
-            raise _fail(f"`{text}` is not a number (in `{pair}`)") from None
+        value = parse_number(text)
+        if value is None:
+            raise _fail(f"{not_a_number(text)} (in `{pair}`)")
+        values[name] = value
     missing = [n for n in names if n not in values]
     if missing and complete:
         raise _fail(f"missing input{'s' if len(missing) > 1 else ''}: {', '.join(missing)}")
@@ -237,13 +238,12 @@ def _run_csv(model: Model, args) -> int:
     for line_no, row in enumerate(rows[1:], start=2):
         for name in (n for n in names if n not in held):
             col = header.index(name)
-            try:
-                columns[name][line_no - 2] = float(row[col])
-            except (ValueError, IndexError):
+            value = parse_number(row[col]) if col < len(row) else None
+            if value is None:
                 cell = row[col] if col < len(row) else ""
-                shown = cell if len(cell) <= 40 else cell[:40] + "..."
-                raise _fail(f"{args.csv}:{line_no}:{col + 1}: `{shown}` is not a number "
-                            f"(column {name})") from None
+                raise _fail(f"{args.csv}:{line_no}:{col + 1}: {not_a_number(cell)} "
+                            f"(column {name})")
+            columns[name][line_no - 2] = value
     warn_out_of_range(model, columns, args.core)
     outputs = (evaluate_series(model, columns, args.semantics) if args.series
                else evaluate_batch(model, columns, args.core, args.semantics))

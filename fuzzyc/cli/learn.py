@@ -13,7 +13,7 @@ import numpy as np
 
 from ..atomic import save_figure, write_text
 from ..escape import plot_text
-from .common import RULE_FILE_HELP, check_output, finite
+from .common import RULE_FILE_HELP, check_output, finite, whole_number
 from ..errors import Diagnostic, FuzzycError
 
 
@@ -24,7 +24,7 @@ def add_parser(subparsers) -> None:
                    RULE_FILE_HELP + "; only a .fz can say `learnable`)")
     p.add_argument("--scenario", required=True, help="scenario name or YAML path (the cycle)")
     p.add_argument("-o", "--output", required=True, metavar="OUT", help="trained rule file")
-    p.add_argument("--cycles", type=int, default=15, help="learning cycles (default 15)")
+    p.add_argument("--cycles", type=whole_number, default=15, help="learning cycles (default 15)")
     p.add_argument("--eta", type=finite, default=0.25, help="learning rate (default 0.25)")
     p.add_argument("--rho", type=finite, default=6.0, help="weight of cf^2 in PI (default 6)")
     p.add_argument("--table", default="du", help="the learnable output (default du)")
@@ -81,12 +81,9 @@ def run(args) -> int:
     plot = args.plot or str(Path(args.output).with_suffix("")) + "_pi.png"
     check_output(args.output)   # before the training, which takes the whole run
     check_output(plot)
+    from .simulate import parse_sets     # numbers in fuzzyc's one syntax, as simulate's
     try:
-        overrides = dict(pair.split("=", 1) for pair in args.set)
-    except ValueError:
-        print(f"error: --set takes KEY=VALUE, got {args.set}", file=sys.stderr)
-        return 2
-    try:
+        overrides = parse_sets(args.set)
         check_learnable(args.file, args.table)
         scenario = scenarios.load(args.scenario, overrides)
         scenario.data.setdefault("controller", {})["rulebase"] = absolute_ref(args.file)

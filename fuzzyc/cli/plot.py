@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from .common import RULE_FILE_HELP, check_output
 from ..errors import Diagnostic, FuzzycError
+from ..numbers import not_a_number, parse_number
 
 
 def add_parser(subparsers) -> None:
@@ -37,10 +38,9 @@ def run(args) -> int:
         name, _, value = pair.partition("=")
         if name not in held:
             raise FuzzycError([Diagnostic(None, f"--at: `{name}` is not one of {', '.join(held)}")])
-        try:
-            fixed[name] = float(value)
-        except ValueError:
-            raise FuzzycError([Diagnostic(None, f"--at: `{value}` is not a number")]) from None
+        fixed[name] = parse_number(value)
+        if fixed[name] is None:
+            raise FuzzycError([Diagnostic(None, f"--at: {not_a_number(value)}")])
     for path in plot_model(model, args.out, axes, fixed):
         print(path)
     return 0

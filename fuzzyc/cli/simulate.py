@@ -10,13 +10,16 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
 from pathlib import Path
 
 from ..atomic import write_text
 from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, at_least,
-                     check_output, cluster_from)
+                     batch_size, check_output, cluster_from)
+from ..limits import MAX_BATCH
 from ..errors import Diagnostic, FuzzycError
+from ..numbers import not_a_number, parse_integer, parse_number
 from fuzzyc.runtime.trace import SHOWN_LOOPS
 
 
@@ -27,7 +30,8 @@ def add_parser(subparsers) -> None:
     p.add_argument("--scenario", required=True, help="scenario name or YAML path")
     p.add_argument("--set", action="append", default=[], metavar="KEY=VALUE", dest="sets",
                    help="override a scenario setting, dotted (plant.tension=800)")
-    p.add_argument("--batch", type=at_least(1), default=1, help="independent loops (default 1)")
+    p.add_argument("--batch", type=batch_size, default=1,
+                   help=f"independent loops (default 1, at most {MAX_BATCH:,}: about 1 kB each)")
     p.add_argument("--randomize", action="store_true",
                    help="draw the plant params of each loop around the scenario's values")
     p.add_argument("--baseline", action="store_true", help="run the scenario's baseline")
@@ -85,8 +89,34 @@ def parse_sets(items: list[str]) -> dict[str, str]:
         if not sep or not key:
             raise FuzzycError([Diagnostic(None, f"--set {item}: write KEY=VALUE, "
                                                 f"e.g. plant.tension=800")])
-        out[key.strip()] = value.strip()
+        out[key.strip()] = _yaml_value(item, value.strip())
     return out
+
+
+def _yaml_value(item: str, text: str) -> str:
+    """A --set value as the scenario's YAML reads it, numbers in fuzzyc's one syntax
+    (fuzzyc.numbers): YAML alone reads `1_000` as 1000, `010` as 8, `1:30` as 90, `.inf`, and
+    `1e3` as a string. A number is passed in YAML's canonical spelling; other YAML numbers are
+    refused."""
+    import yaml
+    from fuzzyc.plants import scenario_yaml    # bounded: `[[[...` 1,000 deep is a YAMLError
+    number = parse_number(text)
+    if number is None:
+        try:
+            read = scenario_yaml.load(text)
+        except yaml.YAMLError:
+            return text     # the scenario loader says what is wrong with it
+        if isinstance(read, (int, float)) and not isinstance(read, bool):
+            raise FuzzycError([Diagnostic(None, f"--set {item}: {not_a_number(text)}")])
+        return text
+    if parse_integer(text) is not None:
+        return str(int(text))
+    if math.isnan(number):
+        return ".nan"
+    if math.isinf(number):
+        return ".inf" if number > 0 else "-.inf"
+    mantissa, e, exponent = repr(number).partition("e")     # YAML wants 1.0e+20, not 1e+20
+    return (mantissa if "." in mantissa else mantissa + ".0") + (e + exponent if e else "")
 
 
 def format_summary(title: str, controller: str, summary: dict, trace,

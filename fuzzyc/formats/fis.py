@@ -63,6 +63,7 @@ from ..escape import name_problems
 from ..model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Implication, Model,
                      SNorm, SourceLoc, TermKind, TNorm, Variable)
 from ..membership import linear_coefficients
+from ..numbers import parse_number
 from .common import (Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none, tsukamoto_terms)
 from .blocks import one_rule_base
@@ -71,12 +72,14 @@ from .export import (finish, left_out, num, own_output_choices, peaks_instead,
 from .fll import fuzzylite_shape
 from .functions import function_term
 
-SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$")
-KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$")
+# ASCII: \d and \w would take other scripts' digits (`[Input１]`, `５`), which int() reads
+SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$", re.ASCII)
+KEY_VALUE = re.compile(r"\s*(\w+)\s*=\s*(.*?)\s*$", re.ASCII)
 FIS_NAME = re.compile(r"[^'%\x00-\x1f\x7f]*")   # quoted in '...'; % starts a comment
 MF = re.compile(r"'([^']*)'\s*:\s*'([^']*)'\s*,\s*\[([^\]]*)\]\s*$")
 RULE = re.compile(r"\s*([-\d.\s]+?)\s*,\s*([-\d.\s]+?)\s*"
-                  r"\(\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*\)\s*:\s*(\d+)\s*$")
+                  r"\(\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*\)\s*:\s*(\d+)\s*$",
+                  re.ASCII)
 SETTINGS = {
     "AndMethod": ("and_", {"min": TNorm.MIN, "prod": TNorm.PRODUCT}),
     "OrMethod": ("or_", {"max": SNorm.MAX, "probor": SNorm.PROBSUM}),
@@ -236,7 +239,7 @@ class _FisReader:
                 self.rep.error(loc, "expected `Range=[low high]`")
             else:
                 var.lo, var.hi = numbers
-        elif re.fullmatch(r"MF\d+", key):
+        elif re.fullmatch(r"MF\d+", key, re.ASCII):
             self._mf(value, loc)
         elif key not in VARIABLE_KEYS:
             self.rep.error(key_loc, f"unknown key `{key}` in [{self.section}]")
@@ -408,7 +411,7 @@ def _is_any(text: str) -> bool:
 
 def _index_and_hedge(text: str) -> tuple[int, tuple[Hedge, ...]]:
     """A rule index as the Octave toolkit reads it: `-2.2` -> (-2, (VERY,)) (see FIS_HEDGES)."""
-    if not re.fullmatch(r"-?(?:\d+\.?\d*|\.\d+)", text):
+    if not re.fullmatch(r"-?(?:\d+\.?\d*|\.\d+)", text, re.ASCII):
         raise ValueError(f"rule index `{text}` is not a number (a term index, `-` negates, "
                          "a fraction is a hedge)")
     value = float(text)
@@ -429,11 +432,8 @@ def _numbers(value: str) -> list[float] | None:
     match = re.fullmatch(r"\s*\[([^\]]*)\]\s*", value)
     if match is None:
         return None
-    try:
-        values = [float(t) for t in match.group(1).replace(",", " ").split()]
-    except ValueError:
-        return None
-    return values if all(math.isfinite(v) for v in values) else None
+    values = [parse_number(t) for t in match.group(1).replace(",", " ").split()]
+    return values if all(v is not None and math.isfinite(v) for v in values) else None
 
 
 def read_fis(text: str, path: str = "<string>") -> Model:

@@ -44,6 +44,7 @@ from ..escape import one_line
 from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
 from ..membership import linear_coefficients
+from ..numbers import not_a_number, parse_number
 from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, discrete_or_none, nan_default,
                      plain_shape_or_none, shape, trapezoid_or_none, tsukamoto_terms)
 from .blocks import (block_names, block_view, chain_warning, file_variables, linear_on,
@@ -210,11 +211,11 @@ class _FllReader:
             return
         values = []
         for text, col in params:
-            try:
-                values.append(float(text))
-            except ValueError:
-                self.rep.error(self.loc(line, col), f"`{text}` is not a number")
+            value = parse_number(text)
+            if value is None:
+                self.rep.error(self.loc(line, col), not_a_number(text))
                 return
+            values.append(value)
         made = fuzzylite_shape(kind, values, self.loc(line, kind_col), self.rep)
         if made is not None and name in self.var.term_names():
             # measured on pyfuzzylite's juggler.fll: the fuzzylite 6 CLI takes the first term of
@@ -411,10 +412,11 @@ class _FllReader:
         return line.tokens[0][0] if line.tokens else None
 
     def _numbers(self, line: _Line, count: int, usage: str) -> list[float] | None:
-        try:
-            values = [float(t) for t, _ in line.tokens]
-        except ValueError:
-            values = []
+        values = [parse_number(t) for t, _ in line.tokens]
+        for (text, col), value in zip(line.tokens, values):
+            if value is None:
+                self.rep.error(self.loc(line, col), f"{not_a_number(text)}: expected `{usage}`")
+                return None
         if len(values) != count:
             self.rep.error(self._first(line), f"expected `{usage}`")
             return None

@@ -19,6 +19,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 from ..builder import RuleSpec
 from ..conditions import Cond, premise
 from ..errors import Reporter, shown_char, suggest
+from ..limits import MAX_HEDGES, MAX_NESTING
 from ..model import Connective, Hedge, SourceLoc
 from .common import Collected
 
@@ -65,6 +66,12 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
     rep = got.rep
     condition, *rest = tree.children
     weight_tree = rest.pop() if rest and rest[-1].data == "weight" else None
+    too_deep = _first_too_deep(condition)
+    if too_deep is not None:
+        rep.error(loc_of(too_deep), f"a rule condition nested more than {MAX_NESTING} "
+                                    "parentheses deep (fuzzyc.limits.MAX_NESTING); write it "
+                                    "with fewer, or as several rules")
+        return []
     cond = _condition(condition, got, loc_of, hedges)
     ok = cond is not None
     conclusions: dict[str, int] = {}
@@ -78,6 +85,10 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
             ok = False
         elif name.value in conclusions:
             rep.error(loc_of(name), f"`{name}` is concluded twice in one rule")
+            ok = False
+        elif len(carried) + len(said) > MAX_HEDGES:     # each carried hedge nests the condition
+            rep.error(loc_of(words[0]), f"the conclusions of a rule carry more than {MAX_HEDGES} "
+                                        "hedges in all (fuzzyc.limits.MAX_HEDGES)")
             ok = False
         else:
             conclusions[name.value] = term
@@ -120,7 +131,11 @@ def _rule(cond: Cond, conclusions: dict[str, int], weight: float, loc: SourceLoc
 def _hedges(words: list[Token], hedges: dict[str, Hedge], loc_of: LocOf,
             rep: Reporter) -> list[Hedge] | None:
     """Hedge words in the order they apply (the one nearest the term first), or None after
-    reporting one the model lacks."""
+    reporting one the model lacks or more than MAX_HEDGES (each one nests the condition)."""
+    if len(words) > MAX_HEDGES:
+        rep.error(loc_of(words[MAX_HEDGES]), f"{len(words)} hedges on one clause: at most "
+                                             f"{MAX_HEDGES} (fuzzyc.limits.MAX_HEDGES)")
+        return None
     for word in words:
         if word.value.lower() not in hedges:
             rep.error(loc_of(word), f"hedge `{' '.join(w.value for w in words)}` is not "
@@ -143,8 +158,23 @@ def _resolve_any(clauses: dict, connective: Connective, weight: float) -> tuple[
     return {name: wildcard if c[0] == ANY else c for name, c in clauses.items()}, weight
 
 
+def _first_too_deep(condition: Tree) -> Token | None:
+    """A token where the first group nested more than MAX_NESTING parentheses deep starts
+    (inside its `(`), found without recursing: what follows recurses through the condition."""
+    stack = [(condition, 0)]        # the whole condition is an or_cond too: depth 0
+    while stack:
+        node, depth = stack.pop()
+        if depth > MAX_NESTING:
+            return Token("NAME", "", line=node.meta.line, column=node.meta.column)
+        stack.extend((child, depth + (child.data == "or_cond")) for child in node.children
+                     if isinstance(child, Tree))
+    return None
+
+
 def _condition(node: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, Hedge]) -> Cond | None:
     """The condition tree by names, or None after reporting every clause that cannot be."""
+    while node.data in ("or_cond", "and_cond") and len(node.children) == 1:
+        node = node.children[0]     # `(...)` without a connective: no level of recursion
     if node.data == "is_clause":
         name, *words = node.children
         negated = bool(words) and words[0].type == "NOT"
