@@ -25,6 +25,7 @@ from .c_area import AreaWriter, is_sampled
 from .c_cells import active_codes, cell_row_c, cell_table, cell_table_c, index_type, int_table
 from .c_centroid import CentroidEmitter, area_segments, supported
 from .c_expr import REAL_TYPES, ExprPrinter, RealType
+from .c_guard import checked_header
 from .c_items import ItemWriter, per_item
 
 PEAK_BASED = (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
@@ -718,4 +719,4 @@ def generate_header(model: Model, numeric: str = "float") -> str:
                     + ", ".join(REAL_TYPES))
     if not model.rulebase.inputs or not model.rulebase.outputs:
         raise _fail("the C back end needs a rule base with inputs and outputs")
-    return HeaderWriter(model, REAL_TYPES[numeric]).header(numeric)
+    return checked_header(HeaderWriter(model, REAL_TYPES[numeric]).header(numeric), model)

@@ -47,6 +47,7 @@ from ..escape import c_comment, c_identifier
 from .c import check_c_model_names, check_supported
 from .c_cells import active_codes, cell_row_c, cell_table, cell_table_c
 from .c_fixed_chain import FixedChain, Fx, frac_for
+from .c_guard import checked_header
 
 FORMATS = {
     # name: (io type, full scale, membership fraction bits)
@@ -421,8 +422,8 @@ class FixedPointWriter:
             return ("not derived (weights with a ratio defuzzifier, weights <= 0, an input "
                     "point where no rule concludes an output, a rounding that can outweigh "
                     "the least activation, or more than MAX_DERIVED_CELLS cells to sum over)")
-        return "; ".join(f"{v.name} {e:.3g}" for v, e in zip(self.rb.outputs, bound)) + \
-            " of the output's range"
+        return "; ".join(f"{c_comment(v.name)} {e:.3g}"
+                         for v, e in zip(self.rb.outputs, bound)) + " of the output's range"
 
     def chain_text(self) -> str:
         after = [self.chain_errors_after(n) for n in (1, CHAIN_STEPS)]
@@ -745,4 +746,4 @@ class FixedPointWriter:
 
 def generate_fixed_header(model: Model, numeric: str) -> str:
     """The q15/q31 header for model's rule base."""
-    return FixedPointWriter(model, numeric).header()
+    return checked_header(FixedPointWriter(model, numeric).header(), model)

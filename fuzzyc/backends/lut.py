@@ -15,6 +15,7 @@ from ..errors import Diagnostic, FuzzycError
 from ..escape import c_comment, c_identifier
 from ..model import Model, RuleBase
 from .c_expr import FLOAT
+from .c_guard import checked_header
 
 MAX_CELLS = 1 << 24
 CHECK_RANDOM = 200_000
@@ -137,4 +138,4 @@ def generate_lut_header(model: Model, table: LookupTable, error: np.ndarray) -> 
         f"        for (o = 0; o < {n_out}; ++o) y[o] += w * {P}TABLE[cell][o];",
         "    }",
         "}", "", f"#endif /* {guard} */", ""]
-    return "\n".join(lines)
+    return checked_header("\n".join(lines), model)
