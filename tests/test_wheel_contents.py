@@ -14,13 +14,16 @@ INSTALLED_AS = {"fuzzyc": "fuzzyc", "runtime": "fuzzyc/runtime", "plants": "fuzz
 
 
 def source_files() -> set[str]:
-    """The tracked files of the package folders, named as the wheel names them."""
-    listed = subprocess.run(["git", "ls-files", *INSTALLED_AS], cwd=ROOT, capture_output=True,
-                            text=True)
+    """The files of the package folders that git does not ignore (tracked, or new and not yet
+    added), named as the wheel names them."""
+    listed = subprocess.run(["git", "ls-files", "--cached", "--others", "--exclude-standard",
+                             *INSTALLED_AS], cwd=ROOT, capture_output=True, text=True)
     if listed.returncode != 0:
         pytest.skip("not a git checkout: the tracked files are unknown")
     names = set()
     for path in listed.stdout.split():
+        if not (ROOT / path).is_file():      # deleted in the working tree, not yet in git
+            continue
         top, rest = path.split("/", 1)
         names.add(f"{INSTALLED_AS[top]}/{rest}")
     return names
