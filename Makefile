@@ -3,7 +3,7 @@
 # development, reinstalled when pyproject.toml or setup.py change).
 # `make test` tests what a user installs: it builds the wheel, installs it with the newest
 # dependency versions pip resolves into a fresh venv (.venv-test, made anew every run) and runs
-# the suite from a folder outside the source tree (PYTHONSAFEPATH: no source on the path).
+# the suite from a folder outside the source tree (so the source is not on the path).
 # The oracle targets (conformance, fuzz, proofs) run in that same installed venv.
 PYTHON ?= python3
 VENV   := .venv
@@ -15,8 +15,9 @@ TSTAMP := $(TEST_VENV)/.installed
 WHEELS := build/wheel
 PIP_Q  := -q --disable-pip-version-check
 # run the installed package from elsewhere: the source tree is never on sys.path
-INSTALLED = cd "$$(mktemp -d)" && PYTHONSAFEPATH=1 FUZZYC_WHEEL="$$(ls $(CURDIR)/$(WHEELS)/fuzzyc-*.whl)" \
+WHEEL_ENV = FUZZYC_WHEEL="$$(ls $(CURDIR)/$(WHEELS)/fuzzyc-*.whl)" \
             FUZZYC_PYFUZZYLITE_VENV=$(CURDIR)/$(PYFL_VENV)
+INSTALLED = cd "$$(mktemp -d)" && $(WHEEL_ENV)
 PYTEST_ROOT = -c $(CURDIR)/pyproject.toml --rootdir $(CURDIR)
 # pyproject's testpaths apply only when pytest starts in the root: name them
 TESTPATHS = $(CURDIR)/tests $(CURDIR)/rulebases $(CURDIR)/docs
@@ -78,7 +79,7 @@ conformance: $(TSTAMP) $(PYFL_VENV)/.installed
 
 # 10,000 hostile inputs (docs/fuzzing.md); fails on any traceback or unlocated rejection
 fuzz: $(TSTAMP)
-	$(INSTALLED) PYTHONPATH=$(CURDIR) $(TPY) -m tests.fuzz --inputs 10000
+	cd tests && $(WHEEL_ENV) $(TPY) -m fuzz --inputs 10000     # tests/ on the path, not the root
 
 # The property tests (fixed examples in `make test`) with fresh random seeds, 10 rounds:
 # a search for new counterexamples, not a gate (docs/fuzzing.md)

@@ -73,10 +73,10 @@ def test_quick_start_shows_each_kind_of_command():
     assert [a[0] for a in QUICK_START] == ["eval", "compile", "simulate", "verify", "examples"]
 
 
-def test_cli_table_lists_every_command():
+def test_cli_table_lists_every_command(tmp_path):
     table = README[README.index("## The command line"):README.index("Options, exit codes")]
     listed = re.findall(r"^\| `fuzzyc (\w+)", table, flags=re.M)
-    help_text = fuzzyc(["--help"], ROOT).stdout
+    help_text = fuzzyc(["--help"], tmp_path).stdout
     commands = re.findall(r"^    ([a-z]+)  ", help_text, flags=re.M)
     assert len(commands) >= 9 and sorted(listed) == sorted(commands)
 

@@ -1,10 +1,13 @@
 """Every file of the package folders reaches the wheel, under its installed name, and nothing
 else does: a subpackage left out of the build (fuzzyc/verifier/reach/ once was, and
 `verify --prove` crashed for every pip user) fails here, not on a user's machine."""
+import os
 import subprocess
+import sys
 import zipfile
 from pathlib import Path
 
+import fuzzyc
 import pytest
 from conftest import ROOT
 
@@ -45,14 +48,14 @@ def test_the_proof_engine_is_in_the_wheel(built_wheel):
     assert "fuzzyc/verifier/reach/__init__.py" in reach and reach <= packed
 
 
-def test_the_suite_runs_against_what_it_claims(built_wheel):
-    # under `make test` (FUZZYC_WHEEL set) fuzzyc must be the installed wheel, also in a child
-    # process started from the source tree's root
-    import os
-    import sys
+def test_the_suite_runs_against_what_it_claims(tmp_path):
+    # under `make test` (FUZZYC_WHEEL set) fuzzyc is the installed wheel, in this process (the
+    # conftest refuses the source tree) and in a child started from a test's folder
     if not os.environ.get("FUZZYC_WHEEL"):
         pytest.skip("a development run (no FUZZYC_WHEEL): the source tree is installed editable")
     child = subprocess.run([sys.executable, "-c", "import fuzzyc; print(fuzzyc.__file__)"],
-                           cwd=ROOT, capture_output=True, text=True, check=True)
+                           cwd=tmp_path, capture_output=True, text=True, check=True)
     assert Path(child.stdout.strip()).parent != ROOT / "fuzzyc", child.stdout
     assert "site-packages" in child.stdout, child.stdout
+    wheel = Path(os.environ["FUZZYC_WHEEL"]).name
+    assert wheel.startswith(f"fuzzyc-{fuzzyc.__version__}-"), wheel
