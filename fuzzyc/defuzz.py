@@ -579,12 +579,18 @@ def _mean_of_maximum(x: np.ndarray, f: np.ndarray, default: float) -> np.ndarray
     top = f.max(axis=1)
     is_top = f >= (top * (1.0 - FLAT_TOLERANCE))[:, None]
     x0, x1 = x[:, :-1], x[:, 1:]
-    plateau = is_top[:, :-1] & is_top[:, 1:]
+    # A vertical edge is stored as two points a few ulps apart (_at_level moves clip points
+    # by up to AT_LEVEL_STEPS ulps): a piece that short is one point, not a plateau, or a
+    # one-ulp "plateau" at a vertical edge would outweigh every isolated peak.
+    apart = (x1 - x0) > 2 * AT_LEVEL_STEPS * np.spacing(np.maximum(np.abs(x0), np.abs(x1)))
+    plateau = is_top[:, :-1] & is_top[:, 1:] & apart
     length = np.where(plateau, x1 - x0, 0.0)
     total = length.sum(axis=1)
     plateau_mean = (length * 0.5 * (x0 + x1)).sum(axis=1) / np.where(total > 0, total, 1.0)
-    # Isolated maxima: count each distinct point once (the point list may repeat a point).
-    distinct = np.concatenate([np.ones((len(x), 1), bool), x1 > x0], axis=1) & is_top
+    # Isolated maxima: each run of top points closer than `apart` is one point, counted at its
+    # first (the point list repeats a point, or splits it across a vertical edge).
+    starts = ~(is_top[:, :-1] & ~apart)
+    distinct = np.concatenate([np.ones((len(x), 1), bool), starts], axis=1) & is_top
     point_mean = (np.where(distinct, x, 0.0).sum(axis=1)
                   / np.maximum(distinct.sum(axis=1), 1))
     return np.where(top > 0, np.where(total > 0, plateau_mean, point_mean), default)
