@@ -9,6 +9,11 @@ import json
 import numpy as np
 import pytest
 
+# Dask clusters start in a plain pytest process (`make test`'s second step): inside an
+# xdist worker, after the files before them, their worker processes vanished and the
+# campaign waited forever (3 full runs of 3; alone, and in one process, they pass).
+pytestmark = pytest.mark.cluster
+
 from fuzzyc.cli import main
 from fuzzyc.errors import FuzzycError
 from fuzzyc.plants.scenario import load

@@ -15,6 +15,11 @@ import urllib.request
 import numpy as np
 import pytest
 
+# Dask clusters start in a plain pytest process (`make test`'s second step): inside an
+# xdist worker, after the files before them, their worker processes vanished and the
+# campaign waited forever (3 full runs of 3; alone, and in one process, they pass).
+pytestmark = pytest.mark.cluster
+
 distributed = pytest.importorskip("distributed", reason="Dask is the optional extra "
                                                         "fuzzyc[dask]")
 import dask  # noqa: E402
