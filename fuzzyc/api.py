@@ -72,7 +72,12 @@ def evaluate(model: Model, inputs: Mapping[str, Any]) -> dict[str, np.ndarray]:
     rb = model.rulebase
     names = [v.name for v in rb.inputs]
     _check_names(model, inputs, names)
-    columns = np.broadcast_arrays(*(real_array(n, inputs[n]) for n in names))
+    arrays = [real_array(n, inputs[n]) for n in names]
+    try:
+        columns = np.broadcast_arrays(*arrays)
+    except ValueError:       # numpy's message names no input
+        shapes = ", ".join(f"{n} {a.shape}" for n, a in zip(names, arrays))
+        raise ValueError(f"the inputs' shapes do not broadcast together: {shapes}") from None
     shape = columns[0].shape if columns else ()
     x = np.column_stack([c.ravel() for c in columns]) if columns else np.empty((1, 0))
     y = engine_evaluate(rb, x)
@@ -86,17 +91,22 @@ def explain(model: Model, point: Mapping[str, float]) -> Explanation:
     names = [v.name for v in model.rulebase.inputs]
     _check_names(model, point, names)
     values = [real_array(n, point[n]) for n in names]
-    if any(v.ndim for v in values):
-        raise ValueError("explain takes one point: a number per input, not arrays")
+    arrays = [n for n, v in zip(names, values) if v.ndim]
+    if arrays:
+        raise ValueError(f"explain takes one point: a number per input, not arrays "
+                         f"(given for {', '.join(arrays)})")
     return engine_explain(model.rulebase, np.array([float(v) for v in values]))
 
 
 def _check_names(model: Model, given: Mapping[str, Any], names: list[str]) -> None:
+    if not isinstance(given, Mapping):
+        raise TypeError(f"{model.name}: the inputs must be a mapping of the rule base's inputs "
+                        f"({', '.join(names)}) to values, not {type(given).__name__}")
     unknown = [n for n in given if n not in names]
     missing = [n for n in names if n not in given]
     if unknown or missing:
         raise KeyError(f"{model.name}: the rule base's inputs are {', '.join(names)}"
-                       + (f"; unknown: {', '.join(unknown)}" if unknown else "")
+                       + (f"; unknown: {', '.join(map(str, unknown))}" if unknown else "")
                        + (f"; missing: {', '.join(missing)}" if missing else ""))
 
 

@@ -56,9 +56,13 @@ def read_rule_file(path: str | Path) -> str:
     except (OSError, ValueError) as exc:      # ValueError: a NUL in the name
         raise FuzzycError([Diagnostic(None, f"cannot read {path}: {exc}")]) from None
     if len(data) > MAX_SOURCE_BYTES:
-        raise FuzzycError([Diagnostic(None, f"{path} is larger than {MAX_SOURCE_BYTES} "
-                                            "bytes, the largest rule file fuzzyc reads "
-                                            "(fuzzyc.limits.MAX_SOURCE_BYTES)")])
+        # placed at the first byte past the limit, like every other message about a file
+        line = data.count(b"\n", 0, MAX_SOURCE_BYTES) + 1
+        col = MAX_SOURCE_BYTES - data.rfind(b"\n", 0, MAX_SOURCE_BYTES)
+        raise FuzzycError([Diagnostic(SourceLoc(str(path), line, col),
+                                      f"{path} is larger than {MAX_SOURCE_BYTES} "
+                                      "bytes, the largest rule file fuzzyc reads "
+                                      "(fuzzyc.limits.MAX_SOURCE_BYTES)")])
     return decode_source(data, path)
 
 

@@ -80,6 +80,20 @@ class BoundedLoader(yaml.SafeLoader):
 BoundedLoader.add_constructor("tag:yaml.org,2002:int", BoundedLoader.construct_yaml_int)
 
 
+def _construct_object(self, node, deep=False):
+    """A value its explicit tag cannot read (`!!bool maybe`, `!!int 1.5`, `!!timestamp 2001`)
+    is a YAMLError at the value: PyYAML's constructors raise KeyError, ValueError or
+    AttributeError for them."""
+    try:
+        return yaml.SafeLoader.construct_object(self, node, deep)
+    except (KeyError, ValueError, AttributeError, TypeError) as exc:
+        raise ConstructorError(None, None, f"cannot read {node.value!r:.80} as {node.tag} "
+                               f"({type(exc).__name__})", node.start_mark) from None
+
+
+BoundedLoader.construct_object = _construct_object
+
+
 def too_long(text: str) -> str | None:
     """The complaint about a text over MAX_BYTES, else None."""
     size = len(text.encode("utf-8", "surrogatepass"))

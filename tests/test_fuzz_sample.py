@@ -1,35 +1,40 @@
 """A sample of the fuzzing harness (`make fuzz` runs 10,000 inputs): about 400 hostile inputs
 over every target must give no traceback, no rejection without file:line:col, no timeout and
 the same exit status from the console script -- except the classes listed in
-tests/fuzz/known.py, which other branches are fixing. Plus the harness's own classification,
-so that it can fail."""
+tests/fuzz/known.py, which other branches are fixing. A few inputs of each generator, the
+inputs the generators found failing (tests/fuzz/regressions/), and the harness's own
+classification, so that it can fail."""
+import random
 from pathlib import Path
 
 import pytest
 
 from tests.fuzz.known import known_owner
-from tests.fuzz.runner import Run, classify, fuzz_target
+from tests.fuzz.runner import Run, classify, fuzz_target, run_in_process
 from tests.fuzz.targets import SHARES, TARGETS, snapshot
 
 SAMPLE = 400
 SEED = 20261124
+GENERATED_SAMPLE = 6      # per generator: a simulated scenario is about 0.4 s
+REGRESSIONS = Path(__file__).parent / "fuzz" / "regressions"
 
 
 @pytest.mark.parametrize("name", sorted(TARGETS))
 def test_hostile_inputs_get_a_located_message(name, tmp_path):
-    count = max(20, round(SAMPLE * SHARES[name]))
+    count = GENERATED_SAMPLE if TARGETS[name].generated else max(20, round(SAMPLE * SHARES[name]))
     before = snapshot()
     # one input of the sample (the first) also through the `fuzzyc` console script
     tally = fuzz_target(TARGETS[name], count, SEED, tmp_path, subprocess_every=count)
     assert tally.inputs >= count // 2, "hypothesis gave up on most inputs"
-    assert tally.subprocess_runs >= 1
+    assert tally.subprocess_runs >= (TARGETS[name].run is None)   # the API has no script
     assert snapshot() == before, "the harness wrote over a shipped file"
     new = {f"{kind}: {signature}": tally.examples[(kind, signature)]
            for (kind, signature) in tally.failures if known_owner(signature) is None}
     assert not new, "\n".join(f"{k}\n    {v[0]}/REPRODUCE.txt" for k, v in new.items())
 
 
-@pytest.mark.parametrize("name", sorted(set(TARGETS) - {"cmdline"}))
+@pytest.mark.parametrize("name", sorted(n for n, t in TARGETS.items()
+                                         if n != "cmdline" and not t.generated))
 def test_every_seed_passes_as_it_is(name, tmp_path):
     # a seed that fails unmutated is a shipped file the program rejects (the scenario schema
     # once refused three shipped scenarios), and its mutations test nothing past the failure
@@ -47,6 +52,61 @@ def should_pass(text: str, source) -> bool:
                 or text.count("END_FUNCTION_BLOCK") > 1)
 
 
+@pytest.mark.parametrize("argv, where", [
+    # a gauss2mf (dsigmf, psigmf) with 3 parameters: IndexError reordering them
+    (["check", str(REGRESSIONS / "fis_gauss2mf_three_params.fis")], ":11:5: error: "),
+    # `!!bool maybe`, `!!int 1.5`: PyYAML's constructors raised KeyError, ValueError
+    (["simulate", "--scenario", str(REGRESSIONS / "scenario_tag_cannot_read.yaml")],
+     ":1:8: error: not valid YAML: cannot read 'maybe'"),
+])
+def test_what_the_generators_found_is_a_located_message(argv, where, tmp_path):
+    run = run_in_process(argv + (["-o", str(tmp_path / "o")] if argv[0] == "simulate" else []),
+                         60.0)
+    assert (run.code, run.error) == (2, None)
+    assert where in run.stderr and "Traceback" not in run.stderr
+
+
+def test_a_rule_file_past_the_size_limit_is_refused_at_a_place(tmp_path):
+    from fuzzyc.limits import MAX_SOURCE_BYTES
+    path = tmp_path / "big.fll"
+    path.write_text("Engine: x\n#" + "x" * MAX_SOURCE_BYTES)
+    run = run_in_process(["check", str(path)], 60.0)
+    assert run.code == 2
+    assert f"big.fll:2:{MAX_SOURCE_BYTES - 9}: error: " in run.stderr     # the byte past it
+
+
+@pytest.mark.parametrize("call, values, message", [
+    ("evaluate", None, "the inputs must be a mapping of the rule base's inputs (service, food)"),
+    ("evaluate", {"service": [1.0, 2.0], "food": [1.0, 2.0, 3.0]},
+     "do not broadcast together: service (2,), food (3,)"),
+    ("evaluate", {"service": 1.0, "food": 2.0, None: 1.0}, "unknown: None"),
+    ("explain", {"service": [1.0, 2.0], "food": 2.0}, "not arrays (given for service)"),
+])
+def test_api_rejections_name_the_inputs(call, values, message):
+    import fuzzyc
+    model = fuzzyc.load(Path(__file__).parent / "format_corpus" / "tipper.fll")
+    with pytest.raises((TypeError, ValueError, KeyError)) as caught:
+        getattr(fuzzyc, call)(model, values)
+    assert message in str(caught.value)
+
+
+def test_the_api_target_judges_by_the_named_input(tmp_path):
+    from tests.fuzz.api import run
+    model = str(Path(__file__).parent / "format_corpus" / "tipper.fll")
+    outcomes = {classify(run(["evaluate", model, str(seed)], 30.0), TARGETS["gen-api"],
+                         tmp_path)[0] for seed in range(40)}
+    assert outcomes == {"ok", "rejected"}
+
+
+def test_a_generated_condition_1000_deep_is_text_with_balanced_brackets():
+    from tests.fuzz import generate
+    rnd = random.Random(1)
+    rb = generate.rulebase(rnd)
+    rb["rules"][0]["if"] = generate._condition(rnd, rb["inputs"], 1000)
+    line = next(ln for ln in generate.fll_text(rb, rnd).splitlines() if "rule:" in ln)
+    assert line.count("(") == line.count(")") >= 1000
+
+
 TARGET = TARGETS["fll"]
 
 
@@ -60,6 +120,11 @@ TARGET = TARGETS["fll"]
     (Run(["convert", "x.fll", "y.fis"], 2, "error: cannot export `x` to FIS: hedge\n"),
      "refused"),
     (Run(["verify", "x.fz"], 1, ""), "exit 1"),
+    # past a bound: the CPU or wall timer, the worker's address space
+    (Run(["check", "x.fll"], None, "", error="Traceback ...\ntests.fuzz.runner.InputTimeout: "
+         "more than 60 s of wall time\n"), "over-bound"),
+    (Run(["eval", "x.fll"], None, "", error="Traceback ...\nnumpy.core._exceptions."
+         "_ArrayMemoryError: Unable to allocate 8.0 GiB\n"), "over-bound"),
     # what main() catches as a bug: exit 70 and the traceback on stderr
     (Run(["check", "x.fll"], 70, "fuzzyc: internal error, please report it ...:\n"
          "Traceback (most recent call last):\n  File \"/w/fuzzyc/x.py\", line 1, in f\n"
@@ -109,7 +174,7 @@ def test_the_summary_gives_inputs_exit_codes_tracebacks_and_unlocated():
         "exit codes: 0: 1, 2: 3, 70: 1, exception: 1",     # 2: two of fz's and one of csv's
         "tracebacks: 1",
         "rejections without file:line:col: 1",
-        "other failures: nonfinite 0, timeout 0, subprocess 0"]
+        "other failures: nonfinite 0, over-bound 0, subprocess 0"]
 
 
 def test_the_console_script_runs_on_the_folder_as_it_was(tmp_path):

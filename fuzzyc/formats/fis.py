@@ -119,9 +119,17 @@ FIS_HEDGE_WORDS = {hedges[0]: text for hedges, text in FIS_FRACTIONS.items() if 
 FUZZYLITE_MFS = {"rampmf": ("Ramp", lambda v: v), "rectmf": ("Rectangle", lambda v: v),
                  "concavemf": ("Concave", lambda v: v), "cosinemf": ("Cosine", lambda v: v),
                  "spikemf": ("Spike", lambda v: v), "discretemf": ("Discrete", lambda v: v),
-                 "dsigmf": ("SigmoidDifference", lambda v: [v[1], v[0], v[2], v[3]][:len(v)]),
-                 "psigmf": ("SigmoidProduct", lambda v: [v[1], v[0], v[2], v[3]][:len(v)]),
-                 "gauss2mf": ("GaussianProduct", lambda v: [v[1], v[0], v[3], v[2]][:len(v)])}
+                 "dsigmf": ("SigmoidDifference", lambda v: _reordered(v, (1, 0, 2, 3))),
+                 "psigmf": ("SigmoidProduct", lambda v: _reordered(v, (1, 0, 2, 3))),
+                 "gauss2mf": ("GaussianProduct", lambda v: _reordered(v, (1, 0, 3, 2)))}
+
+
+def _reordered(values: list, order: tuple[int, ...]) -> list:
+    """`values` in FLL's order (a height after them kept); too few as they are, so that
+    fuzzylite_shape reports the count at the term (indexing them was an IndexError)."""
+    if len(values) < len(order):
+        return values
+    return [values[i] for i in order] + values[len(order):]
 SYSTEM_KEYS = {"Name", "Type", "Version", "NumInputs", "NumOutputs", "NumRules", *SETTINGS}
 VARIABLE_KEYS = {"Name", "Range", "NumMFs"}
 

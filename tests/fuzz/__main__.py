@@ -1,8 +1,8 @@
 """`python -m tests.fuzz [--inputs N] [--jobs J] [--seed S] [--targets fz,csv,...]`.
 
 Prints inputs tried, outcomes and failures per target, and every failure class with the folder
-of its saved input; exits 1 when any traceback, unlocated rejection, timeout or subprocess
-mismatch occurred.
+of its saved input; exits 1 when any traceback, unlocated rejection, over-bound input (CPU, wall
+clock or memory) or subprocess mismatch occurred.
 """
 from __future__ import annotations
 
@@ -54,12 +54,15 @@ def run_all(inputs: int, jobs: int, seed: int, names: list[str], out: Path, seco
     return tallies
 
 
-COLUMNS = ("target", "inputs", "runs", "ok", "rejected", "usage", "refused", "other exit",
-           *FAILURES, "warnings", "cpu s")
+# the failure kinds as headers: "tracebacks" for traceback
+COLUMNS = ("target", "inputs", "runs", "accepted", "rejected-located", "usage", "refused",
+           "other exit", *(k + "s" if k == "traceback" else k for k in FAILURES), "warnings",
+           "cpu s")
 
 
 def table(tallies: dict[str, Tally]) -> str:
-    """One row per target and a total: inputs, command runs by outcome, CPU seconds."""
+    """One row per target (mutation targets, then generators) and a total: inputs, command
+    runs by outcome, CPU seconds."""
     rows = []
     total = Tally("total")
     for tally in tallies.values():
@@ -74,6 +77,10 @@ def table(tallies: dict[str, Tally]) -> str:
     width = [max(len(str(r[i])) for r in [COLUMNS, *rows]) for i in range(len(COLUMNS))]
     lines = ["  ".join(str(v).rjust(w) for v, w in zip(r, width))
              for r in [COLUMNS, *rows]]
+    # the generators (gen-*) after the mutation targets, apart
+    first = next((i for i, r in enumerate(rows, 1) if r[0].startswith("gen-")), None)
+    if first and first > 1:
+        lines.insert(first, "")
     return "\n".join(lines)
 
 
@@ -111,7 +118,7 @@ def summary(tallies: dict[str, Tally], wall: float) -> str:
         f"exit codes: {codes}",
         f"tracebacks: {fails['traceback']}",
         f"rejections without file:line:col: {fails['unlocated']}",
-        f"other failures: nonfinite {fails['nonfinite']}, timeout {fails['timeout']}, "
+        f"other failures: nonfinite {fails['nonfinite']}, over-bound {fails['over-bound']}, "
         f"subprocess {fails['subprocess']}"])
 
 

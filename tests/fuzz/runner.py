@@ -6,8 +6,9 @@ format or back end that cannot say it: the message names what, the input is not 
 `exit N` (another status a command documents, e.g. a
 verify that finds a counterexample), and the failures: `traceback` (any exception out of
 main), `unlocated` (an exit-2 message about an input file without file:line:col),
-`timeout` (an input that runs past the limit) and `subprocess` (the console script disagrees
-with the in-process run).
+`over-bound` (an input that runs past the CPU or wall-clock limit, or a MemoryError past the
+worker's address-space limit) and `subprocess` (the console script disagrees with the
+in-process run).
 """
 from __future__ import annotations
 
@@ -35,10 +36,17 @@ from hypothesis import HealthCheck, Phase, given, settings
 from hypothesis import seed as hypothesis_seed
 from hypothesis import strategies as st
 
-from .known import known_owner
-from .targets import Target
+from typing import TYPE_CHECKING
 
-FAILURES = ("traceback", "unlocated", "nonfinite", "timeout", "subprocess")
+from .known import known_owner
+
+if TYPE_CHECKING:           # targets imports the API runner, which imports this module
+    from .targets import Target
+
+FAILURES = ("traceback", "unlocated", "nonfinite", "over-bound", "subprocess")
+# CPU seconds bound the work; wall-clock seconds (this many times the CPU bound) catch an input
+# that waits instead (on stdin, a pipe, a lock, a sleep), which a CPU timer never sees
+WALL_FACTOR = 4
 TRACEBACK = "Traceback (most recent call last)"
 SAVED_PER_CLASS = 3
 
@@ -56,21 +64,37 @@ class Run:
     error: str | None = None     # the traceback text, when main raised
     usage: bool = False          # argparse exited
     warnings: int = 0
+    located: bool | None = None  # an API rejection: whether it names the input
+
+
+@contextlib.contextmanager
+def bounded(seconds: float):
+    """Raise InputTimeout after `seconds` of CPU time or WALL_FACTOR times that of wall time
+    (a generous wall bound: on a shared machine the CPU bound is the one that measures work)."""
+    def cpu(*_):
+        raise InputTimeout(f"more than {seconds:g} CPU s")
+
+    def wall(*_):
+        raise InputTimeout(f"more than {seconds * WALL_FACTOR:g} s of wall time")
+
+    previous = signal.signal(signal.SIGPROF, cpu), signal.signal(signal.SIGALRM, wall)
+    signal.setitimer(signal.ITIMER_PROF, seconds)
+    signal.setitimer(signal.ITIMER_REAL, seconds * WALL_FACTOR)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_PROF, 0)
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGPROF, previous[0])
+        signal.signal(signal.SIGALRM, previous[1])
 
 
 def run_in_process(argv: list[str], seconds: float) -> Run:
     from fuzzyc.cli import main
     out, err = io.StringIO(), io.StringIO()
-
-    def alarm(*_):
-        raise InputTimeout(f"more than {seconds:g} CPU s")
-
-    # CPU time, not wall time: on a shared machine a wall-clock limit would fire at random
-    previous = signal.signal(signal.SIGPROF, alarm)
-    signal.setitimer(signal.ITIMER_PROF, seconds)
     run = Run(argv, None, "")
     try:
-        with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
+        with bounded(seconds), contextlib.redirect_stdout(out), contextlib.redirect_stderr(err), \
                 warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
             try:
@@ -84,8 +108,6 @@ def run_in_process(argv: list[str], seconds: float) -> Run:
             raise
         run.error = traceback.format_exc()
     finally:
-        signal.setitimer(signal.ITIMER_PROF, 0)
-        signal.signal(signal.SIGPROF, previous)
         with contextlib.suppress(Exception):
             import matplotlib.pyplot as plt
             plt.close("all")
@@ -139,11 +161,19 @@ def classify(run: Run, target: Target, tmp: Path) -> tuple[str, str]:
     error = run.error or (run.stderr if TRACEBACK in run.stderr else None)
     if error is not None:
         last = error.strip().splitlines()[-1]
-        kind = "timeout" if "InputTimeout" in last else "traceback"
         exc_type = last.split(":")[0].rpartition(".")[2]
+        # past a bound: the CPU or wall timer, or the worker's address space (numpy's
+        # _ArrayMemoryError is a MemoryError)
+        kind = "over-bound" if "InputTimeout" in last or "MemoryError" in exc_type \
+            else "traceback"
         return kind, f"{command}: {exc_type} at {_deepest_project_frame(error)}"
     if run.usage:
         return "usage", ""
+    if run.located is not None:           # an API call (tests/fuzz/api.py)
+        if run.code == 0:
+            return ("nonfinite", f"{command}: {run.stdout[:70]}") if run.stdout else ("ok", "")
+        return ("rejected", "") if run.located else \
+            ("unlocated", f"{command}: {_normalized(run.stderr.strip(), tmp)}")
     if run.code == 0:
         nonfinite = nonfinite_output(run) if command == "eval" else None
         return ("nonfinite", f"eval: {_normalized(nonfinite, tmp)}") if nonfinite else ("ok", "")
@@ -205,6 +235,7 @@ class Tally:
     warnings: int = 0
     subprocess_runs: int = 0
     cpu: float = 0.0          # CPU seconds of this process (the machine may be shared)
+    reproduce: str = "fuzzyc"  # the command a saved input's argv is given to
 
     def merge(self, other: "Tally") -> None:
         self.inputs += other.inputs
@@ -233,7 +264,7 @@ def _save(tally: Tally, key: tuple[str, str], run: Run, tmp: Path, out: Path) ->
     argv = [a.replace(str(tmp), str(folder)) for a in run.argv]
     detail = run.error or run.stderr + run.stdout
     (folder / "REPRODUCE.txt").write_text(
-        f"{key[0]}: {key[1]}\nreproduce: fuzzyc {shlex.join(argv)}\n\n{detail}",
+        f"{key[0]}: {key[1]}\nreproduce: {tally.reproduce} {shlex.join(argv)}\n\n{detail}",
         encoding="utf-8", errors="replace")
     folders.append(str(folder))
 
@@ -242,7 +273,7 @@ def fuzz_target(target: Target, inputs: int, seed: int, out: Path, seconds: floa
                 subprocess_every: int = 0, unmutated: list[int] | None = None) -> Tally:
     """`inputs` mutated inputs of one target (hypothesis-driven, reproducible from `seed`);
     `unmutated`: the seed files of these indices as they are, instead."""
-    tally = Tally(target.name)
+    tally = Tally(target.name, reproduce=target.reproduce)
     started = time.process_time()
     strategy = (st.sampled_from([(i, target.seeds[i][0].encode("utf-8")) for i in unmutated])
                 if unmutated else target.input_strategy())
@@ -269,9 +300,10 @@ def fuzz_target(target: Target, inputs: int, seed: int, out: Path, seconds: floa
                     tally.inputs, counted = tally.inputs + 1, True
                 # the console script runs the command on a copy of the folder as it is now:
                 # after the in-process run, a command that refuses to overwrite would differ
-                due = subprocess_every and tally.inputs % subprocess_every == 1
+                due = subprocess_every and tally.inputs % subprocess_every == 1 \
+                    and target.run is None
                 before = _copy_of(tmp) if due else None
-                run = run_in_process(argv, seconds)
+                run = (target.run or run_in_process)(argv, seconds)
                 kind, signature = classify(run, target, tmp)
                 tally.commands[argv[0] if argv else "-"] += 1
                 tally.outcomes[kind] += 1

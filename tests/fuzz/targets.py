@@ -8,6 +8,13 @@ that read a mutated file.
   `simulate --scenario FILE`, with its rule base or its baseline.
 - csv: `eval FILE --csv` with a CSV over the inputs of a shipped or corpus rule file.
 - cmdline: argument vectors built from the parser's own options with hostile values.
+
+Generators (tests/fuzz/generate.py: inputs built from the grammars and schemas):
+- gen-scenario: a shipped scenario with keys of the schema given hostile YAML values;
+- gen-fll, gen-fcl, gen-fis: random rule bases, through the rule targets' commands;
+- gen-names: FLL rule bases whose every name is hostile, checked, converted and compiled;
+- gen-cli: the cmdline target's argument vectors with numbers spelled every way;
+- gen-api: `fuzzyc.evaluate` with values of every numpy dtype and shape (tests/fuzz/api.py).
 """
 from __future__ import annotations
 
@@ -22,6 +29,7 @@ from typing import Callable
 
 from hypothesis import strategies as st
 
+from . import generate as gen
 from .mutate import HOSTILE, mutated
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -83,16 +91,24 @@ class Target:
     make_seeds: Callable[[], list[tuple[str, object]]]
     commands: Callable
     located: bool = True     # an exit-2 message must carry file:line:col
+    # (seed text, all seed texts) -> strategy of the input's bytes: a mutation, or a generator
+    strategy: Callable = mutated
+    run: Callable | None = None      # (argv, seconds) -> Run; None: `fuzzyc` in-process
+    reproduce: str = "fuzzyc"
 
     @cached_property
     def seeds(self) -> list[tuple[str, object]]:
         return self.make_seeds()
 
+    @property
+    def generated(self) -> bool:
+        return self.strategy is not mutated
+
     def input_strategy(self):
-        """(index of the seed, the mutated file's bytes)."""
+        """(index of the seed, the input file's bytes)."""
         texts = tuple(text for text, _ in self.seeds)
         return st.integers(0, len(texts) - 1).flatmap(
-            lambda i: st.tuples(st.just(i), mutated(texts[i], texts)))
+            lambda i: st.tuples(st.just(i), self.strategy(texts[i], texts)))
 
 
 def _rule_seeds(suffix: str):
@@ -182,7 +198,11 @@ def _learns_first(path: Path) -> bool:
 
 
 @st.composite
-def _option_value(draw, action: argparse.Action, tmp: Path):
+def _option_value(draw, action: argparse.Action, tmp: Path, generated: bool = False):
+    if generated and action.dest not in OUTPUT_DESTS:
+        value = _generated_value(draw(gen.rng()), action)
+        if value is not None:
+            return value
     if action.dest in OUTPUT_DESTS:
         name = draw(st.sampled_from(("o", "o.png", "o.fll", "o.fz", "o.txt", "", ".", "a/b",
                                      "é.fis", "x" * 300)))
@@ -207,8 +227,36 @@ def _option_value(draw, action: argparse.Action, tmp: Path):
     return draw(st.one_of(valid, valid, valid, valid, hostile))
 
 
+# the dotted keys `--set` reaches (plants/scenario.py: `plant.X` falls through to plant.params)
+SET_KEYS = ("title", "duration", "period", "plant", "plant.model", "plant.params",
+            "plant.gain", "plant.dead_time", "plant.params.gain", "plant.randomize.gain",
+            "controller", "controller.rulebase", "controller.params.GU", "controller.expose",
+            "baseline", "baseline.make", "baseline.params.Kp", "observers", "observers.0.make",
+            "schedules", "schedules.r", "schedules.disturbance", "metrics", "metrics.0.band",
+            "metrics.0.name", "plots", "notes", "initial.y", "x", "plant..gain", ".", "",
+            "plant.params.gain.x", "metrics.99.band", "metrics.-1.band", "a" * 300)
+INTEGER_TYPES = ("int", "integer", "at_least", "batch_size")
+
+
+def _generated_value(rnd, action: argparse.Action) -> str | None:
+    """A hostile value of the option's kind; None: let the cmdline target's choice stand."""
+    kind = getattr(action.type, "__name__", "")
+    if action.dest in WORK_BOUNDS or kind in INTEGER_TYPES or action.type is int:
+        # in range only up to the work bound: a valid big value is work, not a bug
+        return gen.integer_spelling(rnd, WORK_BOUNDS.get(action.dest, 100))
+    if action.type is float or kind in ("finite", "non_negative"):
+        return rnd.choice(gen.HOSTILE_NUMBERS + ("0.5", "1", "1e-300", "-1"))
+    if action.dest in ("set", "sets"):
+        return f"{rnd.choice(SET_KEYS)}={gen.yaml_value(rnd)}"
+    if action.dest in ("values", "at", "inputs") and not action.choices:
+        return f"{gen.name(rnd)}={gen.number(rnd, -100, 100)}"
+    if action.dest == "allow_import":
+        return rnd.choice(gen.MAKES + gen.HOSTILE_NAMES)
+    return None
+
+
 @st.composite
-def _argv(draw, tmp: Path) -> list[str]:
+def _argv(draw, tmp: Path, generated: bool = False) -> list[str]:
     """A subcommand with its positionals, its required options and up to three others, in a
     random order; one value in five hostile (more and nearly every line is a usage error)."""
     commands = _subcommands()
@@ -224,7 +272,7 @@ def _argv(draw, tmp: Path) -> list[str]:
     positionals = iter([a for a in chosen if not a.option_strings])
     words = []
     for action in (a if a.option_strings else next(positionals) for a in order):
-        value = [] if action.nargs == 0 else [draw(_option_value(action, tmp))]
+        value = [] if action.nargs == 0 else [draw(_option_value(action, tmp, generated))]
         words.append(value if not action.option_strings else
                      [draw(st.sampled_from(action.option_strings)), *value])
     return [name, *SHORT_WORK.get(name, []), *(w for group in words for w in group)]
@@ -232,6 +280,60 @@ def _argv(draw, tmp: Path) -> list[str]:
 
 def _cmdline_commands(draw, _path: Path, tmp: Path, _context) -> list[list[str]]:
     return [draw(_argv(tmp))]
+
+
+def _generated_cmdline(draw, _path: Path, tmp: Path, _context) -> list[list[str]]:
+    return [draw(_argv(tmp, generated=True))]
+
+
+def _generated_scenario(text: str, _texts):
+    import yaml
+    base = yaml.safe_load(text)
+    return gen.rng().map(lambda rnd: gen.scenario_text(rnd, base).encode("utf-8"))
+
+
+def _generated_scenario_commands(draw, path: Path, tmp: Path, _context) -> list[list[str]]:
+    extra = draw(st.sampled_from(([], [], ["--baseline"], ["--batch", "2"])))
+    return [["simulate", "--scenario", str(path), "-o", str(tmp / "sim"), *extra]]
+
+
+def _generated_rules(suffix: str, names: bool = False):
+    def strategy(_text, _texts):
+        def build(rnd):
+            rb = gen.rulebase(rnd, names=names or rnd.random() < 0.2)
+            return gen.RULE_WRITERS[suffix](rb, rnd).encode("utf-8", "surrogatepass")
+        return gen.rng().map(build)
+    return strategy
+
+
+def _names_commands(draw, path: Path, tmp: Path, _context) -> list[list[str]]:
+    """`check`, then what writes the names elsewhere: every format, C (float, q15) and LUT."""
+    def more():
+        model = _load(path)
+        table = tmp / "points.csv"
+        table.write_text(_csv_over_range(model), encoding="utf-8")
+        other = draw(st.sampled_from(RULE_SUFFIXES))
+        target = draw(st.sampled_from((["--numeric", "float"], ["--numeric", "q15"],
+                                       ["--target", "lut"])))
+        return [["eval", str(path), "--csv", str(table)],
+                ["convert", str(path), str(tmp / f"converted{other}")],
+                ["compile", str(path), "-o", str(tmp / "c"), *target]]
+    return [["check", str(path)], more]
+
+
+API_MODELS = ("tests/format_corpus/tipper.fll", "tests/format_corpus/sugeno.fis",
+              "tests/format_corpus/shapes_tsk.fll", "rulebases/fopdt_pi.fz")
+
+
+def _api_commands(draw, _path: Path, _tmp: Path, _context) -> list[list[str]]:
+    call = draw(st.sampled_from(("evaluate", "evaluate", "evaluate", "explain")))
+    model = draw(st.sampled_from(API_MODELS))
+    return [[call, str(ROOT / model), str(draw(st.integers(0, 2 ** 63 - 1)))]]
+
+
+def _api_run(argv, seconds):
+    from .api import run
+    return run(argv, seconds)
 
 
 TARGETS = {t.name: t for t in (
@@ -243,7 +345,26 @@ TARGETS = {t.name: t for t in (
     Target("csv", ".csv", _csv_seeds, _csv_commands),
     # command lines name valid files: a rejection is about an argument, which has no line
     Target("cmdline", ".txt", lambda: [("", None)], _cmdline_commands, located=False),
+    Target("gen-scenario", ".yaml", lambda: [(text, None) for text, _ in _scenario_seeds()
+                                             if "gymnasium" not in text],
+           _generated_scenario_commands, strategy=_generated_scenario),
+    Target("gen-fll", ".fll", lambda: [("", None)], _rule_commands,
+           strategy=_generated_rules(".fll")),
+    Target("gen-fcl", ".fcl", lambda: [("", None)], _rule_commands,
+           strategy=_generated_rules(".fcl")),
+    Target("gen-fis", ".fis", lambda: [("", None)], _rule_commands,
+           strategy=_generated_rules(".fis")),
+    Target("gen-names", ".fll", lambda: [("", None)], _names_commands,
+           strategy=_generated_rules(".fll", names=True)),
+    Target("gen-cli", ".txt", lambda: [("", None)], _generated_cmdline, located=False,
+           strategy=lambda _t, _ts: st.just(b"")),
+    # an API rejection names the input instead of a line (api.run judges it)
+    Target("gen-api", ".txt", lambda: [("", None)], _api_commands,
+           strategy=lambda _t, _ts: st.just(b""), run=_api_run,
+           reproduce="python -m tests.fuzz.api"),
 )}
-# Share of the inputs per target (the .fz language has the most to break).
-SHARES = {"fz": 0.30, "fll": 0.12, "fcl": 0.12, "fis": 0.12, "scenario": 0.08, "csv": 0.10,
-          "cmdline": 0.16}
+# Share of the inputs per target (the .fz language has the most to break; about a third goes
+# to the generators).
+SHARES = {"fz": 0.20, "fll": 0.08, "fcl": 0.08, "fis": 0.08, "scenario": 0.06, "csv": 0.07,
+          "cmdline": 0.10, "gen-scenario": 0.06, "gen-fll": 0.05, "gen-fcl": 0.05,
+          "gen-fis": 0.05, "gen-names": 0.04, "gen-cli": 0.07, "gen-api": 0.06}
