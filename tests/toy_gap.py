@@ -44,6 +44,9 @@ def toy_plant(monkeypatch):
     module.INPUTS, module.OUTPUTS = ("velocity",), ("gap_voltage", "gap")
     monkeypatch.setitem(sys.modules, module.__name__, module)
     monkeypatch.setattr(fuzzyc.plants, "toy_gap", module, raising=False)
+    # a scenario names only registered plants (plants/registry.py): register the toy one
+    from fuzzyc.plants import registry
+    monkeypatch.setattr(registry, "PLANTS", (*registry.PLANTS, "toy_gap"))
     return module
 
 
