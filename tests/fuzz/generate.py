@@ -182,13 +182,15 @@ def yaml_value(rnd: random.Random, depth: int = 0) -> str:
     if kind == 12:      # a pair list as the schedules take, with hostile points
         return "[" + ", ".join(f"[{number(rnd, 0, 1)}, {number(rnd, -5, 5)}]"
                                for _ in range(rnd.randint(0, 4))) + "]"
+    if rnd.random() < 0.8:      # the values past a limit take PyYAML a second to scan: rarer
+        return rnd.choice(("[" * 40 + "]" * 40, "&big [" + "1, " * 1000 + "1]"))
     return rnd.choice(("[" + "1, " * 250_000 + "1]",        # past the node limit
                        '"' + "x" * 1_100_000 + '"',         # past the size limit
                        "&big [" + "1, " * 1000 + "1]"))
 
 
 def yaml_key(rnd: random.Random) -> str:
-    from plants.scenario_schema import METRIC_KEYS, OBSERVER_KEYS, TOP_KEYS
+    from fuzzyc.plants.scenario_schema import METRIC_KEYS, OBSERVER_KEYS, TOP_KEYS
     kind = rnd.random()
     if kind < 0.6:
         return rnd.choice(sorted(TOP_KEYS | METRIC_KEYS | OBSERVER_KEYS))
@@ -201,7 +203,7 @@ def yaml_key(rnd: random.Random) -> str:
 def schema_paths(data) -> list[tuple]:
     """Every key path of a scenario (and of every list item) plus every key the schema knows,
     so each gets a hostile value in turn."""
-    from plants.scenario_schema import (METRIC_KEYS, OBSERVER_KEYS, SECTION_KEYS,
+    from fuzzyc.plants.scenario_schema import (METRIC_KEYS, OBSERVER_KEYS, SECTION_KEYS,
                                         TOP_KEYS)
     paths = set()
 
@@ -218,6 +220,15 @@ def schema_paths(data) -> list[tuple]:
     paths |= {("plant", "params", "x"), ("controller", "params", "GU"), ("schedules", "r"),
               ("schedules", "r", 0), ("schedules", "r", 0, 0), ("initial", "y")}
     return sorted(paths, key=str)
+
+
+def _number_at(data, path: tuple):
+    for key in path:
+        try:
+            data = data[key]
+        except (KeyError, IndexError, TypeError):
+            return None
+    return data if isinstance(data, (int, float)) and not isinstance(data, bool) else None
 
 
 class Raw(str):
@@ -273,6 +284,10 @@ def scenario_text(rnd: random.Random, base: dict) -> str:
             _put(data, path, None)
         elif kind < 0.2:
             _put(data, path[:-1] + (Raw(yaml_key(rnd)),), Raw(yaml_value(rnd)))
+        elif kind < 0.5 and _number_at(base, path) is not None:
+            # a plausible number where one is, so that some scenarios run with odd values
+            value = _number_at(base, path) * rnd.choice((0, -1, 0.5, 2, 1e-3, 1e-9))
+            _put(data, path, Raw(repr(value)))
         else:
             _put(data, path, Raw(yaml_value(rnd)))
     lines = [f"{k if isinstance(k, Raw) else json.dumps(k)}: {emit(v)}" for k, v in data.items()]
@@ -512,7 +527,8 @@ def api_value(rnd: random.Random):
     except (TypeError, ValueError):
         array = np.zeros(shape)
     if array.dtype.kind in "fc" and array.size:
-        array.flat[rnd.randrange(array.size)] = rnd.choice((np.nan, np.inf, -np.inf, 1e300, 5))
+        with np.errstate(over="ignore"):           # 1e300 in a float16 is inf: meant
+            array.flat[rnd.randrange(array.size)] = rnd.choice((np.nan, np.inf, -np.inf, 1e300, 5))
     elif array.dtype.kind in "iu" and array.size:
         array.flat[rnd.randrange(array.size)] = np.iinfo(array.dtype).max
     elif array.dtype.kind == "O" and array.size:
