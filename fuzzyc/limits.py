@@ -37,6 +37,10 @@ MAX_HEDGES = 16                  # hedges on one clause or conclusion (FLL, FCL)
 # Not limits of a file.  `simulate --batch` (and api.simulate's batch): the loops' arrays take
 # about 1 kB a loop (wedm_rough: 1e6 loops, 0.98 GB); checked before any is allocated.
 MAX_BATCH = 1_000_000
+# `--workers N` (and Cluster(workers=N)): a local Dask cluster is one process a worker on this
+# machine; `--workers 99999999999` tried to start that many and ran out of memory. 64 is past
+# any workstation's cores; a larger campaign runs on a cluster of its own (`--scheduler`).
+MAX_WORKERS = 64
 MAX_FILE_NAME_BYTES = 255        # a generated file's name (NAME.h), as ext4, XFS, APFS, NTFS
 # Not limits of the file but of the C headers.  The cell table (term tuple -> rules): indexed
 # by the cell code up to this many cells, past it this many occupied cells found by binary

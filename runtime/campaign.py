@@ -13,6 +13,8 @@ import logging
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator, Sequence
 
+from fuzzyc.limits import MAX_WORKERS
+
 from .progress import Progress
 
 DEFAULT_CHUNK = 10_000   # loops per task: a WEDM loop step costs ~0.3 us batched, so a task
@@ -21,6 +23,9 @@ DEFAULT_CHUNK = 10_000   # loops per task: a WEDM loop step costs ~0.3 us batche
 
 SCHEDULER_SCHEMES = ("tcp", "tls")
 LOCAL_HOST = "127.0.0.1"   # --workers: nothing of the local cluster listens beyond this machine
+# seconds a cluster may take to show a worker: a campaign on a cluster without workers would
+# otherwise wait forever for its first result
+WORKER_WAIT = 120.0
 # where a tls:// scheduler's client certificate comes from (Dask's own config)
 TLS_ENV = ("DASK_DISTRIBUTED__COMM__TLS__CA_FILE, DASK_DISTRIBUTED__COMM__TLS__CLIENT__CERT "
            "and DASK_DISTRIBUTED__COMM__TLS__CLIENT__KEY")
@@ -43,8 +48,8 @@ class Cluster:
 
     def __post_init__(self) -> None:
         chunks(0, self.chunk)      # checks the size
-        if self.workers is not None and self.workers < 1:
-            raise ValueError(f"workers must be at least 1, not {self.workers}")
+        if self.workers is not None and not 1 <= self.workers <= MAX_WORKERS:
+            raise ValueError(f"workers must be from 1 to {MAX_WORKERS}, not {self.workers}")
         if self.workers is not None and self.scheduler:
             raise ValueError("give workers (a local cluster) or scheduler (a running one), "
                              "not both")
@@ -149,6 +154,7 @@ def _client(cluster: Cluster) -> Iterator[Any]:
             raise FuzzycError([Diagnostic(None, f"cannot reach the Dask scheduler at "
                                                 f"{cluster.scheduler}: {exc}")]) from None
         with client:
+            _wait_for_workers(client, 1, cluster.scheduler)
             yield client
         return
     # processes, one thread each: the batched numpy loop holds the GIL between array calls.
@@ -164,7 +170,17 @@ def _client(cluster: Cluster) -> Iterator[Any]:
                              scheduler_kwargs={"dashboard": False},
                              silence_logs=logging.ERROR)
     with local, Client(local) as client:
+        _wait_for_workers(client, cluster.workers, "the local cluster")
         yield client
+
+
+def _wait_for_workers(client, count: int, where: str) -> None:
+    from fuzzyc.errors import Diagnostic, FuzzycError
+    try:
+        client.wait_for_workers(count, timeout=WORKER_WAIT)
+    except (TimeoutError, OSError):
+        raise FuzzycError([Diagnostic(None, f"{where} has fewer than {count} Dask worker(s) "
+                                            f"after {WORKER_WAIT:g} s")]) from None
 
 
 def _tls_configured() -> bool:

@@ -8,7 +8,7 @@ import tempfile
 from pathlib import Path
 
 from ..atomic import cannot_write
-from ..limits import MAX_BATCH
+from ..limits import MAX_BATCH, MAX_WORKERS
 from ..numbers import not_a_number, parse_integer, parse_number
 
 # What every command that reads through formats.load_any says of its rule-file argument.
@@ -110,7 +110,7 @@ def _unwritable(path: Path, folder: bool) -> str | None:
 def add_campaign_arguments(parser) -> None:
     """--workers / --scheduler / --chunk: run the loops in chunks, on Dask (runtime.campaign)."""
     where = parser.add_mutually_exclusive_group()
-    where.add_argument("--workers", type=whole_number, metavar="N",
+    where.add_argument("--workers", type=at_least(1, MAX_WORKERS), metavar="N",
                        help="run the loops in chunks on a local Dask cluster of N processes "
                             "(pip install 'fuzzyc[dask]'); the numbers do not change")
     where.add_argument("--scheduler", metavar="ADDRESS",
