@@ -48,12 +48,14 @@ $(TSTAMP):
 demo: $(STAMP)
 	$(PY) -m fuzzyc.demo
 
-# two steps: the suite on two xdist workers, then the tests that start Dask clusters in one
-# plain process (marker `cluster`, see tests/test_campaign.py)
+# two steps: the suite on two xdist workers, then each file whose tests start Dask clusters
+# (marker `cluster`, see tests/test_campaign.py) alone in a plain process
+CLUSTER_TESTS = $(shell grep -l "pytest.mark.cluster" tests/test_*.py)
 test: test-venv
 	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -n 2 --dist loadfile -rfEs --durations=15 \
 	  -m "not conformance and not proofs and not cluster" $(TESTPATHS)
-	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -rfEs -m cluster $(TESTPATHS)
+	for f in $(CLUSTER_TESTS); do \
+	  ($(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -rfEs -m cluster $(CURDIR)/$$f) || exit 1; done
 
 # What CI proves beyond `make test`: every header of the corpora under EVA, a README proof row
 # reproduced by the installed console script, and every shipped closed loop on sets at a tenth
