@@ -46,15 +46,9 @@ TIMEOUT = 300
 
 # doc command -> (the command run instead, why): the options stay, only the size shrinks
 SUBSTITUTED = {
-    "fuzzyc simulate --scenario wedm_finish --set duration=1 --batch 1000000 --randomize --workers 2 --chunk 10000 -o out/campaign":
-        ("fuzzyc simulate --scenario wedm_finish --set duration=1 --batch 1000 --randomize --workers 1 --chunk 200 -o out/campaign",
-         "10^6 loops take minutes; 1000 loops in 5 chunks on one Dask worker take the same path"),
     "fuzzyc simulate --scenario wedm_finish --set duration=1 --batch 1000000 --randomize --chunk 10000 -o out/campaign":
         ("fuzzyc simulate --scenario wedm_finish --set duration=1 --batch 1000 --randomize --chunk 200 -o out/campaign",
          "10^6 loops take minutes; 1000 loops in 5 chunks in this process take the same path"),
-    "fuzzyc verify rulebases/edm_sink_gap.fz --only \"gap > 5\" --max-examples 10000 --workers 2 --chunk 2000":
-        ("fuzzyc verify rulebases/edm_sink_gap.fz --only \"gap > 5\" --max-examples 40 --workers 1 --chunk 16",
-         "10^4 EDM loops of 3 s per property take 2 minutes; 40 in chunks of 16 on one worker"),
     "fuzzyc simulate rulebases/wedm_corner.fz --scenario corner_path --set plant.feed=160 --set plant.thickness=50":
         ("fuzzyc simulate rulebases/wedm_corner.fz --scenario corner_path --set plant.feed=160 --set plant.thickness=50 --set duration=100",
          "the whole path is 3400 s of cutting (20 s here); its numbers are corner_table's first "
@@ -81,6 +75,14 @@ EDITS = {
 }
 # doc command -> why it is not run here
 NOT_RUN = {
+    "fuzzyc simulate --scenario wedm_finish --set duration=1 --batch 1000000 --randomize --workers 2 --chunk 10000 -o out/campaign":
+        "a local Dask cluster inside the suite lost its worker processes now and then (a heartbeat's "
+        "CommClosedError; the session note of 2026-11-28); tests/test_campaign.py runs --workers "
+        "alone in make test's second step",
+    "fuzzyc verify rulebases/edm_sink_gap.fz --only \"gap > 5\" --max-examples 10000 --workers 2 --chunk 2000":
+        "a local Dask cluster inside the suite lost its worker processes now and then (a heartbeat's "
+        "CommClosedError; the session note of 2026-11-28); tests/test_campaign.py runs --workers "
+        "alone in make test's second step",
     "fuzzyc simulate --scenario wedm_finish --set duration=1 --batch 1000000 --randomize --scheduler tcp://scheduler-host:8786 -o out/campaign":
         "needs a running Dask scheduler on that host; tests/test_campaign.py runs --scheduler "
         "against a cluster it starts",
