@@ -243,6 +243,17 @@ def test_the_gate_reads_the_header_as_the_compiler_does(tmp_path, header, says):
             checked_header(header, model)
 
 
+def test_a_delimiter_made_at_the_edge_of_an_unescaped_text_is_refused(tmp_path):
+    # a call site that wrote "/ int x; /" verbatim between the header's `*`s: the text holds
+    # no delimiter, but its first and last characters close and reopen a comment with the `*`
+    # beside them; the code between, ` int x; `, passes rules 1-3 and only rule 4 sees it
+    model = base_model(tmp_path)
+    model.title = "/ int x; /"
+    header = "/* title *" + model.title + "* end */\n"
+    with pytest.raises(FuzzycError, match="the title '/ int x; /' cannot be written"):
+        checked_header(header, model)
+
+
 @pytest.mark.parametrize("mode", MODES)
 def test_a_text_made_of_a_delimiter_is_refused_with_a_message(tmp_path, mode):
     # `*/` alone cannot be told from the header's own comment ends: refused, never written

@@ -14,8 +14,8 @@ q15/q31 "Derived worst case" sentence once did) is caught here:
    compiler's because of 2 and because the code holds no `//`, `"` or `'`, which the
    generators never write: no line comments, no literals); every comment is closed, none
    holds a `/*`, and the code holds no `*/` (the mark a comment closed early);
-4. user text: no comment delimiter the compiler honours lies inside a verbatim occurrence of
-   a user text.  A text written without escaping shows up verbatim, and one that closes or
+4. user text: no comment delimiter the compiler honours overlaps a verbatim occurrence of a
+   user text (inside it, or made of its first or last character and the header beside it).  A text written without escaping shows up verbatim, and one that closes or
    opens a comment puts the delimiter inside its own occurrence, so the header is refused
    (`c_comment` splits every `*/` and `/*`, so escaped text never holds one).  Texts
    without `*/` or `/*` cannot move a comment boundary, and what else 1 and 2 let through
@@ -106,12 +106,14 @@ def checked_header(header: str, model: Model) -> str:
     # every honoured delimiter's start: the `/*` and the `*/` of each comment
     delimiters = sorted([s for s, _ in spans] + [e - 2 for _, e in spans])
     for what, text in user_texts(model):
-        if "*/" not in text and "/*" not in text:   # cannot hold a delimiter
+        if "*" not in text and "/" not in text:     # cannot be part of a delimiter
             continue
         at = header.find(text)
         while at >= 0:
-            k = bisect.bisect_left(delimiters, at)
-            if k < len(delimiters) and delimiters[k] + 2 <= at + len(text):
+            # a delimiter inside the occurrence, or one made of its first or last character
+            # and the header's text beside it (`*` + "/ int x; /" + `*`)
+            k = bisect.bisect_left(delimiters, at - 1)
+            if k < len(delimiters) and delimiters[k] < at + len(text):
                 raise _refuse(f"{what} {text!r} cannot be written into the C header: it meets "
                               "one of the header's comment delimiters (/* or */), so the "
                               "header could not be shown to hold it as inert text; rename it")
