@@ -3,7 +3,7 @@
 Float headers for a Cortex-M4F (-mcpu=cortex-m4 -mthumb -mfloat-abi=hard -mfpu=fpv4-sp-d16),
 q15/q31 headers for a Cortex-M0 without FPU (-mcpu=cortex-m0 -mthumb), both at -Os, compiled
 by arm-none-eabi-gcc with the strict flags of the tests (-Werror), beside the x86-64 build
-(gcc -Os); how it is measured: `fuzzyc.backends.c_arm`.  Writes benchmarks/results/arm.md
+(gcc -Os); how it is measured: `fuzzyc.backends.c.arm`.  Writes benchmarks/results/arm.md
 atomically.
 
     python3 benchmarks/bench_arm.py
@@ -18,9 +18,9 @@ sys.path.append(str(ROOT))   # after site-packages: fuzzyc is the installed one
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from common import markdown_table, write_result  # noqa: E402
-from fuzzyc.backends.c_arm import CORTEX_M, arm_toolchain, measure  # noqa: E402
-from fuzzyc.backends.c_proof import header_for  # noqa: E402
-from fuzzyc.parser import load  # noqa: E402
+from fuzzyc.backends.c.arm import CORTEX_M, arm_toolchain, measure  # noqa: E402
+from fuzzyc.backends.c.proof import header_for  # noqa: E402
+from fuzzyc.language.parser import load  # noqa: E402
 
 
 def row(path: Path, numeric: str) -> list[object]:

@@ -23,13 +23,13 @@ sys.path.append(str(ROOT))   # after site-packages: fuzzyc is the installed one
 sys.path.insert(0, str(ROOT / "benchmarks"))
 
 from common import markdown_table, median_seconds, write_result  # noqa: E402
-from fuzzyc.backends.c import c_identifier, generate_header  # noqa: E402
-from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header, io_frac  # noqa: E402
+from fuzzyc.backends.c.header import c_identifier, generate_header  # noqa: E402
+from fuzzyc.backends.c_fixed.header import FORMATS, generate_fixed_header, io_frac  # noqa: E402
 from fuzzyc.errors import FuzzycError  # noqa: E402
 from fuzzyc.backends.lut import LookupTable, generate_lut_header  # noqa: E402
-from fuzzyc.engine import evaluate  # noqa: E402
-from fuzzyc.model import Defuzzifier, set_entries  # noqa: E402
-from fuzzyc.parser import load  # noqa: E402
+from fuzzyc.engine.inference import evaluate  # noqa: E402
+from fuzzyc.semantics.model import Defuzzifier, set_entries  # noqa: E402
+from fuzzyc.language.parser import load  # noqa: E402
 
 RULEBASES = ["wedm_three_region", "wedm_corner", "milling_neurofuzzy", "edm_sink_gap"]
 LUT_RESOLUTION = 33

@@ -17,9 +17,9 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 sys.path.insert(0, str(ROOT / "tests"))
 
 from common import markdown_table, write_result  # noqa: E402
-from fuzzyc.backends.c_fixed import CHAIN_STEPS, chain_error_bound  # noqa: E402
-from fuzzyc.backends.c_proof import KINDS, frama_c, prove  # noqa: E402
-from fuzzyc.parser import load  # noqa: E402
+from fuzzyc.backends.c_fixed.header import CHAIN_STEPS, chain_error_bound  # noqa: E402
+from fuzzyc.backends.c.proof import KINDS, frama_c, prove  # noqa: E402
+from fuzzyc.language.parser import load  # noqa: E402
 from test_c_backend import shipped  # noqa: E402
 from test_c_fixed import chain_errors  # noqa: E402
 

@@ -25,9 +25,9 @@ sys.path.append(str(ROOT))   # after site-packages: fuzzyc is the installed one
 
 from common import markdown_table, median_seconds, peak_bytes, write_result  # noqa: E402
 import dense_numpy_wedm  # noqa: E402
-from fuzzyc.engine import evaluate  # noqa: E402
-from fuzzyc.model import Defuzzifier, TermKind  # noqa: E402
-from fuzzyc.parser import load  # noqa: E402
+from fuzzyc.engine.inference import evaluate  # noqa: E402
+from fuzzyc.semantics.model import Defuzzifier, TermKind  # noqa: E402
+from fuzzyc.language.parser import load  # noqa: E402
 
 
 def triangle_outputs(rb):

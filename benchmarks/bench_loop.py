@@ -79,9 +79,9 @@ class _Timed:
 def shares(batch: int, seconds: float) -> tuple[float, float]:
     """(rule-base evaluation, plant step) shares of one run's wall time, their calls timed.
 
-    The engine is the controller's rule base (`fuzzyc.controller.compiled`); the plant is the
+    The engine is the controller's rule base (`fuzzyc.engine.chain.compiled`); the plant is the
     plant module's `step` (plants/wedm_gap.py, with its noise draws)."""
-    import fuzzyc.controller as C
+    import fuzzyc.engine.chain as C
     scenario, controller = _scenario(seconds, batch)
     engines: list[_Timed] = []
     plants: list[_Timed] = []

@@ -44,7 +44,7 @@ def exact_checks(rb, inputs) -> None:
 
 
 def bench_exact(repeats: int) -> str:
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     from fuzzyc.verifier import search
     rows = []
     for name, inputs in PAPERS.items():
@@ -73,7 +73,7 @@ LOOP_TEXT = """
 
 
 def bench_closed_loop(examples: int, duration: float) -> str:
-    from fuzzyc.parser import parse
+    from fuzzyc.language.parser import parse
     from fuzzyc.verifier import Options, verify_model
     path = ROOT / "rulebases" / "wedm_three_region.fz"
     text = path.read_text().rstrip()[:-1] + LOOP_TEXT.replace("DURATION", f"{duration:g}")
@@ -105,7 +105,7 @@ SHIPPED_LOOPS = ["edm_sink_gap", "milling_neurofuzzy_learned", "wedm_three_regio
 def bench_proofs(names: list[str], max_boxes: int, horizon_scale: float) -> str:
     """Per shipped closed loop: the proof's answer and bound per check, its CPU time, and the
     search's CPU time and verdict (100 cases)."""
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     from fuzzyc.plants import scenario as scenarios
     from fuzzyc.verifier import Options
     from fuzzyc.verifier import closed_loop

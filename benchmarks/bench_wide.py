@@ -31,13 +31,13 @@ sys.path.insert(0, str(ROOT / "benchmarks"))
 sys.path.append(str(ROOT))   # after site-packages: fuzzyc is the installed one
 
 from common import markdown_table, median_seconds, write_result  # noqa: E402
-from fuzzyc.backends.c import HeaderWriter  # noqa: E402
-from fuzzyc.backends.c_expr import REAL_TYPES  # noqa: E402
-from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header  # noqa: E402
-from fuzzyc.backends.cload import CController, compile_shared  # noqa: E402
-from fuzzyc.builder import RuleSpec, assemble_rulebase  # noqa: E402
-from fuzzyc.engine import activations, compiled, evaluate  # noqa: E402
-from fuzzyc.model import (Connective, Defuzzifier, Inference, Model, SourceLoc,  # noqa: E402
+from fuzzyc.backends.c.header import HeaderWriter  # noqa: E402
+from fuzzyc.backends.c.expressions import REAL_TYPES  # noqa: E402
+from fuzzyc.backends.c_fixed.header import FORMATS, generate_fixed_header  # noqa: E402
+from fuzzyc.backends.c.load import CController, compile_shared  # noqa: E402
+from fuzzyc.language.builder import RuleSpec, assemble_rulebase  # noqa: E402
+from fuzzyc.engine.inference import activations, compiled, evaluate  # noqa: E402
+from fuzzyc.semantics.model import (Connective, Defuzzifier, Inference, Model, SourceLoc,  # noqa: E402
                           TermKind, Variable)
 
 TERMS = ["N", "Z", "P"]

@@ -16,11 +16,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 
 from .atomic import atomic_path, write_text
-from .controller import Controller
-from .engine import Explanation
+from .engine.chain import Controller
+from .engine.inference import Explanation
 from .errors import FuzzycError
-from .model import Model
-from .numbers import real_array
+from .semantics.model import Model
+from .language.numbers import real_array
 
 if TYPE_CHECKING:
     from fuzzyc.runtime.campaign import Cluster
@@ -49,7 +49,7 @@ def parse(text: str, format: str = "fz", name: str = "<string>") -> Model:
     from .formats import READERS
     suffix = "." + format.lower().lstrip(".")
     if suffix == ".fz":
-        from .parser import parse as parse_fz
+        from .language.parser import parse as parse_fz
         return parse_fz(text, name)
     if suffix not in READERS:
         raise ValueError(f"unknown format `{format}` (known: fz fll fcl fis)")
@@ -68,7 +68,7 @@ def save(model: Model, path: PathLike) -> list[str]:
 def evaluate(model: Model, inputs: Mapping[str, Any]) -> dict[str, np.ndarray]:
     """The rule base alone (no signal chain, no state) on a batch: one array (or number) per
     rule-base input, broadcast together; one float array of that shape per rule-base output."""
-    from .engine import evaluate as engine_evaluate
+    from .engine.inference import evaluate as engine_evaluate
     rb = model.rulebase
     names = [v.name for v in rb.inputs]
     _check_names(model, inputs, names)
@@ -87,7 +87,7 @@ def evaluate(model: Model, inputs: Mapping[str, Any]) -> dict[str, np.ndarray]:
 def explain(model: Model, point: Mapping[str, float]) -> Explanation:
     """Why the rule base gives its outputs at one point of its inputs: the memberships, the
     rules that fired (strongest first) and the outputs. `str()` of it is a readable table."""
-    from .engine import explain as engine_explain
+    from .engine.inference import explain as engine_explain
     names = [v.name for v in model.rulebase.inputs]
     _check_names(model, point, names)
     values = [real_array(n, point[n]) for n in names]
@@ -130,11 +130,11 @@ class Header:
 def compile_c(model: Model, numeric: str = "float") -> Header:
     """The whole controller (signal chain, rule base, outputs) as a self-contained C99 header:
     NAME.h for numeric float or double, NAME_q15.h / NAME_q31.h for fixed point."""
-    from .backends.c import generate_header
+    from .backends.c.header import generate_header
     from .escape import c_identifier
     name = c_identifier(model.name)
     if numeric in ("q15", "q31"):
-        from .backends.c_fixed import generate_fixed_header
+        from .backends.c_fixed.header import generate_fixed_header
         return Header(f"{name}_{numeric}.h", generate_fixed_header(model, numeric))
     if numeric not in ("float", "double"):
         raise ValueError(f"numeric is one of float, double, q15, q31, not `{numeric}`")
@@ -211,12 +211,12 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
     fuzzyc.plants.registry, and a scenario file alone imports nothing."""
     from fuzzyc.plants.scenario import load as load_scenario
     from fuzzyc.runtime.simulate import simulate as run_scenario, summarize
-    from .limits import MAX_BATCH
+    from .language.limits import MAX_BATCH
     # before the scenario allocates anything (--batch 3e7 took 2 GB before failing)
     if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) \
             or not 1 <= batch <= MAX_BATCH:
         raise ValueError(f"batch is a whole number of loops from 1 to {MAX_BATCH:,} "
-                         f"(fuzzyc.limits.MAX_BATCH), not {batch!r}")
+                         f"(fuzzyc.language.limits.MAX_BATCH), not {batch!r}")
     overrides = dict(settings or {})
     if rulebase is not None:
         from .formats import absolute_ref

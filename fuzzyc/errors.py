@@ -7,7 +7,7 @@ import difflib
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from .model import SourceLoc
+from .semantics.model import SourceLoc
 
 
 def source_lines(text: str) -> list[str]:

@@ -35,8 +35,8 @@ from typing import Any
 
 import numpy as np
 
-from .engine import activations
-from .model import Defuzzifier, Model, TNorm
+from .engine.inference import activations
+from .semantics.model import Defuzzifier, Model, TNorm
 
 
 @dataclass
@@ -134,7 +134,7 @@ def learn(controller: Any, plant: ModuleType, params: Any, cycles: int, max_time
           rng: np.random.Generator | None = None) -> LearningResult:
     """Repeat the cutting cycle `cycles` times, learning on line; weights carry over.
 
-    `controller` runs the model being trained (e.g. `fuzzyc.controller.Controller`); its
+    `controller` runs the model being trained (e.g. `fuzzyc.engine.chain.Controller`); its
     model's learnable values are the starting weights and end up as the learned ones.
     """
     model = controller.model
@@ -185,7 +185,7 @@ def trained_text(model: Model, weights: np.ndarray, output: str = "du",
     (the builder creates them in cell order); the numbers are right-aligned to one width so the
     rows stay columns, and the result is parsed again and must give back these weights.
     """
-    from .parser import parse
+    from .language.parser import parse
 
     text = model.source_text or ""
     match = re.search(_TABLE.format(name=re.escape(output)), text)

@@ -15,10 +15,10 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 from .atomic import save_figure  # noqa: E402
-from .engine import evaluate  # noqa: E402
+from .engine.inference import evaluate  # noqa: E402
 from .escape import OutputFolder, plot_text  # noqa: E402
-from .membership import memberships  # noqa: E402
-from .model import Model, TermKind, Variable  # noqa: E402
+from .engine.membership import memberships  # noqa: E402
+from .semantics.model import Model, TermKind, Variable  # noqa: E402
 
 MEMBERSHIP_LABEL = "membership [-]"
 
@@ -107,7 +107,7 @@ def raw_surface(model: Model, output: str, axes: tuple[str, str], fixed: dict[st
     """(X, Y, Z) meshes: the rule-base output over two raw (physical) inputs of the
     controller, through one step of the signal chain from its initial state (delta() is 0,
     filters start at the input), the other raw inputs at `fixed` (default: mid-range)."""
-    from .controller import Controller
+    from .engine.chain import Controller
     names = [s.name for s in model.signals]
     X, Y, columns = _grid([(s.lo, s.hi) for s in model.signals], names, axes, fixed, n)
     controller = Controller(model, batch=X.size)

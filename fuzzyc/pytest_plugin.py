@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING, Any
 import pytest
 
 if TYPE_CHECKING:
-    from .model import Property
+    from .semantics.model import Property
 
 # Fast settings for the test suite; `fuzzyc verify` runs the full search.
 SUITE_OPTIONS: dict[str, Any] = dict(max_examples=25, grid_budget=8000, seed=0, shrink_rounds=1)
@@ -38,7 +38,7 @@ def pytest_collect_file(file_path, parent):
 
 class PropertyFile(pytest.File):
     def collect(self):
-        from .parser import load
+        from .language.parser import load
         model = load(self.path)
         self.loop_results: dict[int, dict] = {}
         for prop in model.properties:

@@ -10,10 +10,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from .engine import activations, evaluate
+from .engine.inference import activations, evaluate
 from .escape import plot_text
-from .membership import memberships
-from .model import Aggregation, Defuzzifier, Hedge, Implication, Model, RuleBase, TermKind, Variable
+from .engine.membership import memberships
+from .semantics.model import Aggregation, Defuzzifier, Hedge, Implication, Model, RuleBase, TermKind, Variable
 from .plotting import MEMBERSHIP_LABEL, axis_label, plt, term_colour
 
 MAX_RULES = 12          # a picture of 75 rows would be unreadable: the strongest are drawn
@@ -22,7 +22,7 @@ DEFUZZIFIED_COLOUR = "red"
 
 
 def aggregate(levels: np.ndarray, aggregation: Aggregation) -> np.ndarray:
-    """levels (R, ...) -> their aggregate over the rules (axis 0), as fuzzyc.model defines."""
+    """levels (R, ...) -> their aggregate over the rules (axis 0), as fuzzyc.semantics.model defines."""
     if len(levels) == 0:
         return np.zeros(levels.shape[1:])
     if aggregation == Aggregation.MAX:

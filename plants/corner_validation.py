@@ -40,7 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from fuzzyc.errors import Diagnostic, FuzzycError, read_source, source_lines
-from fuzzyc.model import SourceLoc
+from fuzzyc.semantics.model import SourceLoc
 
 from . import scenario as scenarios
 from .wedm_corner import FIT, TABLE2_ANGLES, corner_error

@@ -50,7 +50,7 @@ import numpy as np
 import yaml
 
 from fuzzyc.errors import Diagnostic, FuzzycError
-from fuzzyc.model import SourceLoc
+from fuzzyc.semantics.model import SourceLoc
 
 from . import gym_env, registry, scenario_yaml
 

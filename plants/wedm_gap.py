@@ -170,7 +170,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from fuzzyc.expr import clip
+from fuzzyc.engine.expressions import clip
 
 INPUTS = ("feed", "t_off", "height", "on_time")
 OUTPUTS = ("spark_freq", "abnormal_ratio", "gap_voltage", "removal_rate", "feed_actual",

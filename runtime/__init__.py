@@ -12,7 +12,7 @@ Plants (modules of fuzzyc.plants) are pure and batched:
 Blocks (runtime.blocks) have input_names, output_names, reset(batch), step(signals) -> dict:
     PlantBlock(plant_module, params, inputs, outputs, seed=0)
     ControllerBlock(controller, param_inputs=[], rename={}, expose=[])
-        wraps fuzzyc.controller.Controller or the C-backed CController (anything with
+        wraps fuzzyc.engine.chain.Controller or the C-backed CController (anything with
         input_names/output_names/reset/step); param_inputs: controller params that follow a
         bus signal (set-point schedules); expose: internal signals (controller.signals) to
         put on the bus, e.g. e1, e2

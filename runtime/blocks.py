@@ -74,7 +74,7 @@ class PlantBlock:
 class ControllerBlock:
     """Anything with input_names/output_names/reset(batch)/step(dict) -> dict.
 
-    `fuzzyc.controller.Controller` and the C-backed controller both fit. `param_inputs` names
+    `fuzzyc.engine.chain.Controller` and the C-backed controller both fit. `param_inputs` names
     controller params that follow a bus signal (a set-point schedule): each period the value
     on the bus is written into `controller.params` before the step. `rename` maps controller
     output names to bus names. `expose` puts internal signals of the controller (its

@@ -13,7 +13,7 @@ import logging
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator, Sequence
 
-from fuzzyc.limits import MAX_WORKERS
+from fuzzyc.language.limits import MAX_WORKERS
 
 from .progress import Progress
 

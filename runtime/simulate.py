@@ -66,11 +66,11 @@ def load_controller(scenario, batch: int, backend: str = "numpy", semantics: str
                                  f"the rule base has no output `{name}`")
         outputs[name].init = float(value)
     if backend == "c":
-        from fuzzyc.backends.cload import CController
+        from fuzzyc.backends.c.load import CController
         from fuzzyc.formats.tool_semantics import with_tool_semantics
         controller = CController(with_tool_semantics(model, semantics, "--backend c"), batch)
     else:
-        from fuzzyc.controller import Controller
+        from fuzzyc.engine.chain import Controller
         controller = Controller(model, batch, semantics)
     return BusNames(controller, rename) if rename else controller
 

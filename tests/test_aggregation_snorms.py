@@ -30,15 +30,15 @@ import math
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.backends.c_fixed import generate_fixed_header
-from fuzzyc.defuzz import OutputDefuzzifier, term_strengths
-from fuzzyc.engine import CompiledRuleBase, evaluate
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.backends.c_fixed.header import generate_fixed_header
+from fuzzyc.engine.defuzz import OutputDefuzzifier, term_strengths
+from fuzzyc.engine.inference import CompiledRuleBase, evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fcl, read_fis, read_fll, write_fcl, write_fis, write_fll
 from fuzzyc.formats.fz import write_fz
-from fuzzyc.model import ACTIVATION_FLOOR, Aggregation, Defuzzifier, Implication, Inference, TNorm
-from fuzzyc.parser import parse
+from fuzzyc.semantics.model import ACTIVATION_FLOOR, Aggregation, Defuzzifier, Implication, Inference, TNorm
+from fuzzyc.language.parser import parse
 from fuzzyc.verifier import Status, proof
 from test_engine_core import SINGLE_OUT, TRI_OUT, driven, random_inputs, var, wedm_like
 

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 from fuzzyc.cli import main
-from fuzzyc.engine import activations
+from fuzzyc.engine.inference import activations
 from fuzzyc.formats import load_any
-from fuzzyc.parser import load
+from fuzzyc.language.parser import load
 from fuzzyc.plants import scenario as scenarios
 from fuzzyc.runtime.simulate import simulate
 from fuzzyc.verifier import Options, verify_file, verify_model

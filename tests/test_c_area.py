@@ -1,5 +1,5 @@
 """Bisector and mean of maximum, and area-based defuzzifiers over smooth output terms, in C
-(fuzzyc/backends/c_area.py) against the numpy engine (fuzzyc/defuzz.py).
+(fuzzyc/backends/c/area.py) against the numpy engine (fuzzyc/engine/defuzz.py).
 
 Each case is compiled with the strict flags (`cload.STRICT_FLAGS`, -Werror) in float and in
 double and run on 100,000 random inputs plus every edge (test_c_backend.inputs_for).
@@ -22,13 +22,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.backends.c_area import FLOAT_FLAT_TOLERANCE
-from fuzzyc.backends.cload import CController
-from fuzzyc.defuzz import GRID_POINTS, term_strengths
-from fuzzyc.engine import CompiledRuleBase, evaluate
-from fuzzyc.model import Aggregation, Defuzzifier, Implication, TermKind
-from fuzzyc.parser import parse
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.backends.c.area import FLOAT_FLAT_TOLERANCE
+from fuzzyc.backends.c.load import CController
+from fuzzyc.engine.defuzz import GRID_POINTS, term_strengths
+from fuzzyc.engine.inference import CompiledRuleBase, evaluate
+from fuzzyc.semantics.model import Aggregation, Defuzzifier, Implication, TermKind
+from fuzzyc.language.parser import parse
 
 from test_c_backend import inputs_for, variant
 
@@ -234,7 +234,7 @@ def test_c_is_exact_at_an_interior_vertical_edge(method, exact):
 @pytest.mark.parametrize("method, exact", VERTICAL_EXACT)
 def test_engine_is_exact_at_an_interior_vertical_edge(method, exact, inference):
     # without a point 1 ulp left of the edge the engine ramped M from the previous break
-    # point (2) up to it: centroid 5.0 and bisector 5.0 (fuzzyc/defuzz.py, vertical edges)
+    # point (2) up to it: centroid 5.0 and bisector 5.0 (fuzzyc/engine/defuzz.py, vertical edges)
     text = VERTICAL.replace("DEFUZZ", method).replace(
         "implication = min, aggregation = max", inference)
     model = parse(text, "v.fz")

@@ -23,11 +23,11 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c_arm import CORTEX_M, TOOLCHAIN
-from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header, io_frac
-from fuzzyc.backends.cload import STRICT_FLAGS, controller_sources
-from fuzzyc.controller import Controller
-from fuzzyc.engine import evaluate
+from fuzzyc.backends.c.arm import CORTEX_M, TOOLCHAIN
+from fuzzyc.backends.c_fixed.header import FORMATS, generate_fixed_header, io_frac
+from fuzzyc.backends.c.load import STRICT_FLAGS, controller_sources
+from fuzzyc.engine.chain import Controller
+from fuzzyc.engine.inference import evaluate
 
 from test_c_backend import FLOAT_TOLERANCE, SHIPPED, inputs_for, shipped
 from test_c_chain import BATCH, CHAIN_TOLERANCE, N_STEPS, random_sequences, run_chain

@@ -14,13 +14,13 @@ import pathlib
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.backends.cload import STRICT_FLAGS, CController
-from fuzzyc.engine import evaluate
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.backends.c.load import STRICT_FLAGS, CController
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
-from fuzzyc.model import (Aggregation, Defuzzifier, Implication, SNorm, TermKind, TNorm,
+from fuzzyc.semantics.model import (Aggregation, Defuzzifier, Implication, SNorm, TermKind, TNorm,
                           set_entries)
-from fuzzyc.parser import load
+from fuzzyc.language.parser import load
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SHIPPED = ["wedm_three_region", "wedm_corner", "milling_neurofuzzy", "edm_sink_gap"]

@@ -1,4 +1,4 @@
-"""The whole signal chain in C against `fuzzyc.controller.Controller`, and the example program
+"""The whole signal chain in C against `fuzzyc.engine.chain.Controller`, and the example program
 (examples/c/main.c) built from `fuzzyc compile` output, plain and under ASan + UBSan.
 """
 from __future__ import annotations
@@ -9,12 +9,12 @@ import subprocess
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.backends.cload import STRICT_FLAGS, CController
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.backends.c.load import STRICT_FLAGS, CController
 from fuzzyc.cli import main as cli_main
-from fuzzyc.controller import Controller
-from fuzzyc.engine import evaluate
-from fuzzyc.parser import load
+from fuzzyc.engine.chain import Controller
+from fuzzyc.engine.inference import evaluate
+from fuzzyc.language.parser import load
 
 from test_c_backend import CASES, SHIPPED, inputs_for, shipped
 

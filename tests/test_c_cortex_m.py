@@ -1,5 +1,5 @@
 """Every shipped rule base's header built for the Cortex-M it targets (float: Cortex-M4F,
-q15/q31: Cortex-M0) by arm-none-eabi-gcc at -Os with -Werror (`fuzzyc.backends.c_arm`); the
+q15/q31: Cortex-M0) by arm-none-eabi-gcc at -Os with -Werror (`fuzzyc.backends.c.arm`); the
 figures are benchmarks/bench_arm.py's.  Skipped with the reason without the cross compiler
 (Debian: gcc-arm-none-eabi, libnewlib-arm-none-eabi)."""
 from __future__ import annotations
@@ -8,9 +8,9 @@ import pathlib
 
 import pytest
 
-from fuzzyc.backends.c_arm import CORTEX_M, arm_toolchain, measure
-from fuzzyc.backends.c_proof import header_for
-from fuzzyc.parser import load
+from fuzzyc.backends.c.arm import CORTEX_M, arm_toolchain, measure
+from fuzzyc.backends.c.proof import header_for
+from fuzzyc.language.parser import load
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SHIPPED = sorted(p.name for p in (ROOT / "rulebases").glob("*.fz"))

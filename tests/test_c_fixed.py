@@ -13,17 +13,17 @@ import numpy as np
 import pytest
 import sympy
 
-from fuzzyc.backends.c_fixed import (CHAIN_ERROR_BOUND, ERROR_BOUND, FORMATS,
+from fuzzyc.backends.c_fixed.header import (CHAIN_ERROR_BOUND, ERROR_BOUND, FORMATS,
                                      chain_error_bound, derived_error_bound,
                                      generate_fixed_header, io_frac)
-from fuzzyc.backends.c_fixed_chain import const_error, drop_error
-from fuzzyc.backends.cload import compile_shared
-from fuzzyc.controller import Controller
-from fuzzyc.engine import evaluate
+from fuzzyc.backends.c_fixed.chain import const_error, drop_error
+from fuzzyc.backends.c.load import compile_shared
+from fuzzyc.engine.chain import Controller
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
-from fuzzyc.model import Aggregation, Connective, Defuzzifier, TNorm, set_entries
+from fuzzyc.semantics.model import Aggregation, Connective, Defuzzifier, TNorm, set_entries
 
-from fuzzyc.parser import load
+from fuzzyc.language.parser import load
 
 from test_c_backend import ROOT, inputs_for, shipped, variant
 

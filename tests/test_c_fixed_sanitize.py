@@ -10,8 +10,8 @@ import subprocess
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c_fixed import FORMATS, generate_fixed_header
-from fuzzyc.backends.cload import STRICT_FLAGS
+from fuzzyc.backends.c_fixed.header import FORMATS, generate_fixed_header
+from fuzzyc.backends.c.load import STRICT_FLAGS
 
 from test_c_backend import inputs_for
 from test_c_fixed import CASES, fixed_point_runner

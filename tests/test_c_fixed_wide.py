@@ -1,5 +1,5 @@
 """Wide rule bases (7 to 10 inputs) in the q15/q31 headers (issue 14): the float header's cell
-table (`fuzzyc.backends.c_cells`, a code per tuple of terms, + 1 where a rule has `*`),
+table (`fuzzyc.backends.c.cells`, a code per tuple of terms, + 1 where a rule has `*`),
 direct up to MAX_C_TABLE_CELLS cells and by binary search among the occupied cells' codes past
 that; a call visits the 2**I combinations of active terms (3 per input with `*`).  Against the
 engine at the dequantized input within the stated bound ERROR_BOUND and the derived one, on
@@ -14,11 +14,11 @@ from typing import NamedTuple
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c_fixed import (ERROR_BOUND, FORMATS, FixedPointWriter,
+from fuzzyc.backends.c_fixed.header import (ERROR_BOUND, FORMATS, FixedPointWriter,
                                      derived_error_bound, generate_fixed_header)
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
-from fuzzyc.model import Aggregation, Defuzzifier, Inference, Model, TNorm
+from fuzzyc.semantics.model import Aggregation, Defuzzifier, Inference, Model, TNorm
 
 from test_c_fixed import fixed_point_runner
 from test_engine_wide import rulebase

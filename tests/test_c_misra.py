@@ -13,7 +13,7 @@ import subprocess
 import pytest
 
 from fuzzyc.api import load
-from fuzzyc.backends.c_proof import KINDS, header_for
+from fuzzyc.backends.c.proof import KINDS, header_for
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SHIPPED = sorted((ROOT / "rulebases").glob("*.fz"))

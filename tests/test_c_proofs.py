@@ -1,4 +1,4 @@
-"""The generated C proved free of run-time errors by Frama-C's EVA (`fuzzyc.backends.c_proof`):
+"""The generated C proved free of run-time errors by Frama-C's EVA (`fuzzyc.backends.c.proof`):
 every shipped rule base in every kind (float, double, q15, q31, lookup table: 30 analyses of
 0.3-5 s, in the ordinary suite), and, marked `proofs` (`make proofs`, a minute or two), the
 C tests' corpus (the float variants of test_c_backend, the fixed-point ones of test_c_fixed)
@@ -11,7 +11,7 @@ import pathlib
 import pytest
 
 from fuzzyc.api import load
-from fuzzyc.backends.c_proof import KINDS, frama_c, header_for, prove
+from fuzzyc.backends.c.proof import KINDS, frama_c, header_for, prove
 from fuzzyc.cli import main as cli_main
 from fuzzyc.errors import FuzzycError
 
@@ -137,9 +137,9 @@ def test_a_header_searching_its_cell_codes_has_no_run_time_error():
     # 40 s of EVA); EVA first raised an alarm on the search's probe (`base + half`), now
     # clamped to the table
     import itertools
-    from fuzzyc.backends.c import HeaderWriter
-    from fuzzyc.backends.c_expr import REAL_TYPES
-    from fuzzyc.model import Defuzzifier, Inference, Model
+    from fuzzyc.backends.c.header import HeaderWriter
+    from fuzzyc.backends.c.expressions import REAL_TYPES
+    from fuzzyc.semantics.model import Defuzzifier, Inference, Model
     from test_engine_wide import rulebase
     rb = rulebase(9, 4, itertools.product(range(3), repeat=9),
                   Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))

@@ -1,5 +1,5 @@
 """Centroid, bisector and mean of maximum of SUM-aggregated MIN-implied rules in C
-(fuzzyc/backends/c_items.py) against the numpy engine (fuzzyc/defuzz.py).
+(fuzzyc/backends/c/rule_items.py) against the numpy engine (fuzzyc/engine/defuzz.py).
 
 Every rule is its own item: M(u) = sum_k min(level_k, mu_{t_k}(u)).  Hand-computed cases
 where two rules conclude the same term at different levels, then the C against the engine
@@ -16,12 +16,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.backends.c_items import fixed_points
-from fuzzyc.backends.cload import CController
-from fuzzyc.engine import evaluate
-from fuzzyc.model import Aggregation, Defuzzifier, Implication
-from fuzzyc.parser import parse
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.backends.c.rule_items import fixed_points
+from fuzzyc.backends.c.load import CController
+from fuzzyc.engine.inference import evaluate
+from fuzzyc.semantics.model import Aggregation, Defuzzifier, Implication
+from fuzzyc.language.parser import parse
 
 from test_c_area import check_against_engine, smooth_outputs
 from test_c_backend import general_dense, inputs_for, variant

@@ -117,7 +117,7 @@ def test_simulate_command_writes_the_same_files_in_chunks(tmp_path, scheduler):
 
 
 def test_the_c_back_end_in_chunks_writes_the_same_files(tmp_path):
-    pytest.importorskip("fuzzyc.backends.cload", reason="the C back end needs a C compiler")
+    pytest.importorskip("fuzzyc.backends.c.load", reason="the C back end needs a C compiler")
     plain = _simulate_cli(tmp_path / "plain", "--backend", "c")
     split = _simulate_cli(tmp_path / "split", "--backend", "c", "--chunk", "8")
     for name in ("summary.json", "trace.csv"):
@@ -137,7 +137,7 @@ def test_workers_without_dask_is_a_clear_error(monkeypatch, tmp_path, capsys):
 def _edm_faults():
     """The shipped EDM sinking servo's closed-loop property with sensor faults: 20 drawn
     cases, some of which break it (tests/test_verify_disturbances.py)."""
-    from fuzzyc.parser import load as load_model
+    from fuzzyc.language.parser import load as load_model
     model = load_model(f"{ROOT}/rulebases/edm_sink_gap.fz")
     model.properties = [p for p in model.properties
                         if p.kind == "closed_loop" and p.args["faults"]]

@@ -171,7 +171,7 @@ def forbid(monkeypatch, target: str) -> None:
 
 # (argv with OUT for the unwritable path, the work that must not start)
 WRITERS = [
-    (["compile", "{base}", "-o", "OUT"], "fuzzyc.backends.c.generate_header"),
+    (["compile", "{base}", "-o", "OUT"], "fuzzyc.backends.c.header.generate_header"),
     (["plot", "{base}", "-o", "OUT"], "fuzzyc.plotting.plot_model"),
     (["simulate", "--scenario", "wedm_finish", "-o", "OUT"], "fuzzyc.runtime.simulate.simulate"),
     (["verify", "{base}", "--report", "OUT"], "fuzzyc.verifier.verify_model"),

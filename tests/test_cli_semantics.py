@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fuzzyc.cli import main
-from fuzzyc.controller import Controller
+from fuzzyc.engine.chain import Controller
 from fuzzyc.formats import read_fll
 from test_formats_tool_dialects import RAMP_FLL
 

@@ -5,9 +5,9 @@ import numpy as np
 import pytest
 import sympy
 
-from fuzzyc.controller import Controller
-from fuzzyc.expr import evaluate_expr
-from fuzzyc.model import (Defuzzifier, Model, Op, Output, OutputKind, Param, Signal, Step)
+from fuzzyc.engine.chain import Controller
+from fuzzyc.engine.expressions import evaluate_expr
+from fuzzyc.semantics.model import (Defuzzifier, Model, Op, Output, OutputKind, Param, Signal, Step)
 from test_engine_core import rulebase, var
 
 x, e, du, G = sympy.symbols("x e du G")

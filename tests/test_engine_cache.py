@@ -7,8 +7,8 @@ import weakref
 import numpy as np
 import pytest
 
-from fuzzyc.engine import CACHE_SIZE, compiled, evaluate
-from fuzzyc.model import Connective, Defuzzifier, set_entries
+from fuzzyc.engine.inference import CACHE_SIZE, compiled, evaluate
+from fuzzyc.semantics.model import Connective, Defuzzifier, set_entries
 
 from test_engine_core import rulebase, var
 

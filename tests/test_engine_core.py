@@ -4,10 +4,10 @@ import math
 import numpy as np
 import pytest
 
-from fuzzyc.defuzz import GRID_POINTS, OutputDefuzzifier
-from fuzzyc.engine import CompiledRuleBase, activations, evaluate, evaluate_one, explain
-from fuzzyc.membership import memberships, term_values
-from fuzzyc.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
+from fuzzyc.engine.defuzz import GRID_POINTS, OutputDefuzzifier
+from fuzzyc.engine.inference import CompiledRuleBase, activations, evaluate, evaluate_one, explain
+from fuzzyc.engine.membership import memberships, term_values
+from fuzzyc.semantics.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
                           RuleBase, SNorm, TermKind, TNorm, Variable)
 
 INF = math.inf
@@ -327,7 +327,7 @@ def test_shipped_wedm_rule_base_equals_the_plain_baseline():
     root = pathlib.Path(__file__).resolve().parents[1]
     sys.path.insert(0, str(root / "benchmarks"))
     from dense_numpy_wedm import evaluate as baseline
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     rb = load(root / "rulebases" / "wedm_three_region.fz").rulebase
     x = np.random.default_rng(5).uniform(-1, 1, (2000, 3))
     np.testing.assert_allclose(evaluate(rb, x), baseline(x), rtol=0, atol=1e-12)
@@ -355,7 +355,7 @@ RECTANGLES = """controller rect {
 def test_rectangle_output_terms(method, expected):
     """Output terms with only vertical edges: no sloped line meets a clip level (this once
     stacked an empty list of candidate points)."""
-    from fuzzyc.parser import parse
+    from fuzzyc.language.parser import parse
     rb = parse(RECTANGLES.replace("METHOD", method), "rect.fz").rulebase
     assert evaluate(rb, np.array([[0.25]]))[0, 0] == pytest.approx(expected, abs=1e-12)
 

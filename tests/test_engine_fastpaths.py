@@ -6,11 +6,11 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fuzzyc.centroid import ClosedFormCentroid
-from fuzzyc.defuzz import OutputDefuzzifier
-from fuzzyc.engine import CompiledRuleBase
-from fuzzyc.membership import memberships
-from fuzzyc.model import Aggregation, Defuzzifier, Implication, Inference, TNorm
+from fuzzyc.engine.centroid import ClosedFormCentroid
+from fuzzyc.engine.defuzz import OutputDefuzzifier
+from fuzzyc.engine.inference import CompiledRuleBase
+from fuzzyc.engine.membership import memberships
+from fuzzyc.semantics.model import Aggregation, Defuzzifier, Implication, Inference, TNorm
 from test_engine_core import (LABELS5, SINGLE_OUT, TRI_OUT, random_inputs, uniform, var,
                               wedm_like)
 
@@ -187,7 +187,7 @@ def test_uniform_partitions_share_their_knots_exactly():
     # -0.33333333333333343, -0.3333333333333337 and -0.3333333333333331 in three terms, and the
     # 1-ulp slivers between them (three positive terms) turned the two-terms path off.
     from pathlib import Path
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     model = load(Path(__file__).parents[1] / "rulebases" / "milling_neurofuzzy.fz")
     for v in model.rulebase.inputs:
         p = np.asarray(v.params)

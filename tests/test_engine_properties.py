@@ -3,8 +3,8 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fuzzyc.engine import evaluate
-from fuzzyc.model import Aggregation, Defuzzifier, Implication, RuleBase, TNorm
+from fuzzyc.engine.inference import evaluate
+from fuzzyc.semantics.model import Aggregation, Defuzzifier, Implication, RuleBase, TNorm
 from test_engine_core import SINGLE_OUT, TRI_OUT, wedm_like
 
 finite = st.floats(-5, 5, allow_nan=False)

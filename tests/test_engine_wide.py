@@ -12,14 +12,14 @@ import itertools
 import numpy as np
 import pytest
 
-from fuzzyc import grid
-from fuzzyc.backends.c import HeaderWriter
-from fuzzyc.backends.c_expr import REAL_TYPES
-from fuzzyc.backends.cload import CController
-from fuzzyc.builder import RuleSpec, assemble_rulebase
-from fuzzyc.defuzz import term_strengths
-from fuzzyc.engine import MAX_LOOKUP_CELLS, CompiledRuleBase, evaluate
-from fuzzyc.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
+from fuzzyc.engine import strength_grid as grid
+from fuzzyc.backends.c.header import HeaderWriter
+from fuzzyc.backends.c.expressions import REAL_TYPES
+from fuzzyc.backends.c.load import CController
+from fuzzyc.language.builder import RuleSpec, assemble_rulebase
+from fuzzyc.engine.defuzz import term_strengths
+from fuzzyc.engine.inference import MAX_LOOKUP_CELLS, CompiledRuleBase, evaluate
+from fuzzyc.semantics.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
                           Model, SourceLoc, TermKind, TNorm, Variable)
 
 LOC = SourceLoc("wide", 0, 0)
@@ -170,7 +170,7 @@ def test_c_header_takes_the_cell_table(n_in, n_terms, sorted_codes):
     # issue 14: past 6 inputs the header looped over every rule (4.1 us per call at 7 inputs,
     # 14 us at 8, 42 us at 9). The cell table has a code per tuple of terms, 3**I for I inputs
     # of 3 terms (a slot without a term reads term 0 at membership 0): direct up to 10 inputs
-    # (59,049 cells, within fuzzyc.limits.MAX_C_TABLE_CELLS). 9 inputs of 4 terms (262,144
+    # (59,049 cells, within fuzzyc.language.limits.MAX_C_TABLE_CELLS). 9 inputs of 4 terms (262,144
     # cells) with rules on 3 of them keep the 3**9 = 19,683 occupied cells' codes and find a
     # tuple's row by binary search. A call visits the 2**I active term tuples either way; the
     # points include NaN and the outer break points (one term active) and every peak.

@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 from fuzzyc.cli import main
-from fuzzyc.parser import load
+from fuzzyc.language.parser import load
 
 WEDM = str(Path(__file__).resolve().parents[1] / "rulebases" / "wedm_three_region.fz")
 

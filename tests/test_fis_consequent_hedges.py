@@ -11,9 +11,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import check_supported
+from fuzzyc.backends.c.header import check_supported
 from fuzzyc.conformance import oracles
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fis, write_fcl, write_fis, write_fll
 from fuzzyc.formats.tool_semantics import evaluate_as, exact_equivalent

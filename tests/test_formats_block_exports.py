@@ -16,7 +16,7 @@ from fuzzyc.conformance.roundtrip import round_trip
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import READERS, WRITERS, load_any, read_fll
 from fuzzyc.formats.tool_semantics import Chain
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 from test_rule_blocks import CHAIN, M
 
 EXAMPLES = Path("/usr/share/doc/fuzzylite/examples")

@@ -11,7 +11,7 @@ import pytest
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fcl, read_fll
 from fuzzyc.formats.tool_semantics import Chain
-from fuzzyc.model import Defuzzifier
+from fuzzyc.semantics.model import Defuzzifier
 
 # x = 0.25: low = 1 - x = 0.75, high = x = 0.25.
 # y: max(min(0.75, a), min(0.25, b)) = 0.75 on [0, 0.5], 0.25 on (0.5, 1]; centroid

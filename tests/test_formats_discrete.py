@@ -5,13 +5,13 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import check_supported
-from fuzzyc.engine import evaluate
+from fuzzyc.backends.c.header import check_supported
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fcl, read_fis, read_fll, write_fcl, write_fis, write_fll, write_fz
-from fuzzyc.membership import memberships
-from fuzzyc.model import TermKind
-from fuzzyc.parser import parse
+from fuzzyc.engine.membership import memberships
+from fuzzyc.semantics.model import TermKind
+from fuzzyc.language.parser import parse
 
 # input x: p = (0, 0) (1, 1) (3, 0.5); output y on [0, 4]: d = (0, 1) (2, 1) (4, 0)
 DISCRETE_FLL = """Engine: discrete

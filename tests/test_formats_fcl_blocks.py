@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from fuzzyc.cli import main
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import load_any, read_fcl, split_block
 

@@ -9,11 +9,11 @@ import numpy as np
 import pytest
 
 from fuzzyc.cli import main
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import load_any, read_fis, save, write_fis
-from fuzzyc.model import Defuzzifier, TNorm
-from fuzzyc.parser import parse
+from fuzzyc.semantics.model import Defuzzifier, TNorm
+from fuzzyc.language.parser import parse
 
 ROOT = Path(__file__).parent.parent
 CORPUS = Path(__file__).parent / "format_corpus"

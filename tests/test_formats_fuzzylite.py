@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.formats import load_any, read_fll, write_fll
 from fuzzyc.formats.fuzzylite_compat import evaluate_sampled
 

@@ -8,10 +8,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fll, write_fcl, write_fll
-from fuzzyc.model import CondOp
+from fuzzyc.semantics.model import CondOp
 
 # x = 0.5: a = x = 0.5, not a = 0.5.
 # y: rule 1 `very hi` fires 0.5^2 = 0.25, rule 2 `lo` 0.5: y = (0.25 * 1 + 0.5 * 0) / 0.75 = 1/3.

@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.formats import load_any
 from fuzzyc.formats.fuzzylite_compat import evaluate_sampled
-from fuzzyc.model import Defuzzifier, Hedge, SNorm, TermKind, TNorm
+from fuzzyc.semantics.model import Defuzzifier, Hedge, SNorm, TermKind, TNorm
 
 CORPUS = Path(__file__).parent / "format_corpus"
 INF = math.inf

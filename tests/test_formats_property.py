@@ -9,15 +9,15 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fuzzyc.builder import RuleSpec
+from fuzzyc.language.builder import RuleSpec
 from fuzzyc.errors import Reporter
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.formats import (read_fcl, read_fis, read_fll, write_fcl, write_fis, write_fll,
                             write_fz)
 from fuzzyc.formats.common import Collected, TermSpec, VarSpec
-from fuzzyc.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
+from fuzzyc.semantics.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference,
                           SNorm, TermKind, TNorm)
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 
 from test_formats_roundtrip import same_rulebase, same_rulebase_fis
 

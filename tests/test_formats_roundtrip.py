@@ -10,12 +10,12 @@ import numpy as np
 import pytest
 
 from fuzzyc.cli import main
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import WRITERS, load_any, read_fcl, read_fis, read_fll, save
-from fuzzyc.membership import memberships
-from fuzzyc.model import TermKind
-from fuzzyc.parser import parse
+from fuzzyc.engine.membership import memberships
+from fuzzyc.semantics.model import TermKind
+from fuzzyc.language.parser import parse
 
 ROOT = Path(__file__).parent.parent
 RULEBASES = sorted((ROOT / "rulebases").glob("*.fz"))

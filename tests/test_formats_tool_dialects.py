@@ -8,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import check_supported
-from fuzzyc.engine import evaluate
+from fuzzyc.backends.c.header import check_supported
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fcl, read_fis, read_fll
 from fuzzyc.formats.fcl import write_fcl
@@ -17,9 +17,9 @@ from fuzzyc.formats.fll import write_fll
 from fuzzyc.formats.fuzzylite_compat import Sampling, evaluate_sampled
 from fuzzyc.formats.fz import write_fz
 from fuzzyc.formats.tool_semantics import evaluate_as
-from fuzzyc.membership import term_values
-from fuzzyc.model import Defuzzifier, Hedge, TermKind, TNorm
-from fuzzyc.parser import parse
+from fuzzyc.engine.membership import term_values
+from fuzzyc.semantics.model import Defuzzifier, Hedge, TermKind, TNorm
+from fuzzyc.language.parser import parse
 
 S1 = 1.0 / (1.0 + math.exp(-1.0))     # the logistic at 1: 0.7310585786...
 
@@ -155,7 +155,7 @@ def test_fcl_tsukamoto_is_refused_with_its_place_and_nc_is_lock_previous():
     with pytest.raises(FuzzycError) as err:
         read_fcl(tsukamoto, "t.fcl")
     assert "t.fcl:19:8" in str(err.value) and "Tsukamoto" in str(err.value)
-    # `nan | NC`: fuzzylite's lock-previous (the output holds its value; fuzzyc.ordered)
+    # `nan | NC`: fuzzylite's lock-previous (the output holds its value; fuzzyc.engine.held_outputs)
     locked = read_fcl(FUZZYLITE_FCL.replace("DEFAULT := nan;", "DEFAULT := nan | NC;"), "l.fcl")
     assert [v.lock_previous for v in locked.rulebase.outputs] == [True]
     assert not any(v.lock_previous for v in read_fcl(FUZZYLITE_FCL, "f.fcl").rulebase.outputs)

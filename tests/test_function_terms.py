@@ -10,13 +10,13 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from fuzzyc.backends.c import check_supported
-from fuzzyc.controller import Controller
-from fuzzyc.engine import evaluate
+from fuzzyc.backends.c.header import check_supported
+from fuzzyc.engine.chain import Controller
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import READERS, WRITERS
 from fuzzyc.formats.tool_semantics import Chain
-from fuzzyc.formula import Formula, FormulaError, parse_formula
+from fuzzyc.engine.formula import Formula, FormulaError, parse_formula
 from fuzzyc.verifier.reach.rulebase import unsupported
 
 # fuzzylite 6's approximation example (takagi-sugeno/approximation.fll), cut to three terms:

@@ -67,7 +67,7 @@ def test_what_the_generators_found_is_a_located_message(argv, where, tmp_path):
 
 
 def test_a_rule_file_past_the_size_limit_is_refused_at_a_place(tmp_path):
-    from fuzzyc.limits import MAX_SOURCE_BYTES
+    from fuzzyc.language.limits import MAX_SOURCE_BYTES
     path = tmp_path / "big.fll"
     path.write_text("Engine: x\n#" + "x" * MAX_SOURCE_BYTES)
     run = run_in_process(["check", str(path)], 60.0)
@@ -77,7 +77,7 @@ def test_a_rule_file_past_the_size_limit_is_refused_at_a_place(tmp_path):
 
 def test_a_huge_worker_count_is_a_usage_error(capsys):
     # found by gen-cli: a cluster of 99999999999 workers ran out of memory; now argparse
-    # refuses it (fuzzyc.limits.MAX_WORKERS = 64) before anything starts
+    # refuses it (fuzzyc.language.limits.MAX_WORKERS = 64) before anything starts
     from fuzzyc.cli import build_parser
     with pytest.raises(SystemExit):
         build_parser().parse_args(["simulate", "rulebases/wedm_corner.fz", "--scenario",

@@ -56,7 +56,7 @@ def test_the_c_back_end_takes_the_same_actions(gym):
     # the compiled controller (float32) against the same three environments: its force is
     # the engine's within float32 rounding, never on the other side of 0, so every action
     # and the whole trajectory are the same
-    pytest.importorskip("fuzzyc.backends.cload")
+    pytest.importorskip("fuzzyc.backends.c.load")
     import shutil
     if shutil.which("gcc") is None:
         pytest.skip("no C compiler")

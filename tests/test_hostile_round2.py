@@ -1,6 +1,6 @@
 """Hostile input, round 2: each case used to end in exit 70 with a traceback (or read a number
 C reads differently). Now each is exit 2 with a clear, located message, and no traceback;
-numbers from user text have one syntax (fuzzyc.numbers), the one the C example's strtod reads;
+numbers from user text have one syntax (fuzzyc.language.numbers), the one the C example's strtod reads;
 the Python API takes real numbers only."""
 
 import math
@@ -16,8 +16,8 @@ from conftest import ROOT
 from fuzzyc.cli import main
 from fuzzyc.cli.simulate import parse_sets
 from fuzzyc.errors import FuzzycError
-from fuzzyc.limits import MAX_BATCH, MAX_HEDGES, MAX_NESTING
-from fuzzyc.numbers import parse_number
+from fuzzyc.language.limits import MAX_BATCH, MAX_HEDGES, MAX_NESTING
+from fuzzyc.language.numbers import parse_number
 
 CORPUS = ROOT / "tests" / "format_corpus"
 FLL = (CORPUS / "tipper.fll").read_text()
@@ -59,7 +59,7 @@ def test_a_rule_in_250_parentheses_is_a_located_error(tmp_path, capsys, fmt, sou
     # the caret stands where the group nested 201 deep starts, just inside its `(`
     column = source.splitlines()[line - 1].index(rule.split()[0]) + 1 + len("IF ") + 201
     assert head == (f"{path}:{line}:{column}: error: a rule condition nested more than "
-                    f"{MAX_NESTING} parentheses deep (fuzzyc.limits.MAX_NESTING); write it with "
+                    f"{MAX_NESTING} parentheses deep (fuzzyc.language.limits.MAX_NESTING); write it with "
                     "fewer, or as several rules")
 
 
@@ -85,7 +85,7 @@ def test_a_clause_with_1000_hedges_is_a_located_error(tmp_path, capsys):
     # at the first hedge past the limit
     column = len("  rule: if service is ") + len("very ") * MAX_HEDGES + 1
     assert err.splitlines()[0] == (f"{path}:38:{column}: error: 1000 hedges on one clause: at "
-                                   f"most {MAX_HEDGES} (fuzzyc.limits.MAX_HEDGES)")
+                                   f"most {MAX_HEDGES} (fuzzyc.language.limits.MAX_HEDGES)")
 
 
 def test_hedges_at_the_limit_read_and_conclusions_carry_at_most_the_limit(tmp_path, capsys):

@@ -9,7 +9,7 @@ import pytest
 from fuzzyc.cli import main
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import load_any
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 
 BASE = """\
 controller demo {

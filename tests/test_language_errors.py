@@ -5,7 +5,7 @@ import pytest
 
 from fuzzyc.cli import main
 from fuzzyc.errors import FuzzycError
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 
 BASE = """\
 controller demo {

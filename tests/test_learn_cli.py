@@ -4,7 +4,7 @@ from pathlib import Path
 import numpy as np
 
 from fuzzyc.cli import main
-from fuzzyc.parser import load
+from fuzzyc.language.parser import load
 
 RULES = Path(__file__).resolve().parents[1] / "rulebases"
 

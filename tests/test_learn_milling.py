@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from fuzzyc.learn import Learner, learn_scenario, provenance, run_cycle, trained_text
-from fuzzyc.parser import load, parse
+from fuzzyc.language.parser import load, parse
 from fuzzyc.plants import milling, scenario
 from fuzzyc.runtime.simulate import load_controller
 

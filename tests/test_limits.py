@@ -1,4 +1,4 @@
-"""The stated limits (fuzzyc.limits) at the limit and one past it, and the regressions of issue
+"""The stated limits (fuzzyc.language.limits) at the limit and one past it, and the regressions of issue
 13's "limits and numbers": each case is the issue's own."""
 from __future__ import annotations
 
@@ -8,13 +8,14 @@ import shutil
 import numpy as np
 import pytest
 
-from fuzzyc import engine, limits
+from fuzzyc.engine import inference as engine
+from fuzzyc.language import limits
 from fuzzyc.cli import compile as cli_compile
 from fuzzyc.cli import main
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import load_any
-from fuzzyc.model import ACTIVATION_FLOOR, SourceLoc
-from fuzzyc.parser import parse
+from fuzzyc.semantics.model import ACTIVATION_FLOOR, SourceLoc
+from fuzzyc.language.parser import parse
 from conftest import ROOT
 
 needs_gcc = pytest.mark.skipif(shutil.which("gcc") is None, reason="needs gcc")
@@ -186,7 +187,7 @@ def test_issue_no_output_statement_compiles(tmp_path, capsys):
 
 @needs_gcc
 def test_a_header_gcc_rejects_never_lands(tmp_path, monkeypatch, capsys):
-    from fuzzyc.backends import c
+    from fuzzyc.backends.c import header as c
     path = tmp_path / "c.fz"
     path.write_text(controller())
     out = tmp_path / "out"
@@ -229,9 +230,9 @@ def test_float_cell_table_at_the_limit_and_past_it(n_terms, direct):
     by the cell code; 17^4 = 83521 past it: the header keeps the 2 occupied cells' codes and
     searches them; it agrees with the engine either way (past MAX_C_TABLE_CELLS occupied
     cells it loops over every rule: tests/test_engine_wide.py)."""
-    from fuzzyc.backends.c import HeaderWriter
-    from fuzzyc.backends.c_expr import REAL_TYPES
-    from fuzzyc.backends.cload import CController
+    from fuzzyc.backends.c.header import HeaderWriter
+    from fuzzyc.backends.c.expressions import REAL_TYPES
+    from fuzzyc.backends.c.load import CController
     model = parse(_table_file(4, n_terms))
     writer = HeaderWriter(model, REAL_TYPES["double"])
     assert writer.sparse and (writer.cells.codes is None) is direct
@@ -249,7 +250,7 @@ def test_fixed_cell_table_at_the_limit_and_past_it(n_terms, direct):
     (xq = round(32767 / 15) = 2184, round(32767 / 16) = 2048) rule 2 (all T1 -> B = 1)
     fires at about 1 and rule 1 at the T0 membership left there (1 - 15 * 2184 / 32767 =
     2.1e-4 at 16 terms): the engine's y, within the stated bound 2^-11 (16 LSB)."""
-    from fuzzyc.backends.c_fixed import FixedPointWriter
+    from fuzzyc.backends.c_fixed.header import FixedPointWriter
     from test_c_fixed import fixed_point_runner
     model = parse(_table_file(4, n_terms))
     cells = FixedPointWriter(model, "q15").tables.cells
@@ -267,7 +268,7 @@ def test_fixed_cell_table_at_the_limit_and_past_it(n_terms, direct):
     # 2 slots per input: 2^17 = 131072 combinations a call, past MAX_C_SLOT_COMBINATIONS
     (17, 2, "131072 per call, at most 65536")])
 def test_fixed_header_past_its_limits_says_which(n_inputs, n_terms, words):
-    from fuzzyc.backends.c_fixed import generate_fixed_header
+    from fuzzyc.backends.c_fixed.header import generate_fixed_header
     with pytest.raises(FuzzycError, match=words):
         generate_fixed_header(parse(_table_file(n_inputs, n_terms)), "q15")
 
@@ -275,7 +276,7 @@ def test_fixed_header_past_its_limits_says_which(n_inputs, n_terms, words):
 def test_fixed_header_at_the_combination_limit():
     # 16 inputs of 2 terms: 2^16 = 65536 = MAX_C_SLOT_COMBINATIONS combinations, and 2^16
     # codes: a direct table
-    from fuzzyc.backends.c_fixed import FixedPointWriter
+    from fuzzyc.backends.c_fixed.header import FixedPointWriter
     tables = FixedPointWriter(parse(_table_file(16, 2)), "q15").tables
     assert tables.combos == 65536 and tables.cells.codes is None
 
@@ -328,7 +329,7 @@ def test_issue_float_header_agrees_with_the_engine_far_outside_the_range():
     0.5 * probor(0, bell(y)) with bell(1e30) = 1/(1 + (2e30)^4) ~ 6e-122 < ACTIVATION_FLOOR: no
     rule fires, both give the default 5 (the float header could not hold 6e-122: it gave 5 while
     the engine said 8)."""
-    from fuzzyc.backends.cload import CController
+    from fuzzyc.backends.c.load import CController
     model = load_any(f"{ROOT}/tests/format_corpus/sugeno.fis")
     x = np.array([[-3.0, 1e30], [-3.0, -1e30], [0.5, 1e30]])
     expected = [[5.0], [5.0], [8.0]]          # x = 0.5: rule 2 at 0.5 * probor(0.5, ~0) -> b = 8
@@ -370,7 +371,7 @@ def test_float_header_is_as_accurate_at_the_magnitude_limits_as_at_scale_one(sca
     """The exact centroid (cubes of u over the output's range) in float: measured 1.1e-7,
     1.0e-7 and 1.3e-7 of the range at 1e12, 1e-12 and 1; overflow or denormals would be far
     off (inf, NaN or the default)."""
-    from fuzzyc.backends.cload import CController
+    from fuzzyc.backends.c.load import CController
     model = parse(_scaled_file(scale))
     x = np.linspace(-scale, scale, 101)[:, None]
     error = np.abs(CController(model, numeric="float").evaluate(x)

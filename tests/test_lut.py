@@ -8,11 +8,11 @@ import pathlib
 import numpy as np
 import pytest
 
-from fuzzyc.backends.cload import compile_shared
+from fuzzyc.backends.c.load import compile_shared
 from fuzzyc.backends.lut import LookupTable, generate_lut_header
 from fuzzyc.cli import main as cli_main
-from fuzzyc.engine import evaluate
-from fuzzyc.parser import load
+from fuzzyc.engine.inference import evaluate
+from fuzzyc.language.parser import load
 
 from test_c_backend import shipped
 

@@ -83,7 +83,7 @@ def test_verifier_overshoot_uses_the_same_excess_past_the_final_value():
     """`overshoot y below X` (temporal.py): the final value (mean of the last 10 %: here the
     last sample of 10, 1.0) stands in for the target. Rising 0 -> 1.4 -> 1: 0.4; falling
     3 -> 0.8 -> 1: 0.2 below the final value (the start above it is not an overshoot)."""
-    from fuzzyc.model import Property
+    from fuzzyc.semantics.model import Property
     from fuzzyc.verifier.temporal import evaluate
     t = np.arange(10.0)
     up = [0, 0.5, 1.4, 1.2, 1, 1, 1, 1, 1, 1]

@@ -10,17 +10,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import check_supported
-from fuzzyc.engine import activations, compiled, evaluate, evaluate_one
+from fuzzyc.backends.c.header import check_supported
+from fuzzyc.engine.inference import activations, compiled, evaluate, evaluate_one
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import load_any, read_fll
 from fuzzyc.formats.fll import SNORMS, TNORMS, write_fll
 from fuzzyc.formats.fuzzylite_compat import evaluate_sampled
 from fuzzyc.formats.fz import write_fz
-from fuzzyc.membership import apply_hedges, term_values
-from fuzzyc.model import Hedge, SNorm, TermKind, TNorm
-from fuzzyc.norms import S_NORMS, T_NORMS
-from fuzzyc.parser import parse
+from fuzzyc.engine.membership import apply_hedges, term_values
+from fuzzyc.semantics.model import Hedge, SNorm, TermKind, TNorm
+from fuzzyc.engine.norms import S_NORMS, T_NORMS
+from fuzzyc.language.parser import parse
 
 CORPUS = Path(__file__).parent / "format_corpus"
 

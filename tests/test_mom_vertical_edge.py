@@ -5,9 +5,9 @@ The C headers counted the peaks; now both do, and both give the hand-computed va
 import numpy as np
 import pytest
 
-from fuzzyc.backends.cload import CController
-from fuzzyc.engine import evaluate
-from fuzzyc.parser import parse
+from fuzzyc.backends.c.load import CController
+from fuzzyc.engine.inference import evaluate
+from fuzzyc.language.parser import parse
 
 SOURCE = """controller mom {
   input x in [0, 10]

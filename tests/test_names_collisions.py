@@ -21,16 +21,16 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.backends.cload import CController
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.backends.c.load import CController
 from fuzzyc.cli import main
-from fuzzyc.controller import Controller
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.chain import Controller
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fis, read_fll, write_fis, write_fll, write_fz
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 
-GRAMMAR = Path(__file__).resolve().parents[1] / "fuzzyc" / "grammar" / "fuzzyc.lark"
+GRAMMAR = Path(__file__).resolve().parents[1] / "fuzzyc" / "language" / "grammar" / "fuzzyc.lark"
 FZ_WORDS = set(re.findall(r'"([A-Za-z_][A-Za-z0-9_]*)"', GRAMMAR.read_text()))
 C_KEYWORDS = ["int", "return", "default", "float", "double", "static", "const", "struct",
               "void", "char", "while", "switch", "case", "unsigned", "inline", "goto", "sizeof",

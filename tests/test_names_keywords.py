@@ -13,10 +13,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from fuzzyc.cli import main
-from fuzzyc.engine import activations, evaluate
+from fuzzyc.engine.inference import activations, evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fll, write_fz
-from fuzzyc.parser import keywords, parse
+from fuzzyc.language.parser import keywords, parse
 
 SINGLETON_AVERAGE = ("inference and = min, or = max, implication = min, aggregation = max, "
                      "defuzzify = weighted_average")

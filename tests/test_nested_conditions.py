@@ -10,22 +10,22 @@ import subprocess
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.backends.c_fixed import generate_fixed_header
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.backends.c_fixed.header import generate_fixed_header
 from fuzzyc.backends.lut import LookupTable
-from fuzzyc.conditions import Cond, premise
-from fuzzyc.engine import activations, evaluate
+from fuzzyc.language.conditions import Cond, premise
+from fuzzyc.engine.inference import activations, evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fcl, read_fll
 from fuzzyc.formats.fcl import write_fcl
 from fuzzyc.formats.fis import write_fis
 from fuzzyc.formats.fll import write_fll
 from fuzzyc.formats.fz import write_fz
-from fuzzyc.model import CondOp, Connective, Hedge
-from fuzzyc.parser import parse
+from fuzzyc.semantics.model import CondOp, Connective, Hedge
+from fuzzyc.language.parser import parse
 from fuzzyc.verifier.result import Status
 from fuzzyc.verifier.runner import Options, check_property
-from fuzzyc.model import Property
+from fuzzyc.semantics.model import Property
 
 # Three inputs on [0, 1], L = tri(-1, 0, 1) = 1 - x and H = tri(0, 1, 2) = x there.
 FZ = """controller nested {

@@ -8,7 +8,7 @@ import pytest
 from matplotlib.collections import LineCollection
 
 from fuzzyc.cli import main
-from fuzzyc.parser import load
+from fuzzyc.language.parser import load
 from fuzzyc.plotting import draw_signal_surface, draw_variable, raw_surface
 from fuzzyc.ruleview import DEFUZZIFIED_COLOUR, draw_rule_view
 from fuzzyc.runtime.plots import draw_runs

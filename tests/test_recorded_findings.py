@@ -8,7 +8,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.parser import load
+from fuzzyc.language.parser import load
 from fuzzyc.verifier import Options, Status, verify_model
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.controller import Controller
-from fuzzyc.engine import evaluate
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.engine.chain import Controller
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import read_fcl, read_fll
 from fuzzyc.formats.fcl import write_fcl
@@ -20,8 +20,8 @@ from fuzzyc.formats.fis import write_fis
 from fuzzyc.formats.fll import write_fll
 from fuzzyc.formats.fuzzylite_compat import evaluate_sampled
 from fuzzyc.formats.fz import write_fz
-from fuzzyc.model import Aggregation, Defuzzifier, TNorm
-from fuzzyc.parser import parse
+from fuzzyc.semantics.model import Aggregation, Defuzzifier, TNorm
+from fuzzyc.language.parser import parse
 from fuzzyc.verifier.runner import verify_model
 
 # L = tri(-1, 0, 1) = 1 - x and H = tri(0, 1, 2) = x on [0, 1].

@@ -9,9 +9,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.controller import Controller
-from fuzzyc.engine import evaluate, explain
-from fuzzyc.parser import load, parse
+from fuzzyc.engine.chain import Controller
+from fuzzyc.engine.inference import evaluate, explain
+from fuzzyc.language.parser import load, parse
 
 RULEBASES = Path(__file__).resolve().parents[1] / "rulebases"
 

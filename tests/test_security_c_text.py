@@ -23,9 +23,11 @@ import sympy
 
 from conftest import ROOT
 from fuzzyc.api import compile_c, compile_lut
-from fuzzyc.backends import c as c_float, c_fixed, lut as c_lut
-from fuzzyc.backends.c_guard import checked_header
-from fuzzyc.backends.cload import STRICT_FLAGS
+from fuzzyc.backends import lut as c_lut
+from fuzzyc.backends.c import header as c_float
+from fuzzyc.backends.c_fixed import header as c_fixed
+from fuzzyc.backends.c.guard import checked_header
+from fuzzyc.backends.c.load import STRICT_FLAGS
 from fuzzyc.cli import main as cli_main
 from fuzzyc.errors import FuzzycError
 from fuzzyc.escape import c_comment

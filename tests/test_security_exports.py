@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, assume, given, settings, strategies as st
 
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.escape import SAFE_NAME
 from fuzzyc.formats import load_any, save

@@ -14,7 +14,7 @@ import pytest
 
 from fuzzyc.atomic import save_figure, write_text
 from fuzzyc.cli import main as cli_main
-from fuzzyc.engine import evaluate
+from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
 from fuzzyc.escape import OutputFolder
 from fuzzyc.formats import load_any
@@ -130,7 +130,7 @@ def cache(tmp_path, monkeypatch) -> Path:
 @needs_gcc
 @pytest.mark.parametrize("why", ["writable by others", "another owner"])
 def test_a_planted_library_is_never_loaded(tmp_path, cache, why):
-    from fuzzyc.backends.cload import CController, controller_sources, library_path
+    from fuzzyc.backends.c.load import CController, controller_sources, library_path
     model = small_model(tmp_path)
     target = library_path(controller_sources(model, "float"), "shim.c")
     assert target.parent == cache and mode(cache) == 0o700
@@ -154,7 +154,7 @@ def test_a_planted_library_is_never_loaded(tmp_path, cache, why):
 @needs_gcc
 def test_the_users_own_library_is_reused(tmp_path, cache):
     # The other side of the check: a private file of the user's is what the cache returns.
-    from fuzzyc.backends.cload import compile_shared, controller_sources, library_path
+    from fuzzyc.backends.c.load import compile_shared, controller_sources, library_path
     sources = controller_sources(small_model(tmp_path), "float")
     target = library_path(sources, "shim.c")
     plant(target, tmp_path / "marker")
@@ -164,7 +164,7 @@ def test_the_users_own_library_is_reused(tmp_path, cache):
 
 
 def test_a_shared_cache_folder_is_refused(tmp_path, cache):
-    from fuzzyc.backends.cload import cache_dir
+    from fuzzyc.backends.c.load import cache_dir
     cache.mkdir()
     os.chmod(cache, 0o777)
     with pytest.raises(FuzzycError, match=r"is writable by others \(mode 0777\)"):
@@ -177,7 +177,7 @@ def test_a_shared_cache_folder_is_refused(tmp_path, cache):
 
 
 def test_the_default_cache_is_per_user(tmp_path, monkeypatch):
-    from fuzzyc.backends.cload import cache_dir
+    from fuzzyc.backends.c.load import cache_dir
     monkeypatch.delenv("FUZZYC_CACHE", raising=False)
     monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
     assert cache_dir() == tmp_path / "xdg" / "fuzzyc" and mode(cache_dir()) == 0o700

@@ -12,8 +12,8 @@ import subprocess
 import pytest
 from hypothesis import given, strategies as st
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.backends.c_fixed import generate_fixed_header
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.backends.c_fixed.header import generate_fixed_header
 from fuzzyc.backends.lut import LookupTable, generate_lut_header
 from fuzzyc.errors import FuzzycError
 from fuzzyc.escape import SAFE_NAME, c_comment, c_identifier

@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 import sympy
 
-from fuzzyc.controller import Controller
-from fuzzyc.engine import CompiledRuleBase
-from fuzzyc.expr import compile_expr
-from fuzzyc.model import Aggregation, Defuzzifier, Implication, TNorm
+from fuzzyc.engine.chain import Controller
+from fuzzyc.engine.inference import CompiledRuleBase
+from fuzzyc.engine.expressions import compile_expr
+from fuzzyc.semantics.model import Aggregation, Defuzzifier, Implication, TNorm
 from test_controller import model
 from test_engine_core import (LABELS5, SINGLE_OUT, TRI_OUT, random_inputs, rulebase,
                               uniform, wedm_like)

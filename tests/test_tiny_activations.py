@@ -1,4 +1,4 @@
-"""Vanishing activations: one floor (`fuzzyc.model.ACTIVATION_FLOOR`, 1e-12) that the engine and
+"""Vanishing activations: one floor (`fuzzyc.semantics.model.ACTIVATION_FLOOR`, 1e-12) that the engine and
 the C headers follow, for every defuzzifier the C back end emits.
 
 Two rule bases force a rule to fire at 1e-300 ... 1e-6, just below (0.99e-12) and just above
@@ -19,11 +19,11 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from fuzzyc.backends.c import generate_header
-from fuzzyc.backends.cload import CController
-from fuzzyc.engine import activations, evaluate
-from fuzzyc.model import ACTIVATION_FLOOR, set_entries
-from fuzzyc.parser import parse
+from fuzzyc.backends.c.header import generate_header
+from fuzzyc.backends.c.load import CController
+from fuzzyc.engine.inference import activations, evaluate
+from fuzzyc.semantics.model import ACTIVATION_FLOOR, set_entries
+from fuzzyc.language.parser import parse
 
 LEVELS = [1e-300, 1e-100, 1e-30, 1e-18, 1e-15, 0.99e-12, 1.01e-12, 1e-9, 1e-6]
 TOLERANCE = {"double": 1e-10, "float": 1e-5}

@@ -9,9 +9,9 @@ from pathlib import Path
 
 import numpy as np
 
-from fuzzyc import engine
+from fuzzyc.engine import inference as engine
 from fuzzyc.cli import main
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 from fuzzyc.verifier import Options, Status, verify_model
 
 ROOT = Path(__file__).resolve().parents[1]

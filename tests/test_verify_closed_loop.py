@@ -4,7 +4,7 @@ import dataclasses
 
 import pytest
 
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 from fuzzyc.verifier import Options, Status, verify_model
 from toy_gap import scenario, toy_plant, toy_servo  # noqa: F401  (fixtures)
 from conftest import ROOT
@@ -42,7 +42,7 @@ def test_unknown_signal_is_undecided_not_a_pass(toy_plant, scenario):
 
 
 def test_c_backend_gives_the_same_verdicts(toy_plant, scenario):
-    pytest.importorskip("fuzzyc.backends.cload")
+    pytest.importorskip("fuzzyc.backends.c.load")
     options = dict(max_examples=6, seed=2, shrink_rounds=1)
     for vmax in ("2 mm/s", "-2 mm/s"):
         numpy_side = verify_model(toy_servo(scenario, vmax=vmax), Options(**options))
@@ -54,7 +54,7 @@ def test_c_backend_gives_the_same_verdicts(toy_plant, scenario):
 def test_wedm_sign_error_in_the_error_gain_is_caught_in_closed_loop():
     # GE2 = -10 instead of 10: e2 > 0 now means "abnormal ratio too high", so the controller
     # slows the feed when it should speed up and the ratio never climbs from 25 % to Yr2.
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     model = load(f"{ROOT}/rulebases/wedm_three_region.fz")
     loop = next(p for p in model.properties if p.kind == "closed_loop")
     check = next(c for c in loop.args["checks"] if c.kind == "eventually")
@@ -70,7 +70,7 @@ def test_wedm_sign_error_in_the_error_gain_is_caught_in_closed_loop():
 
 # ---------------------------------------------------------------- the corner controller
 def _corner_loop_only(text=None):
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     model = parse(text, f"{ROOT}/rulebases/wedm_corner.fz") if text else load(f"{ROOT}/rulebases/wedm_corner.fz")
     model.properties = [p for p in model.properties if p.kind == "closed_loop"]
     # the plant moves the wire exactly, so a 2 s period only coarsens the times (and halves
@@ -137,7 +137,7 @@ def test_milling_sign_error_in_a_gain_is_caught_after_learning(gain, value):
     # a 15 s scenario already hold the force at Fr = 300 N +- 15 within 10 s (the correct file,
     # the control case). With GE or GU negated the learning rule pushes the weights the wrong
     # way: the feed stays at its initial 75 mm/min and the force sits near 544 N.
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     model = load(f"{ROOT}/rulebases/milling_neurofuzzy.fz")
     loop = next(p for p in model.properties if p.kind == "closed_loop")
     check = next(c for c in loop.args["checks"] if c.kind == "eventually")
@@ -161,7 +161,7 @@ def test_milling_sign_error_in_a_gain_is_caught_after_learning(gain, value):
 def test_edm_sign_error_in_vmax_is_caught_on_the_sinking_scenario():
     # Vmax = -2 mm/s on the real edm_sink plant (not the toy): the servo retracts when it
     # should advance, so the mean voltage never settles to Vset (every loop, at the `by` time)
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     model = load(f"{ROOT}/rulebases/edm_sink_gap.fz")
     model.properties = [p for p in model.properties if p.kind == "closed_loop"]
     model.params["Vmax"].value = -2.0

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from fuzzyc.errors import FuzzycError
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 from fuzzyc.verifier import Options, Status, verify_model
 from fuzzyc.verifier import closed_loop
 from toy_gap import SERVO, scenario, toy_plant, toy_servo  # noqa: F401  (fixtures)
@@ -125,7 +125,7 @@ def test_a_stuck_sensor_is_found_and_shrunk(toy_plant, scenario, tmp_path):
 
 
 def test_a_set_point_the_scenario_changes_cannot_also_vary():
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     model = load(f"{ROOT}/rulebases/wedm_three_region.fz")
     loop = next(p for p in model.properties if p.kind == "closed_loop")
     loop.args.update(scenario="wedm_setpoint", vary={"controller.Yr2": (0.4, 0.6)})
@@ -143,7 +143,7 @@ def test_a_fault_on_a_signal_the_plant_does_not_measure_is_undecided(toy_plant, 
 
 
 def test_the_c_backend_refuses_a_varying_set_point(toy_plant, scenario):
-    pytest.importorskip("fuzzyc.backends.cload")
+    pytest.importorskip("fuzzyc.backends.c.load")
     results = verify_model(toy_servo(scenario, checks="vary controller.Vset in [40, 60]\n"
                                      "      always gap > 5\n"),
                            Options(max_examples=2, backend="c"))
@@ -182,7 +182,7 @@ def test_an_unknown_fault_kind_is_a_syntax_error():
 def test_a_shrunk_case_fails_alone_with_its_own_noise():
     # the EDM servo with spark noise and a stuck sensor: the shrunk case, re-run as a batch of
     # one, sees the noise of the loop it came from and fails at the same moment
-    from fuzzyc.parser import load
+    from fuzzyc.language.parser import load
     from fuzzyc.plants import scenario as scenarios
     from fuzzyc.verifier import temporal
     model = load(f"{ROOT}/rulebases/edm_sink_gap.fz")

@@ -3,9 +3,9 @@ report pointing at the right place; and the unmutated files raise no false alarm
 import numpy as np
 import pytest
 
-from fuzzyc.engine import evaluate
-from fuzzyc.model import set_entries
-from fuzzyc.parser import load
+from fuzzyc.engine.inference import evaluate
+from fuzzyc.semantics.model import set_entries
+from fuzzyc.language.parser import load
 from fuzzyc.verifier import Options, Status, verify_model
 from fuzzyc.verifier.report import format_result
 from conftest import ROOT

@@ -2,7 +2,7 @@
 import numpy as np
 import pytest
 
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 from fuzzyc.verifier import Options, Status, verify_model
 from conftest import ROOT
 
@@ -78,8 +78,8 @@ def test_bounded_output_of_center_of_area_is_the_hull_of_its_peaks():
 def test_sum_product_corner_table_is_proved_monotone_and_max_min_is_not():
     # With and = product and aggregation = sum, the memberships of each input sum to 1 and
     # every cell has one rule, so y is multilinear per cell and the vertex check is a proof.
-    from fuzzyc.model import Aggregation, TNorm
-    from fuzzyc.parser import load
+    from fuzzyc.semantics.model import Aggregation, TNorm
+    from fuzzyc.language.parser import load
     from fuzzyc.verifier import proof
     rb = load(f"{ROOT}/rulebases/wedm_corner.fz").rulebase
     published = proof.prove_monotone(rb, "y", "feedrate", "increasing", [])
@@ -94,8 +94,8 @@ def test_sum_product_proof_names_the_wedm_critical_region_reversal():
     # e1 = ZO block, column ce2 = NS: row e2 = PS says ZO (0), row PB says NS (-0.5). At the
     # vertex (e1 = 0, ce2 = -0.5) the output is the cell's peak, so du1 falls by 0.5 from
     # e2 = 0.5 to e2 = 1.
-    from fuzzyc.model import Aggregation, TNorm
-    from fuzzyc.parser import load
+    from fuzzyc.semantics.model import Aggregation, TNorm
+    from fuzzyc.language.parser import load
     from fuzzyc.verifier import proof
     rb = load(f"{ROOT}/rulebases/wedm_three_region.fz").rulebase
     rb.inference.and_, rb.inference.aggregation = TNorm.PRODUCT, Aggregation.SUM

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from hypothesis import example, given, settings, strategies as st, HealthCheck
 
-from fuzzyc import engine
-from fuzzyc.model import Aggregation, Defuzzifier, TNorm, set_entries
-from fuzzyc.parser import load
+from fuzzyc.engine import inference as engine
+from fuzzyc.semantics.model import Aggregation, Defuzzifier, TNorm, set_entries
+from fuzzyc.language.parser import load
 from fuzzyc.plants import scenario as scenarios
 from fuzzyc.verifier.closed_loop import _Loop
 from fuzzyc.verifier.reach import rulebase as set_rulebase
@@ -179,7 +179,7 @@ def test_unsupported_pieces_are_refused_by_name():
     assert evidence.status == Status.UNDECIDED
     assert "sensor faults" in evidence.detail
     # the baseline's signals (a second loop beside the first) have no set-valued twin
-    from fuzzyc.parser import parse
+    from fuzzyc.language.parser import parse
     text = open(f"{ROOT}/rulebases/wedm_corner.fz").read().replace(
         "error_sum < 0.5 * normal_error_sum", "error_sum < 0.5 * baseline_error_sum")
     corner = parse(text, f"{ROOT}/rulebases/wedm_corner.fz")
@@ -191,7 +191,7 @@ def test_unsupported_pieces_are_refused_by_name():
 
 
 def test_nested_conditions_are_refused_by_name():
-    from fuzzyc.parser import parse
+    from fuzzyc.language.parser import parse
     from fuzzyc.verifier.reach.chain import SetController, Unsupported
     text = """controller nested {
       input a in [0, 1]

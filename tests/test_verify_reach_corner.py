@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 from fuzzyc.plants import scenario as scenarios
 from fuzzyc.plants import wedm_corner as W
 from fuzzyc.verifier import Options, verify_model

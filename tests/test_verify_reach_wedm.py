@@ -3,7 +3,7 @@ point and every sampled run lies inside the sets, and a broken controller is nev
 import numpy as np
 from hypothesis import HealthCheck, given, settings, strategies as st
 
-from fuzzyc.parser import load
+from fuzzyc.language.parser import load
 from fuzzyc.plants import scenario as scenarios
 from fuzzyc.plants import wedm_gap as W
 from fuzzyc.verifier import Options, verify_model

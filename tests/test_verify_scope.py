@@ -1,4 +1,4 @@
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 from fuzzyc.verifier import verify_model, Options
 TEXT = """controller t {
   input a in [0, 1]  input b in [0, 1]
@@ -32,7 +32,7 @@ def test_fixed_point_refuses_what_the_c_back_end_cannot_emit():
     # a linear (first-order Takagi-Sugeno) consequent: the q15 writer must give a diagnostic,
     # not a traceback from the term's NaN peak
     import pytest
-    from fuzzyc.backends.c_fixed import generate_fixed_header
+    from fuzzyc.backends.c_fixed.header import generate_fixed_header
     from fuzzyc.errors import FuzzycError
     text = TEXT.replace("AND_NORM", "min").replace("center_of_area", "weighted_average") \
         .replace("terms z : singletons L=0 M=0.5 H=1",

@@ -183,7 +183,7 @@ def test_setpoint_summary_is_reported(setpoint):
 def test_c_backend_runs_the_same_closed_loop():
     # the artefact that goes to the machine, in the loop: the generated C (double) against
     # the numpy engine on 20 s of test 1, same plant noise
-    pytest.importorskip("fuzzyc.backends.cload")
+    pytest.importorskip("fuzzyc.backends.c.load")
     import shutil
     if shutil.which("gcc") is None:
         pytest.skip("no C compiler")
@@ -195,7 +195,7 @@ def test_c_backend_runs_the_same_closed_loop():
 
 
 def test_c_backend_refuses_a_set_point_schedule_it_cannot_follow():
-    pytest.importorskip("fuzzyc.backends.cload")
+    pytest.importorskip("fuzzyc.backends.c.load")
     from fuzzyc.errors import FuzzycError
     from fuzzyc.runtime.simulate import build, load_controller
     scenario = load("wedm_setpoint")

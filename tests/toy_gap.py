@@ -8,7 +8,7 @@ import types
 import numpy as np
 import pytest
 
-from fuzzyc.parser import parse
+from fuzzyc.language.parser import parse
 from conftest import ROOT
 
 SERVO = open(f"{ROOT}/rulebases/edm_sink_gap.fz").read()

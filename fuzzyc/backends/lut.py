@@ -10,12 +10,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..engine import evaluate as engine_evaluate
+from ..engine.inference import evaluate as engine_evaluate
 from ..errors import Diagnostic, FuzzycError
 from ..escape import c_comment, c_identifier
-from ..model import Model, RuleBase
-from .c_expr import FLOAT
-from .c_guard import checked_header
+from ..semantics.model import Model, RuleBase
+from .c.expressions import FLOAT
+from .c.guard import checked_header
 
 MAX_CELLS = 1 << 24
 CHECK_RANDOM = 200_000

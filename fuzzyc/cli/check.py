@@ -5,7 +5,7 @@ import sys
 
 from .common import RULE_FILE_HELP
 from ..errors import FuzzycError
-from ..model import Model
+from ..semantics.model import Model
 
 
 def summary(model: Model) -> str:

@@ -8,8 +8,8 @@ import tempfile
 from pathlib import Path
 
 from ..atomic import cannot_write
-from ..limits import MAX_BATCH, MAX_WORKERS
-from ..numbers import not_a_number, parse_integer, parse_number
+from ..language.limits import MAX_BATCH, MAX_WORKERS
+from ..language.numbers import not_a_number, parse_integer, parse_number
 
 # What every command that reads through formats.load_any says of its rule-file argument.
 RULE_FILE_HELP = ("a .fz, .fll, .fcl or .fis rule file; FILE.fcl::NAME reads the FUNCTION_BLOCK "
@@ -43,7 +43,7 @@ def at_least(low: int | None, high: int | None = None):
 
 # a whole number in ASCII digits (int() also takes `1_0` and `５`); the command checks its range
 whole_number = at_least(None)
-# --batch: checked here, before the loops' arrays are allocated (fuzzyc.limits.MAX_BATCH)
+# --batch: checked here, before the loops' arrays are allocated (fuzzyc.language.limits.MAX_BATCH)
 batch_size = at_least(1, MAX_BATCH)
 
 

@@ -5,7 +5,7 @@ import shutil
 from pathlib import Path
 
 from ..errors import Diagnostic, FuzzycError, source_lines
-from ..model import SourceLoc
+from ..semantics.model import SourceLoc
 from ..formats.tool_semantics import with_tool_semantics
 from .common import RULE_FILE_HELP, add_semantics, check_output, whole_number
 
@@ -34,7 +34,7 @@ def add_parser(subparsers) -> None:
 
 def _print_fixed_point_bounds(model, numeric: str) -> None:
     """The derived worst cases the header states, as fractions of each output's range."""
-    from ..backends.c_fixed import CHAIN_STEPS, chain_error_bound, derived_error_bound
+    from ..backends.c_fixed.header import CHAIN_STEPS, chain_error_bound, derived_error_bound
     rb_bound = derived_error_bound(model, numeric)
     if rb_bound is not None:
         print("derived worst case of the rule base: " + ", ".join(
@@ -51,7 +51,7 @@ def _check_file_name(file: str, model_name: str, filename: str) -> None:
     """FuzzycError, at the model's name in the file where it is found there, when the header's
     file name would pass MAX_FILE_NAME_BYTES (the system refuses it: `File name too long`)."""
     from ..formats import split_block
-    from ..limits import MAX_FILE_NAME_BYTES, read_rule_file
+    from ..language.limits import MAX_FILE_NAME_BYTES, read_rule_file
     size = len(filename.encode())
     # fuzzyc.atomic writes it first as `.NAME.h.<12 hex digits>.h`: 16 bytes longer
     longest = MAX_FILE_NAME_BYTES - 16
@@ -64,15 +64,15 @@ def _check_file_name(file: str, model_name: str, filename: str) -> None:
     raise FuzzycError([Diagnostic(
         loc, f"the model name ({len(model_name)} characters) would make the header's file name "
              f"{size} bytes long: at most {longest} (a file name has at most "
-             f"{MAX_FILE_NAME_BYTES} bytes, fuzzyc.limits.MAX_FILE_NAME_BYTES, and the header is "
+             f"{MAX_FILE_NAME_BYTES} bytes, fuzzyc.language.limits.MAX_FILE_NAME_BYTES, and the header is "
              "first written under a name 16 bytes longer); give the model a shorter name",
         None if where is None else where[1])])
 
 
 def run(args) -> int:
     from ..api import compile_c, compile_lut, load
-    from ..backends.cload import STRICT_FLAGS, footprint, measured_entry_points
-    from ..backends.c_proof import frama_c
+    from ..backends.c.load import STRICT_FLAGS, footprint, measured_entry_points
+    from ..backends.c.proof import frama_c
     from ..escape import c_identifier
     check_output(args.output, folder=True)
     if args.prove and frama_c() is None:     # before writing anything
@@ -110,7 +110,7 @@ def run(args) -> int:
         for level, (code, _, stack) in sizes.items():
             print(f"  gcc {level}: {code} bytes code + constant data, {stack} bytes stack")
     if args.prove:
-        from ..backends.c_proof import prove
+        from ..backends.c.proof import prove
         proof = prove(model, kind, (header.filename, header.text))
         print(proof.summary())
         if not proof.proved:

@@ -21,8 +21,8 @@ import numpy as np
 
 from .common import RULE_FILE_HELP, add_semantics, check_output
 from ..errors import Diagnostic, FuzzycError, read_source, source_lines
-from ..model import Model
-from ..numbers import not_a_number, parse_number
+from ..semantics.model import Model
+from ..language.numbers import not_a_number, parse_number
 
 
 def add_parser(subparsers) -> None:
@@ -186,7 +186,7 @@ def _explain_blocks(model: Model, columns):
     """Every block's fired rules at its inputs (a chained block's are earlier blocks'
     outputs), strongest first, each rule numbered within its block."""
     from ..api import Controller
-    from ..engine import explain
+    from ..engine.inference import explain
     controller = Controller(model, batch=1)
     controller.step(columns)
     fired, inputs = [], {}

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 from .common import RULE_FILE_HELP, check_output
 from ..errors import Diagnostic, FuzzycError
-from ..numbers import not_a_number, parse_number
+from ..language.numbers import not_a_number, parse_number
 
 
 def add_parser(subparsers) -> None:

@@ -17,9 +17,9 @@ from pathlib import Path
 from ..atomic import write_text
 from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, at_least,
                      batch_size, check_output, cluster_from)
-from ..limits import MAX_BATCH
+from ..language.limits import MAX_BATCH
 from ..errors import Diagnostic, FuzzycError
-from ..numbers import not_a_number, parse_integer, parse_number
+from ..language.numbers import not_a_number, parse_integer, parse_number
 from fuzzyc.runtime.trace import SHOWN_LOOPS
 
 
@@ -95,7 +95,7 @@ def parse_sets(items: list[str]) -> dict[str, str]:
 
 def _yaml_value(item: str, text: str) -> str:
     """A --set value as the scenario's YAML reads it, numbers in fuzzyc's one syntax
-    (fuzzyc.numbers): YAML alone reads `1_000` as 1000, `010` as 8, `1:30` as 90, `.inf`, and
+    (fuzzyc.language.numbers): YAML alone reads `1_000` as 1000, `010` as 8, `1:30` as 90, `.inf`, and
     `1e3` as a string. A number is passed in YAML's canonical spelling; other YAML numbers are
     refused."""
     import yaml

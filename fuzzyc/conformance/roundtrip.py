@@ -12,7 +12,7 @@ import numpy as np
 from ..errors import FuzzycError
 from ..formats import READERS, WRITERS
 from ..formats.tool_semantics import Chain
-from ..model import Model
+from ..semantics.model import Model
 from . import oracles
 from .check import TOLERANCE, random_inputs
 

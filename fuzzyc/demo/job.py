@@ -14,7 +14,7 @@ import numpy as np
 from ..cli import main as fuzzyc
 from ..cli.check import summary
 from ..cli.eval import evaluate_batch
-from ..parser import load
+from ..language.parser import load
 from ..plotting import plot_model
 from ..verifier import Options, Status, verify_model
 from ..verifier.report import format_result

@@ -14,8 +14,8 @@ from pathlib import Path
 
 from ..atomic import write_text
 from ..errors import Diagnostic, FuzzycError
-from ..limits import check_model, read_rule_file
-from ..model import Model
+from ..language.limits import check_model, read_rule_file
+from ..semantics.model import Model
 from .fcl import read_fcl, write_fcl
 from .fis import read_fis, write_fis
 from .fll import read_fll, write_fll
@@ -38,7 +38,7 @@ def load_any(path: str | Path) -> Model:
         raise FuzzycError([Diagnostic(None, f"`{path}::{block}`: only an .fcl file has named "
                                             "blocks to choose with `::NAME`")])
     if suffix == ".fz":
-        from ..parser import load
+        from ..language.parser import load
         return load(path)
     if suffix not in READERS:
         raise FuzzycError([Diagnostic(None, f"cannot read `{path}`: unknown extension "

@@ -14,8 +14,8 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..membership import linear_coefficients
-from ..model import CondOp, Model, RuleBase, TermKind, Variable
+from ..engine.membership import linear_coefficients
+from ..semantics.model import CondOp, Model, RuleBase, TermKind, Variable
 
 
 def file_variables(model: Model) -> tuple[list[Variable], list[Variable]]:

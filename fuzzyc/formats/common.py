@@ -10,12 +10,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import sympy
 
-from ..builder import PLAIN_SHAPES as BUILDER_SHAPES
-from ..builder import RuleSpec, assemble_rulebase, merge_rules
+from ..language.builder import PLAIN_SHAPES as BUILDER_SHAPES
+from ..language.builder import RuleSpec, assemble_rulebase, merge_rules
 from ..errors import Reporter, suggest
-from ..formula import Formula
-from ..membership import discrete_problem, monotonic
-from ..model import (Aggregation, CondOp, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
+from ..engine.formula import Formula
+from ..engine.membership import discrete_problem, monotonic
+from ..semantics.model import (Aggregation, CondOp, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
                      SourceLoc, TermKind, Variable, chain_output_names)
 
 INF = math.inf

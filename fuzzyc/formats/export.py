@@ -16,7 +16,7 @@ import sympy
 
 from ..errors import Diagnostic, FuzzycError
 from ..escape import name_problems
-from ..model import CondOp, Hedge, Model, OutputKind, TermKind, Variable
+from ..semantics.model import CondOp, Hedge, Model, OutputKind, TermKind, Variable
 from .blocks import file_variables
 
 

@@ -1,4 +1,4 @@
-"""IEC 61131-7 FCL function blocks: import (lark grammar `grammar/fcl.lark`) and export.
+"""IEC 61131-7 FCL function blocks: import (lark grammar `fuzzyc/language/grammar/fcl.lark`) and export.
 
 FCL is block-structured and free-form (statements end with `;`, comments `(* *)`), so it gets a
 real grammar.  Mapping (exact unless said):
@@ -34,7 +34,7 @@ from lark.exceptions import UnexpectedInput
 
 from ..errors import Reporter
 from ..escape import one_line
-from ..model import (Aggregation, Connective, Defuzzifier, Implication, Inference, Model,
+from ..semantics.model import (Aggregation, Connective, Defuzzifier, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
 from .common import (Collected, TermSpec, VarSpec, discrete_or_none, nan_default, shape,
                      trapezoid_or_none, tsukamoto_terms)

@@ -11,7 +11,7 @@ integrates exactly.  Rules: `i1 i2, o1 (w) : c` with 0 = any, a negative index =
 c = 1 (and) or 2 (or); a fraction on an input index is the Octave toolkit's hedge
 (`t.05` somewhat, `t.2` very, `t.3` extremely, `t.4` very very: membership^0.5, ^2, ^3, ^4);
 on an output index it is kept as said (CondOp.CONCLUDED: the Octave toolkit's strength^(1/p)
-in the exact semantics, fuzzylite's carried hedge under its semantics; see fuzzyc.model).
+in the exact semantics, fuzzylite's carried hedge under its semantics; see fuzzyc.semantics.model).
 The Octave toolkit's and fuzzylite's further norms (einstein_product, hamacher_sum, ...) and fuzzylite's
 membership functions (rampmf, rectmf, concavemf, cosinemf, spikemf; dsigmf, psigmf, gauss2mf
 as fuzzylite's SigmoidDifference, SigmoidProduct, GaussianProduct) are read too.
@@ -56,14 +56,14 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..builder import RuleSpec
-from ..conditions import Cond, premise
+from ..language.builder import RuleSpec
+from ..language.conditions import Cond, premise
 from ..errors import Reporter, source_lines
 from ..escape import name_problems
-from ..model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Implication, Model,
+from ..semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Implication, Model,
                      SNorm, SourceLoc, TermKind, TNorm, Variable)
-from ..membership import linear_coefficients
-from ..numbers import parse_number
+from ..engine.membership import linear_coefficients
+from ..language.numbers import parse_number
 from .common import (Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none, tsukamoto_terms)
 from .blocks import one_rule_base
@@ -369,7 +369,7 @@ class _FisReader:
                      connective: int, loc: SourceLoc, origin: str) -> None:
         """A row with hedges on its consequents (or `.4`, very very, on an input): one rule per
         concluded output, its condition ending in the CondOp.CONCLUDED steps of the row's
-        conclusions up to that output (the model's reading in fuzzyc.model, fuzzylite's in
+        conclusions up to that output (the model's reading in fuzzyc.semantics.model, fuzzylite's in
         tool_semantics); outputs whose steps are the same share a rule."""
         inputs = [v for is_input, v in self.variables if is_input]
         outputs = [v for is_input, v in self.variables if not is_input]

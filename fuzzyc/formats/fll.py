@@ -27,7 +27,7 @@ Each output keeps its own aggregation and defuzzifier (RuleBase.output_choices w
 from the first output's).  Rule blocks whose operators agree make one rule base; blocks with
 their own operators become rule blocks of the model, each concluding its own outputs (an output
 concluded in two blocks whose operators differ is reported).
-Function terms (a formula: fuzzyc.formula) and lock-previous (fuzzyc.ordered) as the model's
+Function terms (a formula: fuzzyc.engine.formula) and lock-previous (fuzzyc.engine.held_outputs) as the model's
 FUNCTION terms and Variable.lock_previous.  Anything else (term heights, activation methods
 other than General, ...) is reported with its place.
 """
@@ -41,10 +41,10 @@ from lark.exceptions import UnexpectedInput
 
 from ..errors import Reporter, source_lines
 from ..escape import one_line
-from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
+from ..semantics.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
                      SNorm, SourceLoc, TermKind, TNorm)
-from ..membership import linear_coefficients
-from ..numbers import not_a_number, parse_number
+from ..engine.membership import linear_coefficients
+from ..language.numbers import not_a_number, parse_number
 from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, discrete_or_none, nan_default,
                      plain_shape_or_none, shape, trapezoid_or_none, tsukamoto_terms)
 from .blocks import (block_names, block_view, chain_warning, file_variables, linear_on,

@@ -1,15 +1,15 @@
 """fuzzylite's Function terms as the importers read them (FLL `term: f Function sin(x)/x`, its
 FCL `TERM f := Function ...;`, its FIS `'function',[...]`): the formula parsed at once (a syntax
 error or an unknown function at its own column), the names it reads checked once the model's
-rule blocks are known (see fuzzyc.model, FUNCTION, and fuzzyc.ordered)."""
+rule blocks are known (see fuzzyc.semantics.model, FUNCTION, and fuzzyc.engine.held_outputs)."""
 from __future__ import annotations
 
 from dataclasses import replace
 
 from ..errors import Reporter
-from ..formula import FormulaError, name_offset, parse_formula
-from ..model import RuleBase, SourceLoc, TermKind
-from ..ordered import TAKAGI_SUGENO
+from ..engine.formula import FormulaError, name_offset, parse_formula
+from ..semantics.model import RuleBase, SourceLoc, TermKind
+from ..engine.held_outputs import TAKAGI_SUGENO
 from .common import TermSpec
 
 

@@ -38,10 +38,10 @@ from enum import Enum
 
 import numpy as np
 
-from ..engine import activations, evaluate
-from ..membership import memberships
-from ..model import Aggregation, Defuzzifier, RuleBase, SNorm, TermKind, aggregation_snorm
-from ..norms import combine, implied
+from ..engine.inference import activations, evaluate
+from ..engine.membership import memberships
+from ..semantics.model import Aggregation, Defuzzifier, RuleBase, SNorm, TermKind, aggregation_snorm
+from ..engine.norms import combine, implied
 
 SAMPLED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
 CHUNK_FLOATS = 1 << 22

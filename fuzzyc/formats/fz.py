@@ -1,4 +1,4 @@
-"""The model's rule base as .fz text that `fuzzyc.parser.parse` reads back to the same rule base.
+"""The model's rule base as .fz text that `fuzzyc.language.parser.parse` reads back to the same rule base.
 
 Inputs become `input` declarations with their terms, outputs `var` + `terms` and a plain
 `output NAME_out = NAME` each; rules are written one per `rule` statement (tables are a
@@ -14,12 +14,12 @@ import math
 
 import numpy as np
 
-from ..model import (Aggregation, Defuzzifier, Hedge, Implication, Model, SNorm,
+from ..semantics.model import (Aggregation, Defuzzifier, Hedge, Implication, Model, SNorm,
                      TermKind, TNorm, Variable, chain_output_names)
-from ..builder.terms import PLAIN_SHAPES, term_core
+from ..language.builder.terms import PLAIN_SHAPES, term_core
 from ..escape import one_line
-from ..membership import linear_coefficients
-from ..parser import fz_name, keywords
+from ..engine.membership import linear_coefficients
+from ..language.parser import fz_name, keywords
 from .blocks import block_names, block_view, file_variables, linear_on, read_inputs
 from .export import (left_out, model_identifier, num, refuse, rule_sentence, unsayable_functions,
                      unsayable_names)

@@ -1,7 +1,7 @@
 """Rules of FCL and FLL (the same `if ... then ... with w` shape): lark tree -> builder `RuleSpec`.
 
 A flat conjunction or disjunction stays a matrix row; mixed and/or, `not` around a compound
-condition and an input named twice make a clause program (`fuzzyc.conditions`).  A hedge the
+condition and an input named twice make a clause program (`fuzzyc.language.conditions`).  A hedge the
 model lacks is reported.
 fuzzylite's `x is any` (truth 1) is said exactly with wildcards: every norm has 1 as the
 absorbing element of s-norms and the neutral one of t-norms, and 0 the other way round, so
@@ -16,11 +16,11 @@ from importlib import resources
 from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
-from ..builder import RuleSpec
-from ..conditions import Cond, premise
+from ..language.builder import RuleSpec
+from ..language.conditions import Cond, premise
 from ..errors import Reporter, shown_char, suggest
-from ..limits import MAX_HEDGES, MAX_NESTING
-from ..model import Connective, Hedge, SourceLoc
+from ..language.limits import MAX_HEDGES, MAX_NESTING
+from ..semantics.model import Connective, Hedge, SourceLoc
 from .common import Collected
 
 LocOf = Callable[[Token], SourceLoc]
@@ -28,7 +28,7 @@ LocOf = Callable[[Token], SourceLoc]
 
 @functools.lru_cache(maxsize=1)
 def fcl_lark() -> Lark:
-    grammar = resources.files("fuzzyc").joinpath("grammar/fcl.lark").read_text()
+    grammar = resources.files("fuzzyc").joinpath("language/grammar/fcl.lark").read_text()
     return Lark(grammar, parser="lalr", start=["start", "rule_text"], propagate_positions=True)
 
 
@@ -69,7 +69,7 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
     too_deep = _first_too_deep(condition)
     if too_deep is not None:
         rep.error(loc_of(too_deep), f"a rule condition nested more than {MAX_NESTING} "
-                                    "parentheses deep (fuzzyc.limits.MAX_NESTING); write it "
+                                    "parentheses deep (fuzzyc.language.limits.MAX_NESTING); write it "
                                     "with fewer, or as several rules")
         return []
     cond = _condition(condition, got, loc_of, hedges)
@@ -88,7 +88,7 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
             ok = False
         elif len(carried) + len(said) > MAX_HEDGES:     # each carried hedge nests the condition
             rep.error(loc_of(words[0]), f"the conclusions of a rule carry more than {MAX_HEDGES} "
-                                        "hedges in all (fuzzyc.limits.MAX_HEDGES)")
+                                        "hedges in all (fuzzyc.language.limits.MAX_HEDGES)")
             ok = False
         else:
             conclusions[name.value] = term
@@ -134,7 +134,7 @@ def _hedges(words: list[Token], hedges: dict[str, Hedge], loc_of: LocOf,
     reporting one the model lacks or more than MAX_HEDGES (each one nests the condition)."""
     if len(words) > MAX_HEDGES:
         rep.error(loc_of(words[MAX_HEDGES]), f"{len(words)} hedges on one clause: at most "
-                                             f"{MAX_HEDGES} (fuzzyc.limits.MAX_HEDGES)")
+                                             f"{MAX_HEDGES} (fuzzyc.language.limits.MAX_HEDGES)")
         return None
     for word in words:
         if word.value.lower() not in hedges:

@@ -39,13 +39,13 @@ from dataclasses import replace
 
 import numpy as np
 
-from ..engine import activations, evaluate
+from ..engine.inference import activations, evaluate
 from ..errors import Diagnostic, FuzzycError
-from ..membership import linear_coefficients, pointwise, term_inverse
-from ..model import (Aggregation, CondOp, Defuzzifier, Hedge, Model, RuleBase, TermKind,
+from ..engine.membership import linear_coefficients, pointwise, term_inverse
+from ..semantics.model import (Aggregation, CondOp, Defuzzifier, Hedge, Model, RuleBase, TermKind,
                      Variable, aggregation_snorm)
-from ..norms import combine
-from ..ordered import POLICIES, Held, reads_values
+from ..engine.norms import combine
+from ..engine.held_outputs import POLICIES, Held, reads_values
 from .fuzzylite_compat import FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
 
 SEMANTICS = ("exact", "fuzzylite", "pyfuzzylite", "matlab", "octave")
@@ -223,7 +223,7 @@ def fuzzylite_hedges(rb: RuleBase) -> RuleBase:
 def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
                 resolution: int | None = None, held: Held | None = None) -> np.ndarray:
     """x (N, I) -> y (N, O) as `semantics` computes it; `resolution` is fuzzylite's (the file's
-    `Centroid 200`), by default the tool's own; `held`: the held outputs (fuzzyc.ordered)."""
+    `Centroid 200`), by default the tool's own; `held`: the held outputs (fuzzyc.engine.held_outputs)."""
     if semantics == "exact":
         return evaluate(rb, x, held=held)
     if semantics in ("fuzzylite", "pyfuzzylite"):
@@ -249,7 +249,7 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
 
 def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: int | None,
               held: Held | None) -> np.ndarray:
-    """A rule base whose outputs are evaluated in order (fuzzyc.ordered) under fuzzylite's
+    """A rule base whose outputs are evaluated in order (fuzzyc.engine.held_outputs) under fuzzylite's
     policy; its sampled outputs (which no formula reads and which hold nothing) resampled."""
     y = evaluate(rb, x, held=held, policy=POLICIES[semantics])
     read = {n for v in rb.outputs for f in (v.formulas or {}).values() for n in f.names()}

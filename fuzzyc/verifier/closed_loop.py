@@ -20,7 +20,7 @@ import numpy as np
 from hypothesis import HealthCheck, Phase, given, seed as hseed, settings, strategies as st
 
 from ..escape import OutputFolder
-from ..model import Model, Property
+from ..semantics.model import Model, Property
 from .draws import without_local_constants
 from . import temporal
 from .result import Evidence, Status
@@ -167,7 +167,7 @@ def _unsupported(scen, args: dict, backend: str) -> str:
         return (f"--backend c compiles `{setpoints[0]}` in; a set point that varies per loop "
                 f"needs --backend numpy")
     try:
-        from fuzzyc.backends.cload import CController  # noqa: F401
+        from fuzzyc.backends.c.load import CController  # noqa: F401
     except ImportError as exc:
         return f"--backend c: the C back end cannot be loaded ({exc})"
     return ""
@@ -222,7 +222,7 @@ class _Loop:
         """`set learn.cycles = N` (and learn.eta, learn.rho): train the file's learnable weights
         on N cycles of the nominal scenario (fuzzyc.learn, batch 1) before the search, so the
         loops check the learned controller."""
-        from fuzzyc.controller import Controller
+        from fuzzyc.engine.chain import Controller
         from fuzzyc.learn import learn
         controller = Controller(self._controller_model(), 1)
         result = learn(controller, self.module, self.scen.plant_params(), int(cycles),
@@ -247,10 +247,10 @@ class _Loop:
         batch = len(cases)
         model = self._controller_model()
         if self.backend == "c":
-            from fuzzyc.backends.cload import CController
+            from fuzzyc.backends.c.load import CController
             controller = CController(model, batch)
         else:
-            from fuzzyc.controller import Controller
+            from fuzzyc.engine.chain import Controller
             controller = Controller(model, batch)
         time, signals = self._run_with(controller, cases, follow=True)
         if self.with_baseline:

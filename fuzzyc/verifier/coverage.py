@@ -13,8 +13,8 @@ import itertools
 
 import numpy as np
 
-from ..membership import term_values
-from ..model import Connective, RuleBase, SNorm, TNorm, TermKind
+from ..engine.membership import term_values
+from ..semantics.model import Connective, RuleBase, SNorm, TNorm, TermKind
 from .levelsets import clause_intervals
 from .result import Evidence, Status
 

@@ -8,7 +8,7 @@ import math
 
 import sympy
 
-from ..model import Model, Op
+from ..semantics.model import Model, Op
 
 Interval = tuple[float, float]
 

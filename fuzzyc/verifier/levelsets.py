@@ -9,8 +9,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..membership import HEDGE_EXPONENT
-from ..model import TermKind, Variable
+from ..engine.membership import HEDGE_EXPONENT
+from ..semantics.model import TermKind, Variable
 
 INF = np.inf
 

@@ -8,8 +8,8 @@ import math
 import numpy as np
 import sympy
 
-from .. import engine
-from ..model import Model, Output, OutputKind
+from ..engine import inference as engine
+from ..semantics.model import Model, Output, OutputKind
 from . import intervals
 from .result import Evidence, Status
 from .space import dense_grid, tensor_points

@@ -19,9 +19,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .. import engine
-from ..defuzz import FOLDED
-from ..model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, RuleBase, SNorm, TNorm,
+from ..engine import inference as engine
+from ..engine.defuzz import FOLDED
+from ..semantics.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, RuleBase, SNorm, TNorm,
                      TermKind)
 from .result import Evidence, Status
 from .space import break_points, hedge_free, restrict, tensor_points

@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
-from ..model import Property
+from ..semantics.model import Property
 
 
 class Status(str, Enum):

@@ -10,8 +10,8 @@ from typing import Callable
 
 import numpy as np
 
-from ..model import Model, Property, RuleBase
-from ..norms import combine
+from ..semantics.model import Model, Property, RuleBase
+from ..engine.norms import combine
 from . import coverage, outputs, proof, search, tables
 from .result import Evidence, Result, Status
 

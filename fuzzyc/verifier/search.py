@@ -7,8 +7,8 @@ from dataclasses import replace
 import numpy as np
 from hypothesis import HealthCheck, given, seed as hseed, settings, strategies as st
 
-from .. import engine
-from ..model import CondOp, RuleBase
+from ..engine import inference as engine
+from ..semantics.model import CondOp, RuleBase
 from .draws import without_local_constants
 from .result import Evidence, Status
 from .space import dense_grid, tensor_points

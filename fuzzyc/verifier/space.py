@@ -5,8 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..membership import HEDGE_EXPONENT, term_values
-from ..model import RuleBase, Variable
+from ..engine.membership import HEDGE_EXPONENT, term_values
+from ..semantics.model import RuleBase, Variable
 
 FULL = 1.0 - 1e-12
 

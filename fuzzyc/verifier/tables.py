@@ -9,7 +9,7 @@ import itertools
 
 import numpy as np
 
-from ..model import Connective, RuleBase
+from ..semantics.model import Connective, RuleBase
 from .result import Evidence, Status
 
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import sympy
 
-from ..model import Property
+from ..semantics.model import Property
 from ..runtime.metrics import overshoot_excess
 
 

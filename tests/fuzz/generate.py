@@ -50,7 +50,7 @@ HOSTILE_NAMES = ("*/", "/*", "//", "*/ int injected; /*", "x*/y", "??=", "??/", 
 
 
 def fz_keywords() -> tuple[str, ...]:
-    from fuzzyc.parser import keywords
+    from fuzzyc.language.parser import keywords
     return tuple(sorted(keywords()))
 
 

@@ -1,6 +1,6 @@
-"""A Model's signal chain on affine forms: the set-valued twin of `fuzzyc.controller`.
+"""A Model's signal chain on affine forms: the set-valued twin of `fuzzyc.engine.chain`.
 
-Expressions are walked like `fuzzyc.expr` walks them, one node kind at a time; linear nodes are
+Expressions are walked like `fuzzyc.engine.expressions` walks them, one node kind at a time; linear nodes are
 exact, the others go through `Affine.apply` with their interval extension. Stateful steps keep
 affine memories, so delta(lowpass(x)) cancels exactly as it does on numbers. The rule base is
 linearized per box: slopes from central differences of the engine (any slope is sound), the
@@ -14,8 +14,8 @@ import itertools
 import numpy as np
 import sympy
 
-from ... import engine
-from ...model import Model, Op, OutputKind
+from ...engine import inference as engine
+from ...semantics.model import Model, Op, OutputKind
 from . import rulebase as set_rulebase
 from .affine import Affine, Symbols, monotone
 

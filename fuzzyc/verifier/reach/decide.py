@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import sympy
 
-from ...model import Model, Property
+from ...semantics.model import Model, Property
 from ..result import Evidence, Status
 from .affine import Affine
 from .chain import Unsupported, evaluate

@@ -23,10 +23,10 @@ import dataclasses
 
 import numpy as np
 
-from ...model import Model
+from ...semantics.model import Model
 from .affine import Affine, Symbols, monotone, reduce
 from .chain import SetController, Unsupported
-from .once import StepOnce, per_period
+from .param_step import StepOnce, per_period
 
 STEP = "step:"         # the box dimensions of a set-point step: step:controller.P:value/time
 KEEP_SYMBOLS = 80      # symbols kept when the run reduces (plus one per live form)

@@ -23,11 +23,11 @@ import warnings
 
 import numpy as np
 
-from ...defuzz import OutputDefuzzifier, term_strengths
-from ...engine import flat_activations
-from ...norms import firing
-from ...membership import term_values
-from ...model import Defuzzifier, RuleBase, TermKind
+from ...engine.defuzz import OutputDefuzzifier, term_strengths
+from ...engine.inference import flat_activations
+from ...engine.norms import firing
+from ...engine.membership import term_values
+from ...semantics.model import Defuzzifier, RuleBase, TermKind
 
 UNIMODAL = {TermKind.TRAPEZOID: (1, 2), TermKind.PISHAPE: (1, 2), TermKind.GAUSSIAN: (0, 0),
             TermKind.BELL: (0, 0), TermKind.SPIKE: (0, 0), TermKind.COSINE: (0, 0),

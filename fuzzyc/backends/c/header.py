@@ -1,0 +1,722 @@
+"""The C99 back end: a model as one self-contained header of static inline functions.
+
+`generate_header(model, numeric)` returns the text of NAME.h with
+- NAME_state, NAME_init(), NAME_step(): the whole signal chain (preprocessing with its memory,
+  rule base, incremental and saturated outputs), the C twin of `fuzzyc.engine.chain.Controller`;
+- NAME_rulebase(): the bare rule base, the C twin of `fuzzyc.engine.inference.evaluate`;
+- constant tables for terms and rules, sizes as #defines.
+Two ways to find the activations, chosen like the engine chooses: a dense loop over all rules
+(any rule base), or, for plain AND rules over partitions where at most two terms are positive
+at a time, the at most 2**I rules of the active term tuples through a cell table.
+Outputs are defuzzified from the terms' strengths alpha_j, accumulated in the rule loop, except
+the area-based ones of sum-aggregated min-implied rules, which keep every rule's level as its
+own item (c_items).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ...engine.inference import CompiledRuleBase
+from ...errors import Diagnostic, FuzzycError
+from ...escape import c_comment, c_identifier, check_c_names
+from ...semantics.model import (ACTIVATION_FLOOR, Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
+                     OutputKind, RuleBase, SNorm, TermKind, TNorm)
+from .area import AreaWriter, is_sampled
+from .cells import active_codes, cell_row_c, cell_table, cell_table_c, index_type, int_table
+from .centroid import CentroidEmitter, area_segments, supported
+from .expressions import REAL_TYPES, ExprPrinter, RealType
+from .guard import checked_header
+from .rule_items import ItemWriter, per_item
+
+PEAK_BASED = (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
+
+
+def _fail(message: str) -> FuzzycError:
+    return FuzzycError([Diagnostic(None, message)])
+
+
+# The headers' step functions hold each signal in a local `v_NAME` (an output of the fixed-point
+# chain also in `u_NAME`, `reciprocal_NAME`): a user name is always behind one of these prefixes,
+# so a C keyword (`int`, `return`) is a name like any other.  The functions and types of the
+# header start with the controller's name and `_`, so that must not begin with one of them
+# (`v_clamp` for a signal `clamp` would hide the function v_clamp of a controller `v`).
+LOCAL_PREFIXES = ("v_", "u_", "reciprocal_")
+
+
+def check_c_model_names(model: Model) -> None:
+    """Every name that becomes part of a C identifier in the headers, checked for clashes."""
+    rb = model.rulebase
+    check_c_names([x.name for x in (*model.signals, *model.steps, *model.outputs,
+                                    *rb.inputs, *rb.outputs)] + list(model.params))
+    prefix = c_identifier(model.name) + "_"
+    if prefix.startswith(LOCAL_PREFIXES):
+        raise _fail(f"the controller's name `{model.name}` makes the header's functions start "
+                    f"with `{prefix}`, as its local variables do (v_NAME, u_NAME, "
+                    "reciprocal_NAME for the signals): rename the controller")
+
+
+def _table(real: RealType, rows) -> str:
+    return "{" + ", ".join("{" + ", ".join(real.lit(v) for v in row) + "}" for row in rows) + "}"
+
+
+def _uses_peaks(var, method: Defuzzifier) -> bool:
+    return method in PEAK_BASED or bool(np.all(var.kinds == TermKind.SINGLETON))
+
+
+def check_supported(rb: RuleBase) -> None:
+    """Raise FuzzycError for the inference choices this back end does not emit."""
+    _check_constructs(rb)
+    method = rb.inference.defuzzifier
+    for var in rb.outputs:
+        if _uses_peaks(var, method):
+            continue
+        if not supported(rb.inference) and not per_item(rb.inference):
+            raise _fail(f"the C back end does not emit the {method.name.lower()} of "
+                        f"{rb.inference.aggregation.name.lower()}-aggregated "
+                        f"{rb.inference.implication.name.lower()}-implied rules")
+
+
+C_TNORMS, C_SNORMS = (TNorm.MIN, TNorm.PRODUCT), (SNorm.MAX, SNorm.PROBSUM)
+C_TERM_KINDS = (TermKind.TRAPEZOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind.SIGMOID,
+                TermKind.SINGLETON)
+C_HEDGES = (Hedge.NONE, Hedge.VERY, Hedge.SOMEWHAT, Hedge.EXTREMELY)
+C_AGGREGATIONS = (Aggregation.MAX, Aggregation.SUM)
+SUMMED_PER_RULE = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)  # no aggregation
+
+
+def _check_constructs(rb: RuleBase) -> None:
+    """The norms, hedges and term shapes the C back end emits (the engine has more)."""
+    inf = rb.inference
+    if rb.n_rules == 0:     # C has no empty arrays
+        raise _fail("the C back end needs at least one rule; this rule base has none")
+    for var in rb.outputs:
+        if var.n_terms == 0:
+            raise _fail(f"the C back end needs a term on every output; `{var.name}` has none")
+    if inf.defuzzifier == Defuzzifier.TSUKAMOTO:
+        raise _fail("the C back end does not emit the tsukamoto defuzzifier")
+    held = [v.name for v in rb.outputs if v.lock_previous]
+    if held:
+        raise _fail(f"the C back end does not emit lock-previous (`{held[0]}` holds its last "
+                    "value where no rule fires: state the header's evaluation has not)")
+    own = [(name, choice) for name, choice in rb.output_choices.items()
+           if choice != (inf.aggregation, inf.defuzzifier)]
+    if own:
+        name, (agg, defuzz) = own[0]
+        raise _fail(f"the C back end emits one aggregation and defuzzifier per rule base; "
+                    f"output `{name}` has its own ({agg.name.lower()}, "
+                    f"{defuzz.name.lower()})")
+    if rb.conditions:
+        raise _fail(f"the C back end emits rules that are one and/or over one clause per input; "
+                    f"{rb.nested_rules()} has a nested condition (use the lookup-table back "
+                    "end, or split the rule)")
+    if inf.and_ not in C_TNORMS or inf.or_ not in C_SNORMS:
+        raise _fail(f"the C back end emits and = min | product and or = max | probsum; "
+                    f"this rule base has and = {inf.and_.name.lower()}, "
+                    f"or = {inf.or_.name.lower()}")
+    if inf.aggregation not in C_AGGREGATIONS and inf.defuzzifier not in SUMMED_PER_RULE:
+        raise _fail(f"the C back end emits aggregation = max | sum; this rule base has "
+                    f"aggregation = {inf.aggregation.name.lower()} (use the lookup-table "
+                    f"back end, or weighted_average / weighted_sum, which sum over rules)")
+    hedges = sorted({Hedge(int(h)) for h in np.unique(rb.hedges)} - set(C_HEDGES))
+    if hedges:
+        raise _fail("the C back end emits the hedges very, somewhat, extremely; not "
+                    + ", ".join(h.name.lower() for h in hedges))
+    for var in rb.inputs + rb.outputs:
+        for name, kind in zip(var.names, var.kinds):
+            if kind not in C_TERM_KINDS:
+                raise _fail(f"the C back end does not emit {TermKind(int(kind)).name.lower()} "
+                            f"terms (`{name}` of `{var.name}`); use the lookup-table back end")
+
+
+class HeaderWriter:
+    """Builds the header text for one model and one real type."""
+
+    def __init__(self, model: Model, real: RealType):
+        self.model, self.rb, self.real = model, model.rulebase, real
+        check_supported(self.rb)
+        check_c_model_names(model)
+        self.name = c_identifier(model.name)
+        self.p = self.name + "_"
+        self.P = self.name.upper() + "_"
+        # The cell table is the fast path (c_cells: direct up to MAX_C_TABLE_CELLS cells, 10
+        # inputs of 3 terms; sorted codes past that); where it cannot be kept every rule is
+        # looped over (a 1.8M-cell table took 19 s, 1.9 GB and gcc rejected it).
+        self.partitions = CompiledRuleBase.sparse_partitions(self.rb)
+        self.cells = None if self.partitions is None else cell_table(
+            self.rb.antecedents, [v.n_terms for v in self.rb.inputs])
+        self.sparse = self.cells is not None
+        self.depth = self.cells.depth if self.sparse else 0   # rules per cell
+        self.area = AreaWriter(real, self.p, self.rb.inference)
+        self.items = self.item_writer()
+        self.lines: list[str] = []
+
+    def item_writer(self) -> ItemWriter | None:
+        """The writer of the outputs kept rule by rule (c_items), where there are any; the
+        items are the engine's candidates: every rule, or the sparse path's cell slots."""
+        if not any(self.by_items(var) for var in self.rb.outputs):
+            return None
+        if not self.sparse:
+            return ItemWriter(self.area, self.P, self.rb.n_rules, None)
+        return ItemWriter(self.area, self.P, self.depth << len(self.rb.inputs),
+                          index_type(self.rb.n_rules))
+
+    def by_items(self, var) -> bool:
+        """Whether this output is defuzzified item by item (SUM of MIN-clipped rules)."""
+        return not _uses_peaks(var, self.rb.inference.defuzzifier) and \
+            per_item(self.rb.inference)
+
+    # -- small helpers ----------------------------------------------------------------------
+
+    def out(self, *lines: str) -> None:
+        self.lines.extend(lines)
+
+    def helpers(self) -> None:
+        t, p, lit = self.real.name, self.p, self.real.lit
+        self.out(
+            "/* min/max that propagate NaN, like numpy (fmin/fmax would drop it). */",
+            f"static inline {t} {p}min({t} a, {t} b) {{ return (a < b || a != a) ? a : b; }}",
+            f"static inline {t} {p}max({t} a, {t} b) {{ return (a > b || a != a) ? a : b; }}",
+            f"static inline {t} {p}sign({t} a) {{ return a > 0 ? {lit(1)} : "
+            f"(a < 0 ? {lit(-1)} : a); }}",
+            "/* NaN-free helpers for values known to be numbers. */",
+            f"static inline {t} {p}lesser({t} a, {t} b) {{ return a < b ? a : b; }}",
+            f"static inline {t} {p}greater({t} a, {t} b) {{ return a > b ? a : b; }}",
+            f"static inline {t} {p}clamp({t} x, {t} lo, {t} hi) "
+            f"{{ return x < lo ? lo : (x > hi ? hi : x); }}",
+            "/* An activation below the floor does not fire (fuzzyc.semantics.model.ACTIVATION_FLOOR). */",
+            f"static inline {t} {p}fired({t} a) "
+            f"{{ return a < {lit(ACTIVATION_FLOOR)} ? {lit(0)} : a; }}",
+            f"static inline void {p}order({t} *a, {t} *b) "
+            f"{{ {t} lo = {p}lesser(*a, *b); *b = {p}greater(*a, *b); *a = lo; }}",
+            f"static inline {t} {p}ratio_or({t} num, {t} den, {t} fallback) "
+            f"{{ return den != 0 ? num / den : fallback; }}",
+            "/* One linear piece of M: exact area and first moment. */",
+            f"static inline void {p}piece({t} x0, {t} x1, {t} f0, {t} f1, {t} *area, "
+            f"{t} *moment) {{",
+            f"    {t} dx = x1 - x0;",
+            f"    *area += {lit(0.5)} * (f0 + f1) * dx;",
+            f"    *moment += dx * (f0 * ({lit(2)} * x0 + x1) + f1 * (x0 + {lit(2)} * x1)) "
+            f"/ {lit(6)};",
+            "}",
+            "/* Trapezoid row: a b c d 1/(b-a) 1/(d-c); shoulders have a = b = -inf or c = d = "
+            "+inf. */",
+            f"static inline {t} {p}trapezoid({t} x, const {t} q[6]) {{",
+            f"    {t} rise = x >= q[1] ? {lit(1)} : (x > q[0] ? (x - q[0]) * q[4] : {lit(0)});",
+            f"    {t} fall = x <= q[2] ? {lit(1)} : (x < q[3] ? (q[3] - x) * q[5] : {lit(0)});",
+            "    return rise < fall ? rise : fall;",
+            "}",
+            "")
+
+    # -- membership -------------------------------------------------------------------------
+
+    @staticmethod
+    def trapezoid_row(params) -> list[float]:
+        a, b, c, d = (float(v) for v in params)
+        if np.isneginf(a):
+            b = -np.inf
+        if np.isposinf(d):
+            c = np.inf
+        rise = 1.0 / (b - a) if np.isfinite(a) and b > a else 0.0
+        fall = 1.0 / (d - c) if np.isfinite(d) and d > c else 0.0
+        return [a, b, c, d, rise, fall]
+
+    def term_value(self, kind: TermKind, row: str, x: str) -> str:
+        """C expression of one term's membership at x (NaN x -> 0, infinities -> limits)."""
+        f, lit = self.real.fn, self.real.lit
+        if kind == TermKind.TRAPEZOID:
+            return f"{self.p}trapezoid({x}, {row})"
+        if kind == TermKind.SINGLETON:
+            return f"({x} == {row}[0] ? {lit(1)} : {lit(0)})"
+        if kind == TermKind.GAUSSIAN:
+            value = f"{f('exp')}(-({x} - {row}[0]) * ({x} - {row}[0]) * {row}[4])"
+        elif kind == TermKind.BELL:
+            value = (f"{lit(1)} / ({lit(1)} + {f('pow')}({f('fabs')}(({x} - {row}[0]) / "
+                     f"{row}[1]), {lit(2)} * {row}[2]))")
+        else:   # SIGMOID; 0 * inf (slope 0, infinite x) is NaN in C too, hence the check
+            value = f"{lit(1)} / ({lit(1)} + {f('exp')}(-{row}[1] * ({x} - {row}[0])))"
+        return f"{self.p}number_or_zero({value})"
+
+    def term_rows(self, var) -> list[list[float]]:
+        rows = []
+        for kind, params in zip(var.kinds, np.asarray(var.params, dtype=float)):
+            if kind == TermKind.TRAPEZOID:
+                rows.append(self.trapezoid_row(params))
+            elif kind == TermKind.GAUSSIAN:
+                rows.append(list(params) + [1.0 / (2.0 * params[1] ** 2), 0.0])
+            else:
+                rows.append(list(params) + [0.0, 0.0])
+        return rows
+
+    def membership_functions(self) -> None:
+        t, p, P = self.real.name, self.p, self.P
+        self.out(f"static inline {t} {p}number_or_zero({t} v) "
+                 f"{{ return v == v ? v : {self.real.lit(0)}; }}")
+        for i, var in enumerate(self.rb.inputs):
+            table = f"{P}TERMS_{c_identifier(var.name).upper()}"
+            self.out(f"/* {c_comment(var.name)} in [{var.lo:g}, {var.hi:g}]: "
+                     + ", ".join(f"{c_comment(n)} ({TermKind(int(k)).name.lower()})"
+                                 for n, k in zip(var.names, var.kinds)) + " */",
+                     f"static const {t} {table}[{var.n_terms}][6] = "
+                     f"{_table(self.real, self.term_rows(var))};",
+                     f"static inline void {p}memberships_{i}({t} x, {t} mu[{var.n_terms}]) {{")
+            for j, kind in enumerate(var.kinds):
+                self.out(f"    mu[{j}] = {self.term_value(TermKind(int(kind)), f'{table}[{j}]', 'x')};")
+            self.out("}")
+
+    # -- rule base ----------------------------------------------------------------------------
+
+    def aggregation_of(self, var) -> Aggregation:
+        method = self.rb.inference.defuzzifier
+        if method in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM):
+            return Aggregation.SUM
+        return self.rb.inference.aggregation
+
+    def accumulate(self, act: str, rule: str, slot: str) -> list[str]:
+        """Statements adding `act` of rule index `rule` into every output's term strengths,
+        and storing it as item `slot` where outputs keep the rules on their own."""
+        code = [] if self.items is None else self.items.store(act, rule, slot)
+        for o, var in enumerate(self.rb.outputs):
+            if self.by_items(var):
+                continue
+            strength = f"alpha{o}[{self.P}CONSEQUENTS[{rule}][{o}]]"
+            if self.aggregation_of(var) == Aggregation.MAX:
+                code.append(f"{strength} = {self.p}greater({strength}, {act});")
+            else:
+                code.append(f"{strength} += {act};")
+        return code
+
+    def combine(self, a: str, b: str, conjunction: bool) -> str:
+        inf, p = self.rb.inference, self.p
+        if conjunction:
+            return f"{p}lesser({a}, {b})" if inf.and_ == TNorm.MIN else f"{a} * {b}"
+        return f"{p}greater({a}, {b})" if inf.or_ == SNorm.MAX else f"({a} + {b} - {a} * {b})"
+
+    def consequent_table(self, extra_row: bool) -> None:
+        rb = self.rb
+        cons = np.array(rb.consequents, dtype=int).copy()
+        for o, var in enumerate(rb.outputs):   # "no consequent" goes to a dummy slot
+            cons[cons[:, o] < 0, o] = var.n_terms
+        if extra_row:
+            cons = np.vstack([cons, [v.n_terms for v in rb.outputs]])
+        self.out("/* Consequent term per rule and output (n_terms = the rule says nothing). */",
+                 f"static const unsigned char {self.P}CONSEQUENTS[{len(cons)}]"
+                 f"[{self.P}N_RB_OUTPUTS] = {int_table(cons)};")
+        if not np.all(rb.weights == 1.0):
+            # a rule weighted below the floor never fires (its truth is <= 1): weight 0, which
+            # float holds where 1e-100 is no float at all (a NaN still reaches lit and fails)
+            weights = [0.0 if w < ACTIVATION_FLOOR else w for w in rb.weights] \
+                + ([0.0] if extra_row else [])
+            self.out(f"static const {self.real.name} {self.P}WEIGHTS[{len(weights)}] = "
+                     "{" + ", ".join(self.real.lit(w) for w in weights) + "};")
+
+    def weighted(self, act: str, rule: str) -> str:
+        return act if np.all(self.rb.weights == 1.0) else f"{act} * {self.P}WEIGHTS[{rule}]"
+
+    def dense_rules(self) -> list[str]:
+        """The loop over all rules; memberships of all inputs in one array `mu`."""
+        rb, t, P, lit = self.rb, self.real.name, self.P, self.real.lit
+        offsets = np.cumsum([0] + [v.n_terms for v in rb.inputs])
+        one, zero = int(offsets[-1]), int(offsets[-1]) + 1
+        conj = rb.connective == Connective.AND
+        only_wild = np.all(rb.antecedents < 0, axis=1)
+        flat = np.where(rb.antecedents >= 0, rb.antecedents + offsets[:-1],
+                        np.where((conj | only_wild)[:, None], one, zero))
+        plain = bool(np.all(conj) and not np.any(rb.negated) and np.all(rb.hedges == Hedge.NONE))
+        self.out("/* Per rule and input: index into mu (all terms, then 1 and 0 for an absent "
+                 "clause). */",
+                 f"static const {index_type(zero)} {P}ANTECEDENTS[{P}N_RULES][{P}N_RB_INPUTS] = "
+                 f"{int_table(flat)};")
+        if not plain:
+            hedges = np.where(rb.antecedents >= 0, rb.hedges, 0)
+            negated = np.where(rb.antecedents >= 0, rb.negated, False)
+            self.out(f"static const unsigned char {P}HEDGES[{P}N_RULES][{P}N_RB_INPUTS] = "
+                     f"{int_table(hedges)};",
+                     f"static const unsigned char {P}NEGATED[{P}N_RULES][{P}N_RB_INPUTS] = "
+                     f"{int_table(negated)};",
+                     f"static const unsigned char {P}IS_OR[{P}N_RULES] = "
+                     "{" + ", ".join(str(int(c and not w)) for c, w
+                                     in zip(~conj, only_wild)) + "};")
+        code = [f"{t} mu[{one + 2}];"]
+        code += [f"{self.p}memberships_{i}(x[{i}], mu + {offsets[i]});"
+                 for i in range(len(rb.inputs))]
+        code += [f"mu[{one}] = {lit(1)}; mu[{zero}] = {lit(0)};",
+                 f"for (r = 0; r < {P}N_RULES; ++r) {{"]
+        clauses = []
+        for i in range(len(rb.inputs)):
+            g = f"mu[{P}ANTECEDENTS[r][{i}]]"
+            if not plain:
+                code.append(f"    {t} g{i} = {self.p}clause({g}, {P}HEDGES[r][{i}], "
+                            f"{P}NEGATED[r][{i}]);")
+                g = f"g{i}"
+            clauses.append(g)
+        if plain:
+            act = clauses[0]
+            for g in clauses[1:]:
+                act = self.combine(act, g, True)
+        else:
+            a, o = clauses[0], clauses[0]
+            for g in clauses[1:]:
+                a, o = self.combine(a, g, True), self.combine(o, g, False)
+            act = f"({P}IS_OR[r] ? {o} : {a})"
+        code.append(f"    {t} act = {self.p}fired({self.weighted(act, 'r')});")
+        code += ["    " + s for s in self.accumulate("act", "r", "r")]
+        code.append("}")
+        return code
+
+    def clause_helper(self) -> None:
+        t, p, f, lit = self.real.name, self.p, self.real.fn, self.real.lit
+        self.out("/* Hedge (none, very, somewhat, extremely) then NOT, as in the model. */",
+                 f"static inline {t} {p}clause({t} mu, unsigned char hedge, unsigned char not_) {{",
+                 f"    {t} g = hedge == 1 ? mu * mu : (hedge == 2 ? {f('sqrt')}(mu) : "
+                 f"(hedge == 3 ? mu * mu * mu : mu));",
+                 f"    return not_ ? {lit(1)} - g : g;",
+                 "}")
+
+    @staticmethod
+    def slope_intercept(piece) -> list[float]:
+        """The engine's piece (anchor, width, offset), mu = (x - anchor) / width + offset, as
+        mu = slope * x + intercept (width inf: constant)."""
+        anchor, width, offset = (float(v) for v in piece)
+        if not np.isfinite(width):
+            return [0.0, offset]
+        return [1.0 / width, offset - anchor / width]
+
+    def sparse_tables(self) -> None:
+        """Per distinct partition: break points and, per segment, the two active terms' linear
+        pieces; one shared function finds them for every input (one copy of its code, which
+        keeps the header small at -O2 too, where per-input copies would be inlined)."""
+        t, p, P, lit = self.real.name, self.p, self.P, self.real.lit
+        parts: list = []
+        part_of: list[int] = []
+        for part in self.partitions:
+            keys = [q.breaks.tobytes() + q.table.tobytes() for q in parts]
+            key = part.breaks.tobytes() + part.table.tobytes()
+            if key not in keys:
+                parts.append(part)
+                keys.append(key)
+            part_of.append(keys.index(key))
+        # Same length for all: the last break repeated, so the count loop has one constant
+        # bound and x past the last break lands in the last (constant) segment.
+        nb = max(len(q.breaks) for q in parts)
+        breaks, pieces, active = [], [], []
+        for q in parts:
+            pad = nb - len(q.breaks)
+            breaks.append(list(q.breaks) + [q.breaks[-1]] * pad)
+            rows = [self.slope_intercept(r[0::2][:3]) + self.slope_intercept(r[1::2][:3])
+                    for r in q.table]
+            pieces.append(rows[:-1] + [rows[-1]] * (pad + 1))
+            ids = active_codes(q).tolist()
+            active.append(ids[:-1] + [ids[-1]] * (pad + 1))
+        place = self.cells.place
+        inputs = [[k, int(pl)] for k, pl in zip(part_of, place)]
+        n_parts = len(parts)
+        cell_type = self.cells.cell_type
+        self.out("/* Partitions of the inputs: break points and per segment (slope, intercept) "
+                 "x 2 with the two term ids. */",
+                 f"static const {t} {P}BREAKS[{n_parts}][{nb}] = {_table(self.real, breaks)};",
+                 f"static const {t} {P}PIECES[{n_parts}][{nb + 1}][4] = "
+                 "{" + ", ".join(_table(self.real, rows) for rows in pieces) + "};",
+                 f"static const unsigned char {P}ACTIVE[{n_parts}][{nb + 1}][2] = "
+                 "{" + ", ".join(int_table(ids) for ids in active) + "};",
+                 "/* Per rule-base input (" + ", ".join(c_comment(v.name) for v in self.rb.inputs)
+                 + "): partition, place value in the cell index. */",
+                 f"static const {index_type(int(max(np.max(place), n_parts)))} "
+                 f"{P}INPUTS[{P}N_RB_INPUTS][2] = {int_table(inputs)};",
+                 "/* The two positive terms of input i at x: memberships m and their place in "
+                 "the cell index. */",
+                 f"static inline void {p}active(int i, {t} x, {t} m[2], {cell_type} cell[2]) "
+                 "{",
+                 f"    const {t} *b = {P}BREAKS[{P}INPUTS[i][0]];",
+                 "    /* Outside the outer break points every term is constant: clamp. */",
+                 f"    {t} xc = {p}clamp(x, b[0], b[{nb - 1}]);",
+                 "    int k = 0, j, s;",
+                 "    /* NaN: no term, i.e. term 0 at membership 0 (see ACTIVE) */",
+                 f"    if (x != x) {{ m[0] = m[1] = {lit(0)}; cell[0] = cell[1] = 0; return; }}",
+                 f"    for (j = 0; j < {nb}; ++j) k += xc >= b[j];",
+                 "    for (s = 0; s < 2; ++s) {",
+                 f"        const {t} *q = {P}PIECES[{P}INPUTS[i][0]][k] + 2 * s;",
+                 "        m[s] = xc * q[0] + q[1];",
+                 f"        cell[s] = {P}ACTIVE[{P}INPUTS[i][0]][k][s] * {P}INPUTS[i][1];",
+                 "    }",
+                 "}")
+        self.out(*cell_table_c(self.cells, P, p, self.rb.n_rules))
+
+    def sparse_rules(self) -> list[str]:
+        rb, t, P = self.rb, self.real.name, self.P
+        n_in = len(rb.inputs)
+        depth = self.depth
+        code = [f"{t} m[{n_in}][2];",
+                f"{self.cells.cell_type} part[{n_in}][2];   /* term id times place value */",
+                "int i;",
+                f"for (i = 0; i < {n_in}; ++i) {self.p}active(i, x[i], m[i], part[i]);",
+                f"for (r = 0; r < {1 << n_in}; ++r) {{   /* the 2**I active term tuples */"]
+        bits = [f"(r >> {n_in - 1 - i}) & 1" for i in range(n_in)]
+        cell = " + ".join(f"part[{i}][{bits[i]}]" for i in range(n_in))
+        act = f"m[0][{bits[0]}]"
+        for i in range(1, n_in):
+            act = self.combine(act, f"m[{i}][{bits[i]}]", True)
+        code += [f"    int cell = {cell_row_c(self.cells, self.p, cell)};",
+                 f"    {t} act = {act};", "    int d;",
+                 f"    for (d = 0; d < {depth}; ++d) {{",
+                 f"        int rule = {P}CELLS[cell][d];",
+                 f"        {t} a = {self.p}fired({self.weighted('act', 'rule')});"]
+        code += ["        " + s for s in self.accumulate("a", "rule", f"r * {depth} + d")]
+        code += ["    }", "}"]
+        return code
+
+    def defuzzify(self, o: int, var) -> list[str]:
+        lit, t = self.real.lit, self.real.name
+        method = self.rb.inference.defuzzifier
+        alpha = f"alpha{o}"
+        if self.by_items(var):
+            return self.items.defuzzify(o, var)
+        if _uses_peaks(var, method):
+            peaks = var.peaks()
+            num = " + ".join(f"{alpha}[{j}] * {lit(v)}" for j, v in enumerate(peaks))
+            den = " + ".join(f"{alpha}[{j}]" for j in range(var.n_terms))
+            code = [f"{{ {t} num = {num};", f"  {t} den = {den};"]
+            value = "num" if method == Defuzzifier.WEIGHTED_SUM else "num / den"
+            return code + [f"  y[{o}] = den > 0 ? {value} : {lit(var.default)}; }}"]
+        if self.walks(var):
+            return self.area.defuzzify(o, var, alpha)
+        emitter = CentroidEmitter(self.real, self.p, self.rb.inference)
+        code = [f"{{ {t} area = {lit(0)}, moment = {lit(0)};"]
+        code += ["  " + s for s in emitter.emit(area_segments(var), alpha)]
+        return code + [f"  y[{o}] = area > 0 ? moment / area : {lit(var.default)}; }}"]
+
+    def walks(self, var) -> bool:
+        """Whether this output is defuzzified by walking M's points (c_area): every area-based
+        case but the straight-line exact centroid of piecewise-linear terms."""
+        method = self.rb.inference.defuzzifier
+        return not _uses_peaks(var, method) and \
+            (method != Defuzzifier.CENTROID or is_sampled(var))
+
+    def area_support(self) -> None:
+        """The walk's functions and the grid tables, where an output needs them."""
+        walked = [o for o, var in enumerate(self.rb.outputs) if self.walks(var)]
+        if walked:
+            self.out(*self.area.helpers(polygon=any(not is_sampled(self.rb.outputs[o])
+                                                    for o in walked)))
+        for o in walked:
+            if is_sampled(self.rb.outputs[o]):
+                n_items = self.items.n_items if self.by_items(self.rb.outputs[o]) else 0
+                self.out(*self.area.grid_getter(o, self.rb.outputs[o], n_items))
+        if self.items is not None:
+            self.item_support()
+
+    def item_support(self) -> None:
+        """c_items' functions and per-output tables (outputs kept rule by rule)."""
+        outputs = [(o, var) for o, var in enumerate(self.rb.outputs) if self.by_items(var)]
+        exact = [not is_sampled(var) for _, var in outputs]
+        centroid = self.rb.inference.defuzzifier == Defuzzifier.CENTROID
+        self.out(*self.items.helpers(centroid=centroid and any(exact),
+                                     polygon=not centroid and any(exact)))
+        for o, var in outputs:
+            self.out(*self.items.tables(o, var, self.term_rows(var)))
+
+    def rulebase_function(self) -> None:
+        rb, t, p, lit = self.rb, self.real.name, self.p, self.real.lit
+        if self.sparse:
+            self.sparse_tables()
+        else:
+            if np.any(rb.hedges != Hedge.NONE) or np.any(rb.negated) or \
+                    np.any(rb.connective != Connective.AND):
+                self.clause_helper()
+            self.membership_functions()
+        self.consequent_table(extra_row=self.sparse)
+        self.area_support()
+        body = self.sparse_rules() if self.sparse else self.dense_rules()
+        self.out("",
+                 "/* The bare rule base: x[N_RB_INPUTS] (scaled inputs) -> y[N_RB_OUTPUTS]. "
+                 "*/",
+                 f"static inline void {p}rulebase(const {t} x[{self.P}N_RB_INPUTS], "
+                 f"{t} y[{self.P}N_RB_OUTPUTS]) {{",
+                 "    int r;")
+        for o, var in enumerate(rb.outputs):
+            if not self.by_items(var):
+                self.out(f"    {t} alpha{o}[{var.n_terms + 1}] = {{{lit(0)}}};")
+        if self.items is not None:
+            self.out(*("    " + s for s in self.items.declarations()))
+        self.out(*("    " + s for s in body))
+        for o, var in enumerate(rb.outputs):
+            self.out(*("    " + s for s in self.defuzzify(o, var)))
+        self.out("}", "")
+
+    # -- signal chain -------------------------------------------------------------------------
+
+    def symbol(self, name: str) -> str:
+        if name in self.model.params:
+            return f"{self.P}PARAM_{c_identifier(name)}"
+        return f"v_{c_identifier(name)}"
+
+    def state_struct(self) -> None:
+        t = self.real.name
+        fields = []
+        for s in self.model.steps:
+            if s.op != Op.ASSIGN:
+                ident = c_identifier(s.name)
+                fields += [f"    {t} memory_{ident};   /* last finite value */",
+                           f"    unsigned char seen_{ident};   /* a finite value was stored */"]
+        for o in self.model.outputs:
+            state = "1/u(k-1)" if o.kind == OutputKind.RECIPROCAL_INCREMENT else "u(k-1)"
+            fields.append(f"    {t} out_{c_identifier(o.name)};   /* {state} */")
+        if not fields:
+            fields = ["    unsigned char unused;"]
+        self.out("typedef struct {", *fields, f"}} {self.p}state;", "")
+
+    def init_function(self) -> None:
+        lit = self.real.lit
+        self.out(f"static inline void {self.p}init({self.p}state *s) {{")
+        for s in self.model.steps:
+            if s.op != Op.ASSIGN:
+                ident = c_identifier(s.name)
+                self.out(f"    s->memory_{ident} = {lit(0)};", f"    s->seen_{ident} = 0;")
+        if not any(s.op != Op.ASSIGN for s in self.model.steps) and not self.model.outputs:
+            self.out("    s->unused = 0;")      # the struct has only this field
+        for o in self.model.outputs:
+            init = 1.0 / o.init if o.kind == OutputKind.RECIPROCAL_INCREMENT else o.init
+            self.out(f"    s->out_{c_identifier(o.name)} = {lit(init)};")
+        self.out("}", "")
+
+    def step_statements(self, printer: ExprPrinter) -> list[str]:
+        t, lit = self.real.name, self.real.lit
+        code = []
+        for s in self.model.steps:
+            v, arg = self.symbol(s.name), printer(s.expr)
+            ident = c_identifier(s.name)
+            mem, seen = f"s->memory_{ident}", f"s->seen_{ident}"
+            if s.op == Op.ASSIGN:
+                code.append(f"const {t} {v} = {arg};")
+                continue
+            code += [f"{t} {v};", "{", f"    const {t} arg = {arg};"]
+            if s.op == Op.DELTA:
+                code.append(f"    {v} = {seen} ? arg - {mem} : (arg != arg ? arg : {lit(0)});")
+                keep = "arg"
+            elif s.op == Op.PREV:
+                code.append(f"    {v} = {seen} ? {mem} : arg;")
+                keep = "arg"
+            else:
+                a, b = s.coeffs
+                code.append(f"    {v} = {seen} ? {lit(a)} * {mem} + {lit(b)} * arg : arg;")
+                keep = v
+            code += [f"    if (isfinite({keep})) {{ {mem} = {keep}; {seen} = 1; }}", "}"]
+        return code
+
+    def output_statements(self, printer: ExprPrinter) -> list[str]:
+        lit, p = self.real.lit, self.p
+        code = []
+        for k, o in enumerate(self.model.outputs):
+            state, value = f"s->out_{c_identifier(o.name)}", printer(o.expr)
+            code += ["{", f"    const {self.real.name} value = {value};"]
+            if o.kind == OutputKind.DIRECT:
+                code += [f"    if (isfinite(value)) {state} = "
+                         f"{p}clamp(value, {lit(o.lo)}, {lit(o.hi)});",
+                         f"    out[{k}] = {state};"]
+            else:
+                lo, hi = o.lo, o.hi
+                if o.kind == OutputKind.RECIPROCAL_INCREMENT:
+                    lo, hi = (1.0 / o.hi if o.hi != 0 else np.inf,
+                              1.0 / o.lo if o.lo != 0 else np.inf)
+                code.append(f"    {state} = {p}clamp({state} + (isfinite(value) ? value : "
+                            f"{lit(0)}), {lit(lo)}, {lit(hi)});")
+                result = state if o.kind == OutputKind.INCREMENT else f"{lit(1)} / {state}"
+                code.append(f"    out[{k}] = {result};")
+            code += [f"    {self.symbol(o.name)} = out[{k}];", "}"]
+        return code
+
+    def step_function(self) -> None:
+        t, P, m = self.real.name, self.P, self.model
+        printer = ExprPrinter(self.real, self.symbol, self.p)
+        body = [f"const {t} {self.symbol(sig.name)} = in[{k}];"
+                for k, sig in enumerate(m.signals)]
+        body += self.step_statements(printer)
+        body += [f"{t} x[{P}N_RB_INPUTS], y[{P}N_RB_OUTPUTS];"]
+        body += [f"{t} {self.symbol(o.name)};" for o in m.outputs]
+        body += [f"x[{i}] = {self.symbol(v.name)};" for i, v in enumerate(self.rb.inputs)]
+        body += [f"{self.p}rulebase(x, y);"]
+        body += [f"const {t} {self.symbol(v.name)} = y[{o}];"
+                 for o, v in enumerate(self.rb.outputs)]
+        body += self.output_statements(printer)
+        # A file may leave signals unused (or have no output at all): no warnings.
+        body += [f"(void){self.symbol(name)};" for name in
+                 [*(g.name for g in m.signals), *(g.name for g in m.steps),
+                  *(v.name for v in self.rb.outputs), *(o.name for o in m.outputs)]]
+        if not m.outputs:
+            body += ["(void)s;", "(void)out;"]
+        self.out("/* One sample of the whole chain: raw inputs in[N_SIGNALS] -> out[N_OUTPUTS]. "
+                 "*/",
+                 f"static inline void {self.p}step({self.p}state *s, "
+                 f"const {t} in[{P}N_SIGNALS], {t} out[{P}N_OUTPUTS]) {{",
+                 *("    " + line for line in body), "}", "")
+
+    # -- the whole header ---------------------------------------------------------------------
+
+    def comment(self, numeric: str) -> None:
+        m, rb = self.model, self.rb
+        src = c_comment(m.source_path or "(built in memory)")
+        self.out("/*",
+                 f" * {self.name}.h - generated by fuzzyc from {src}",
+                 f" * source hash (sha256, first 16 hex): {m.source_hash}",
+                 f" * {c_comment(m.title)}" if m.title else " *",
+                 f" * numeric: {numeric} ({self.real.name} arithmetic)",
+                 f" * inference: {rb.inference.describe()}",
+                 f" * rules: {rb.n_rules}; activations: "
+                 + ("at most 2**I rules of the active term tuples (cell table)" if self.sparse
+                    else "all rules per call"),
+                 " * inputs of the chain: " + ", ".join(f"{c_comment(s.name)} [{s.lo:g}, {s.hi:g}]"
+                                                        for s in m.signals),
+                 " * outputs of the chain: " + ", ".join(f"{c_comment(o.name)} [{o.lo:g}, {o.hi:g}]"
+                                                         for o in m.outputs),
+                 " *",
+                 " * Functions are static inline in this one header so it is self-contained",
+                 " * (no .c file to add to a firmware build), the compiler can specialise and",
+                 " * inline them into the control loop, and two controllers never clash at link",
+                 " * time. No heap, no recursion, no writable globals, loop bounds are constants.",
+                 " * Link with -lm only if the terms use exp/pow/sqrt (gaussian, bell, sigmoid,",
+                 " * somewhat), the defuzzifier is the bisector, or the expressions do.",
+                 " *",
+                 " * Defined for every input: a NaN input gives every term of its variable",
+                 " * membership 0, so rules needing it do not fire and an output where nothing",
+                 " * fires gives its declared default; +-inf gives the shapes' limits. In the",
+                 " * chain, memories keep their last finite value and an output whose value is",
+                 " * not finite holds its state (an increment counts as 0), so out[] is finite.",
+                 " */")
+
+    def header(self, numeric: str) -> str:
+        m, rb, P = self.model, self.rb, self.P
+        guard = f"FUZZYC_{self.name.upper()}_H"
+        self.comment(numeric)
+        self.out(f"#ifndef {guard}", f"#define {guard}", "", "#include <math.h>", "",
+                 f"#define {P}N_SIGNALS {max(1, len(m.signals))}",
+                 f"#define {P}N_OUTPUTS {max(1, len(m.outputs))}",
+                 f"#define {P}N_RB_INPUTS {len(rb.inputs)}",
+                 f"#define {P}N_RB_OUTPUTS {len(rb.outputs)}",
+                 f"#define {P}N_RULES {rb.n_rules}", "",
+                 f"typedef {self.real.name} {self.p}real;   /* the type of in[], out[], x[], y[] */",
+                 "")
+        for k, s in enumerate(m.signals):
+            self.out(f"#define {P}IN_{c_identifier(s.name).upper()} {k}")
+        for k, o in enumerate(m.outputs):
+            self.out(f"#define {P}OUT_{c_identifier(o.name).upper()} {k}")
+        self.out("")
+        for prm in m.params.values():
+            self.out(f"static const {self.real.name} {P}PARAM_{c_identifier(prm.name)} = "
+                     f"{self.real.lit(prm.value)};")
+        self.out("")
+        self.helpers()
+        self.rulebase_function()
+        self.state_struct()
+        self.init_function()
+        self.step_function()
+        self.out(f"#endif /* {guard} */", "")
+        return "\n".join(self.lines)
+
+
+def generate_header(model: Model, numeric: str = "float") -> str:
+    """The text of the C99 header for `model` (numeric: float | double)."""
+    if numeric not in REAL_TYPES:
+        raise _fail(f"numeric `{numeric}` is not emitted; choose one of "
+                    + ", ".join(REAL_TYPES))
+    if not model.rulebase.inputs or not model.rulebase.outputs:
+        raise _fail("the C back end needs a rule base with inputs and outputs")
+    return checked_header(HeaderWriter(model, REAL_TYPES[numeric]).header(numeric), model)
