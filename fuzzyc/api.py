@@ -190,6 +190,14 @@ class Simulation:
     trace: Trace
     metrics: dict[str, dict[str, Any]]
 
+    def __repr__(self) -> str:          # the run and its metrics, not 28,000 characters of arrays
+        from .display import simulation_text
+        return simulation_text(self)
+
+    def _repr_html_(self) -> str:       # Jupyter: a table of the metrics
+        from .display import simulation_html
+        return simulation_html(self)
+
 
 def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int = 1,
              settings: Mapping[str, Any] | None = None, baseline: bool = False,

@@ -154,6 +154,14 @@ class VerifyReport:
         """verify.json and verify.junit.xml in folder (atomically); returns their paths."""
         return write_reports(self.results, folder)
 
+    def __repr__(self) -> str:          # the verdict counts and the failures
+        from ..display import report_text
+        return report_text(self)
+
+    def _repr_html_(self) -> str:       # Jupyter: a row per property
+        from ..display import report_html
+        return report_html(self)
+
 
 def plot_trace(trace: dict, signals: list[str], title: str, path: str | os.PathLike) -> Path:
     """A counterexample trace: each named signal against time, the violation marked."""
