@@ -1,1 +1,2 @@
-"""The numpy engine, the reference semantics: memberships, norms, inference, defuzzification, the signal chain."""
+"""The numpy engine, the reference semantics: memberships, norms, inference (`inference`),
+defuzzification, the exact centroid, and the signal chain (`chain.Controller`)."""

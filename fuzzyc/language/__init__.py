@@ -1,1 +1,2 @@
-"""The language front end: .fz text -> lark tree -> syntax objects -> Model (grammar, parser, syntax, builder, limits, units, numbers, conditions)."""
+"""The language front end: .fz text -> lark tree (grammar/) -> syntax objects (syntax) -> Model
+(builder/), with the stated limits, units, numbers and rule conditions it checks on the way."""

@@ -1,1 +1,2 @@
-"""What the language means, written once: the model (IR) and the registries of shapes and operators that every front end and back end reads."""
+"""What the language means, written once: the model (IR) and the registries of term shapes,
+operators and signal-chain operations that every front end and back end reads."""

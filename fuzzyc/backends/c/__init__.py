@@ -1,1 +1,2 @@
-"""The C99 float/double header: the rule base, its defuzzifiers and signal chain as static inline C, its guard, its proof, its loader."""
+"""The C99 float/double header: the rule base, its defuzzifiers and signal chain as static inline
+C (header), its last gate (guard), its run-time-error proof (proof) and its loader (load)."""
