@@ -23,13 +23,16 @@ from .semantics.model import Model
 from .language.numbers import real_array
 
 if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
     from fuzzyc.runtime.campaign import Cluster
     from fuzzyc.runtime.trace import Trace
     from .verifier.report import VerifyReport
 
-__all__ = ["Controller", "Explanation", "FuzzycError", "Header", "Model", "Simulation",
-           "compile_c", "compile_lut", "copy_examples", "evaluate", "example", "examples",
-           "explain", "load", "parse", "save", "simulate", "verify"]
+__all__ = ["Controller", "Explanation", "FuzzycError", "Header", "Learning", "Model",
+           "Simulation", "compile_c", "compile_lut", "copy_examples", "evaluate", "example",
+           "examples", "explain", "learn", "load", "parse", "plot", "save", "simulate",
+           "verify"]
 
 PathLike = str | os.PathLike
 
@@ -244,6 +247,124 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
 def _modules(allow_import: Sequence[str] | str) -> list[str]:
     """allow_import as a list (one name given as a string is one module, not its letters)."""
     return [allow_import] if isinstance(allow_import, str) else list(allow_import or ())
+
+
+# -- learning and pictures ------------------------------------------------------------------
+
+@dataclass
+class Learning:
+    """What `learn` gives: the model with the learned table, its .fz text (the first line says
+    how it was learned), the performance index per cycle and each cycle's run
+    (`fuzzyc.learn.CycleResult`: pi, time, finished, trace)."""
+    model: Model
+    text: str
+    table: str
+    pi: np.ndarray
+    cycles: list[Any]
+    scenario: str
+
+    def write(self, path: PathLike) -> Path:
+        """The learned rule file at path (atomically); returns the path."""
+        write_text(path, self.text)
+        return Path(path)
+
+    def __repr__(self) -> str:
+        from .display import learning_text
+        return learning_text(self)
+
+
+def learn(rulebase: PathLike, scenario: PathLike, *, cycles: int = 15, eta: float = 0.25,
+          rho: float = 6.0, table: str = "du",
+          settings: Mapping[str, Any] | None = None) -> Learning:
+    """What `fuzzyc learn` does, without writing: the weights of the rule file's `learnable`
+    table (output `table`) learned on line over `cycles` runs of the scenario's cutting cycle
+    (a shipped name or a YAML path; `settings` overrides its keys as in `simulate`), with
+    learning rate `eta` and `rho` the weight of cf^2 in the performance index (fuzzyc/learn.py
+    gives the rule). `Learning.write(path)` writes the learned file."""
+    from fuzzyc.plants.scenario import load as load_scenario
+    from .cli.learn import check_learnable
+    from .formats import absolute_ref
+    from .learn import learn_scenario, provenance, trained_text
+    from .language.parser import parse as parse_fz
+    if isinstance(cycles, bool) or not isinstance(cycles, (int, np.integer)) or cycles < 1:
+        raise ValueError(f"cycles is a whole number of at least 1, not {cycles!r}")
+    path = os.fspath(rulebase)
+    check_learnable(path, table)
+    loaded = load_scenario(scenario, dict(settings or {}))
+    loaded.data.setdefault("controller", {})["rulebase"] = absolute_ref(path)
+    controller, result = learn_scenario(loaded, cycles, eta, rho, table)
+    text = trained_text(controller.model, result.weights, table, provenance(
+        Path(path).name, loaded.name, cycles, eta, rho, result.pi))
+    return Learning(parse_fz(text, path), text, table, result.pi, result.cycles, loaded.name)
+
+
+def plot(subject: Model | PathLike | Simulation | Learning | VerifyReport, *,
+         point: Mapping[str, float] | None = None, inputs: Sequence[str] | None = None,
+         at: Mapping[str, float] | None = None, compare: Simulation | None = None,
+         out_dir: PathLike | None = None) -> dict[str, Figure]:
+    """The pictures of a model (or of the rule file at that path), a simulation, a learning
+    run or a verify report, as matplotlib Figures by name; with `out_dir` also written there as
+    NAME.png (atomically). docs/plots.md says what each shows.
+
+    - a model: what `fuzzyc plot` draws (MODEL_VAR_terms per variable, MODEL_OUT_surface over
+      the two rule-base `inputs` (default the last two), MODEL_OUT_surface_raw over the raw
+      inputs), `at` holding the other inputs by name; with `point` (a value per rule-base
+      input) the rule viewer of `fuzzyc eval --plot` instead, MODEL_rules;
+    - a Simulation: `trace`, the scenario's panels (`fuzzyc simulate`); `compare` draws a
+      second run (e.g. `simulate(..., baseline=True)`) on the same panels;
+    - a Learning: `pi`, the performance index per cycle (`fuzzyc learn`);
+    - a VerifyReport: one figure per closed-loop counterexample, by property name.
+    The figures are closed to pyplot (no window, no pile-up); `fig.savefig` still works."""
+    from . import plotting
+    from .verifier.report import VerifyReport
+    if isinstance(subject, Simulation):
+        figures = {"trace": _trace_figure(subject, compare)}
+    elif isinstance(subject, Learning):
+        figures = {"pi": plotting.draw_learning(
+            subject.pi, f"{subject.model.name} on {subject.scenario}")}
+    elif isinstance(subject, VerifyReport):
+        from .verifier.report import counterexample_figures
+        figures = counterexample_figures(subject.results)
+    else:
+        model = subject if isinstance(subject, Model) else load(subject)
+        figures = (_rule_view(model, point) if point is not None else plotting.draw_model(
+            model, None if inputs is None else _two_inputs(model, inputs), dict(at or {})))
+    plotting.release(figures.values())
+    if out_dir is not None:
+        from .escape import OutputFolder
+        folder = OutputFolder(out_dir)
+        for name, fig in figures.items():
+            plotting.save(fig, folder.file(name, ".png"))
+    return figures
+
+
+def _two_inputs(model: Model, inputs: Sequence[str]) -> tuple[str, str]:
+    names = [v.name for v in model.rulebase.inputs]
+    chosen = tuple(inputs)
+    if len(chosen) != 2 or any(n not in names for n in chosen):
+        raise ValueError(f"inputs are two of {', '.join(names)}, not {chosen!r}")
+    return chosen  # type: ignore[return-value]
+
+
+def _rule_view(model: Model, point: Mapping[str, float]) -> dict[str, Figure]:
+    from .ruleview import draw_rule_view
+    names = [v.name for v in model.rulebase.inputs]
+    _check_names(model, point, names)
+    return {f"{model.name}_rules": draw_rule_view(
+        model, {n: float(real_array(n, point[n])) for n in names})}
+
+
+def _trace_figure(sim: Simulation, compare: Simulation | None) -> Figure:
+    from fuzzyc.runtime.plots import draw_runs
+    from fuzzyc.runtime.simulate import references, signal_units
+    scenario = sim.scenario
+    runs = {sim.trace.meta.get("controller", "run"): sim.trace}
+    if compare is not None:
+        label = compare.trace.meta.get("controller", "compared")
+        runs[label if label not in runs else f"{label} (2)"] = compare.trace
+    panels = [name for name in scenario.plots if name in sim.trace] or None
+    return draw_runs(runs, panels, references(scenario), scenario.title,
+                     signal_units(scenario))
 
 
 # -- the shipped examples ---------------------------------------------------------------------

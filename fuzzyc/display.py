@@ -169,3 +169,13 @@ def simulation_html(sim: Any) -> str:
     head = simulation_text(sim).split("\n", 1)[0]
     return (f"<p>{escape(head)}</p>"
             + _table(["metric", "mean", "min", "max", "unit"], _metric_rows(sim.metrics)))
+
+
+# -- a learning run -------------------------------------------------------------------------
+
+def learning_text(learning: Any) -> str:
+    """The model, the scenario, the cycles and the performance index from first to last."""
+    pi = learning.pi
+    return (f"Learning {learning.model.name} on {learning.scenario}: "
+            f"{_plural(len(pi), 'cycle')}, performance index {pi[0]:.4g} -> {pi[-1]:.4g}; "
+            f"`{learning.table}` table learned")

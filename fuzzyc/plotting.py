@@ -6,6 +6,7 @@ without one is dimensionless in the language, shown `[-]`.
 """
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
 
 import matplotlib
@@ -13,6 +14,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
+from matplotlib.figure import Figure  # noqa: E402
 
 from .atomic import save_figure  # noqa: E402
 from .engine.inference import evaluate  # noqa: E402
@@ -73,12 +75,22 @@ def _grid(lo_hi: list[tuple[float, float]], names: list[str], axes: tuple[str, s
 
 
 def _surface_figure(X, Y, z, labels: tuple[str, str, str], title: str):
-    fig = plt.figure(figsize=(6, 4.8))
+    """A 3D surface with a colour bar naming the output, at most 5 ticks per axis in a small
+    font (the physical inputs' 4-digit ticks crammed into each other)."""
+    from matplotlib.ticker import MaxNLocator
+    fig = plt.figure(figsize=(7.2, 5.4))
     ax = fig.add_subplot(projection="3d")
-    ax.plot_surface(X, Y, z, cmap="viridis", linewidth=0, antialiased=True)
-    ax.set(xlabel=labels[0], ylabel=labels[1], zlabel=labels[2])
+    surface = ax.plot_surface(X, Y, z, cmap="viridis", linewidth=0, antialiased=True)
+    ax.set_xlabel(labels[0], fontsize=8, labelpad=6)
+    ax.set_ylabel(labels[1], fontsize=8, labelpad=6)
+    ax.set_zlabel(labels[2], fontsize=8, labelpad=6)
+    for axis in (ax.xaxis, ax.yaxis, ax.zaxis):
+        axis.set_major_locator(MaxNLocator(5))
+    ax.tick_params(labelsize=7)
+    bar = fig.colorbar(surface, ax=ax, shrink=0.6, pad=0.12)
+    bar.set_label(labels[2], fontsize=8)
+    bar.ax.tick_params(labelsize=7)
     ax.set_title(plot_text(title), fontsize=9)
-    fig.tight_layout()
     return fig
 
 
@@ -139,29 +151,57 @@ def has_physical_view(model: Model) -> bool:
     return len(signals) >= 2 and set(signals) != {v.name for v in model.rulebase.inputs}
 
 
-def plot_model(model: Model, out_dir: Path, axes: tuple[str, str] | None = None,
-               fixed: dict[str, float] | None = None) -> list[Path]:
-    """Writes into out_dir, the names made safe (`OutputFolder`: variable names come from the
-    input file): MODEL_VAR_terms.png per variable, MODEL_OUTPUT_surface.png per output over
-    two rule-base inputs, and MODEL_OUTPUT_surface_raw.png over the last two raw inputs
-    (`has_physical_view`). `fixed` holds the other inputs, rule-base or raw, by name."""
+def draw_model(model: Model, axes: tuple[str, str] | None = None,
+               fixed: dict[str, float] | None = None) -> dict[str, Figure]:
+    """Every picture of `plot_model`, by file name (without .png): MODEL_VAR_terms per
+    variable, MODEL_OUTPUT_surface per output over two rule-base inputs, and
+    MODEL_OUTPUT_surface_raw over the last two raw inputs (`has_physical_view`). `fixed`
+    holds the other inputs, rule-base or raw, by name."""
     rb = model.rulebase
-    folder = OutputFolder(out_dir)
     fixed = fixed or {}
-    written = [plot_variable(v, folder.file(f"{model.name}_{v.name}_terms", ".png"))
-               for v in rb.inputs + rb.outputs if v.n_terms <= 12]
+    figures = {f"{model.name}_{v.name}_terms": draw_variable(v)
+               for v in rb.inputs + rb.outputs if v.n_terms <= 12}
     if len(rb.inputs) >= 2:
         axes = axes or (rb.inputs[-2].name, rb.inputs[-1].name)
         held = default_fixed({v.name: (v.lo, v.hi) for v in rb.inputs})
         held.update((k, v) for k, v in fixed.items() if k in held)
         for v in rb.outputs:
-            written.append(save(draw_surface(model, v.name, axes, held),
-                                folder.file(f"{model.name}_{v.name}_surface", ".png")))
+            figures[f"{model.name}_{v.name}_surface"] = draw_surface(model, v.name, axes, held)
     if has_physical_view(model):
         raw_axes = (model.signals[-2].name, model.signals[-1].name)
         held = {s.name: 0.5 * (s.lo + s.hi) for s in model.signals}
         held.update((k, v) for k, v in fixed.items() if k in held)
         for v in rb.outputs:
-            written.append(save(draw_signal_surface(model, v.name, raw_axes, held),
-                                folder.file(f"{model.name}_{v.name}_surface_raw", ".png")))
-    return written
+            figures[f"{model.name}_{v.name}_surface_raw"] = draw_signal_surface(
+                model, v.name, raw_axes, held)
+    return figures
+
+
+def plot_model(model: Model, out_dir: Path, axes: tuple[str, str] | None = None,
+               fixed: dict[str, float] | None = None) -> list[Path]:
+    """`draw_model`'s pictures written into out_dir as NAME.png, the names made safe
+    (`OutputFolder`: variable names come from the input file)."""
+    folder = OutputFolder(out_dir)
+    return [save(fig, folder.file(name, ".png"))
+            for name, fig in draw_model(model, axes, fixed).items()]
+
+
+def draw_learning(pi: np.ndarray, title: str) -> Figure:
+    """The performance index of each learning (cutting) cycle (`fuzzyc learn`): PI sums
+    squares of the scaled, dimensionless error and change of force."""
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    ax.plot(np.arange(1, len(pi) + 1), pi, "o-")
+    ax.set_xlabel("learning (cutting) cycle [-]")
+    ax.set_ylabel("performance index PI [-]")
+    ax.set_xlim(0.5, len(pi) + 0.5)
+    ax.set_title(plot_text(title))
+    ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    return fig
+
+
+def release(figures: Iterable[Figure]) -> None:
+    """Hand figures to the caller: pyplot forgets them (no window in Jupyter or a GUI, no
+    pile-up over a long session); they still draw and save."""
+    for fig in figures:
+        plt.close(fig)

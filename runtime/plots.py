@@ -8,6 +8,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 
 from fuzzyc.atomic import save_figure  # noqa: E402
 from fuzzyc.escape import plot_text  # noqa: E402
@@ -25,7 +26,10 @@ def draw_runs(runs: dict[str, Trace], signals: list[str] | None = None,
               references: dict[str, str | float] | None = None, title: str = "",
               units: dict[str, str] | None = None):
     """The figure of one or more runs of the same loop (label -> trace). One run: each loop of
-    its batch in its own colour. Several: a colour per run, its loops all in it, a legend."""
+    its batch in its own colour. Several: a colour per run, its loops all in it. The first run
+    (the rule base) is drawn last, on top; the others (a noisy baseline) lighter beneath it.
+    A panel with more than one kind of line (runs, the set point) has a legend; the time axis
+    ends where the data does."""
     first = next(iter(runs.values()))
     names = signals or list(first.signals)
     references, units = references or {}, units or {}
@@ -33,30 +37,56 @@ def draw_runs(runs: dict[str, Trace], signals: list[str] | None = None,
     fig, axes = plt.subplots(len(names), 1, figsize=(8, 1.8 * len(names) + 0.6), sharex=True,
                              squeeze=False)
     for ax, name in zip(axes[:, 0], names):
-        for k, (label, trace) in enumerate(runs.items()):
+        for k, (label, trace) in enumerate(runs.items()):    # zorder: the first run on top
             if name not in trace:
                 continue
             shown = trace[name][:, :SHOWN_LOOPS]
-            if several:
-                for loop in range(shown.shape[1]):
-                    ax.plot(trace.time, shown[:, loop], lw=0.8, color=f"C{k}",
-                            label=plot_text(label) if loop == 0 else None)
-            else:
-                ax.plot(trace.time, shown, lw=0.8)
+            style = {"lw": 1.0, "zorder": 3} if k == 0 else {"lw": 0.8, "alpha": 0.55,
+                                                               "zorder": 2}
+            for loop in range(shown.shape[1]):
+                colour = f"C{k}" if several else f"C{loop % 10}"
+                legend = plot_text(label or "run") if loop == 0 else None
+                ax.plot(trace.time, shown[:, loop], color=colour, label=legend, **style)
         ref = references.get(name)
         if isinstance(ref, str) and ref in first:
-            ax.plot(first.time, first[ref][:, 0], "k--", lw=0.8, label=plot_text(ref))
+            ax.plot(first.time, first[ref][:, 0], "k--", lw=0.8, zorder=4,
+                    label=plot_text(f"set point {ref}"))
         elif ref is not None:
-            ax.axhline(float(ref), color="k", ls="--", lw=0.8)
+            ax.axhline(float(ref), color="k", ls="--", lw=0.8, zorder=4,
+                       label=f"set point {float(ref):g}")
         ax.set_ylabel(trace_label(name, units.get(name)), fontsize=8)
         ax.grid(alpha=0.3)
-    if several:
-        axes[0, 0].legend(fontsize=7, loc="best")
+        if len(ax.lines) > 1:
+            ax.legend(fontsize=7, loc="best")
     axes[-1, 0].set_xlabel("time [s]")
+    axes[-1, 0].set_xlim(*_time_span(runs.values(), names))
     if title:
         axes[0, 0].set_title(plot_text(title), fontsize=9)
     fig.tight_layout()
     return fig
+
+
+def _time_span(traces, names: list[str]) -> tuple[float, float]:
+    """From the first sample to the last one where a drawn signal is a number and, for a plant
+    with a `done` output (the corner path's end), where the last drawn loop is done: over
+    every run. The corner scenario ran to 12,600 s with its path over near 3,000 s."""
+    start, end = float("inf"), float("-inf")
+    for trace in traces:
+        if not len(trace.time):
+            continue
+        start = min(start, float(trace.time[0]))
+        finite = np.zeros(len(trace.time), bool)
+        for name in names:
+            if name in trace:
+                finite |= np.isfinite(trace[name][:, :SHOWN_LOOPS]).any(axis=1)
+        if "done" in trace:
+            done = trace["done"][:, :SHOWN_LOOPS] > 0
+            finite &= ~np.concatenate([[False], done.all(axis=1)[:-1]])   # the sample it ends
+        last = np.flatnonzero(finite)
+        end = max(end, float(trace.time[last[-1] if len(last) else -1]))
+    if not start < end:
+        return (0.0, 1.0) if start == float("inf") else (start - 0.5, start + 0.5)
+    return start, end
 
 
 def plot_runs(runs: dict[str, Trace], path: str | Path, signals: list[str] | None = None,

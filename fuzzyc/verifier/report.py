@@ -163,21 +163,138 @@ class VerifyReport:
         return report_html(self)
 
 
-def plot_trace(trace: dict, signals: list[str], title: str, path: str | os.PathLike) -> Path:
-    """A counterexample trace: each named signal against time, the violation marked."""
-    import matplotlib
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    shown = [s for s in signals if s in trace["signals"]]
-    fig, axes = plt.subplots(len(shown), 1, sharex=True, figsize=(8, 1.8 * len(shown) + 0.8),
+def trace_marks(check, scenario, model, params: dict[str, float]) -> dict:
+    """What a counterexample plot needs beyond the signals, kept in the trace (so a report
+    read later draws the same): `units` (signal -> unit: the plant's, the observers', the rule
+    files'; sensed_X and baseline_X as X) and `marks`, horizontal lines [signal, value, label]
+    for each limit of the check (`always y < 35`, `abs(y - r) < 0.05`, `settles y to r within
+    0.1`) and the set point it names."""
+    from fuzzyc.runtime.simulate import signal_units
+    units = signal_units(scenario)
+    for item in (*model.signals, *model.steps, *model.outputs):
+        if item.unit:
+            units.setdefault(item.name, item.unit)
+    for name in list(units):
+        for prefix in ("sensed_", "baseline_"):
+            units.setdefault(prefix + name, units[name])
+    return {"units": units, "marks": _limit_marks(check, params)}
+
+
+def _constant(expr, params: dict[str, float]) -> float | None:
+    """expr's value when it holds only numbers and params, else None."""
+    import sympy
+    value = sympy.sympify(expr).subs({sympy.Symbol(k): v for k, v in params.items()})
+    return float(value) if value.is_number and value.is_real else None
+
+
+def _limit_marks(check, params: dict[str, float]) -> list[list]:
+    import sympy
+    a, marks = check.args, []
+    if check.kind == "settles":
+        target = _constant(a["target"], params)
+        if target is not None:
+            tol = float(a["tolerance"])
+            marks += [[a["signal"], target, f"set point {target:g}"],
+                      [a["signal"], target - tol, f"band ±{tol:g}"],
+                      [a["signal"], target + tol, None]]
+        return marks
+    predicate = a.get("predicate")
+    parts = predicate.args if isinstance(predicate, (sympy.And, sympy.Or)) else [predicate]
+    for rel in parts:
+        if not isinstance(rel, sympy.core.relational.Relational):
+            continue
+        lhs, rhs = rel.lhs, rel.rhs
+        if _constant(lhs, params) is not None:
+            lhs, rhs = rhs, lhs
+        limit = _constant(rhs, params)
+        if limit is None:
+            continue
+        text = plot_text(f"limit: {rel}")
+        if isinstance(lhs, sympy.Symbol):
+            marks.append([lhs.name, limit, text])
+        elif isinstance(lhs, sympy.Abs):
+            marks += _band_marks(lhs.args[0], limit, text, params)
+    return marks
+
+
+def _band_marks(inner, limit: float, text: str, params: dict[str, float]) -> list[list]:
+    """abs(y - r) < limit: on y's panel, r (a number, or a signal drawn as a line) and r +-
+    limit; nothing for other shapes."""
+    import sympy
+    # the panel: the first signal written with a + (abs(y - r): y, its set point r)
+    signals = [s for s in inner.free_symbols if s.name not in params and inner.coeff(s) == 1]
+    if not signals:
+        return []
+    signals.sort(key=lambda s: str(inner).index(s.name))
+    rest = -(inner - signals[0])
+    centre = _constant(rest, params)
+    if centre is not None:
+        return [[signals[0].name, centre, f"set point {centre:g}"],
+                [signals[0].name, centre - limit, text], [signals[0].name, centre + limit, None]]
+    if isinstance(rest, sympy.Symbol):
+        return [[signals[0].name, rest.name, f"set point {rest.name}"],
+                [signals[0].name, [rest.name, limit], text]]
+    return []
+
+
+def draw_trace(trace: dict, signals: list[str], title: str):
+    """A counterexample trace: each named signal against time (its unit from the trace's
+    `units`), its limits and set point as labelled lines, the first violation marked."""
+    from ..plotting import plt
+    from fuzzyc.runtime.plots import trace_label
+    shown = [s for s in signals if s in trace["signals"]] or list(trace["signals"])[:1]
+    fig, axes = plt.subplots(len(shown), 1, sharex=True, figsize=(8, 1.9 * len(shown) + 0.9),
                              squeeze=False)
     t = np.asarray(trace["t"])
+    units = trace.get("units", {})
     for ax, name in zip(axes[:, 0], shown):
-        ax.plot(t, trace["signals"][name], lw=1)
-        ax.set_ylabel(plot_text(name))
+        ax.plot(t, trace["signals"][name], lw=1, color="C0", label=plot_text(name))
+        for signal, value, label in trace.get("marks", []):
+            if signal == name:
+                _draw_mark(ax, t, trace["signals"], value, label)
         if trace.get("violated_at") is not None:
-            ax.axvline(trace["violated_at"], color="r", ls="--", lw=1)
-    axes[-1, 0].set_xlabel("t [s]")
+            ax.axvline(trace["violated_at"], color="r", ls="--", lw=1,
+                       label=f"first violated, t = {trace['violated_at']:.4g} s")
+        ax.set_ylabel(trace_label(name, units.get(name)), fontsize=8)
+        if len(ax.get_legend_handles_labels()[1]) > 1:
+            ax.legend(fontsize=7, loc="best")
+        ax.grid(alpha=0.3)
+    axes[-1, 0].set_xlabel("time [s]")
+    if len(t):
+        axes[-1, 0].set_xlim(t[0], t[-1])
     fig.suptitle(plot_text(title), fontsize=9)
     fig.tight_layout()
-    return save_figure(fig, path, dpi=90)
+    return fig
+
+
+def _draw_mark(ax, t: np.ndarray, signals: dict, value, label: str | None) -> None:
+    """A mark: a number (a horizontal line), a signal's name (that signal, a set point) or
+    [signal, limit] (the band signal +- limit)."""
+    colour = "C2" if label and label.startswith("set") else "C3"
+    if isinstance(value, str):
+        if value in signals:
+            ax.plot(t, signals[value], color=colour, ls="--", lw=1, label=plot_text(label))
+    elif isinstance(value, (list, tuple)):
+        if value[0] in signals:
+            centre = np.asarray(signals[value[0]], float)
+            ax.plot(t, centre - value[1], color=colour, ls=":", lw=1, label=plot_text(label))
+            ax.plot(t, centre + value[1], color=colour, ls=":", lw=1)
+    else:
+        ax.axhline(value, color=colour, ls=":", lw=1, label=label and plot_text(label))
+
+
+def plot_trace(trace: dict, signals: list[str], title: str, path: str | os.PathLike) -> Path:
+    """draw_trace written to path (atomically)."""
+    return save_figure(draw_trace(trace, signals, title), path, dpi=90)
+
+
+def counterexample_figures(results: list[Result]) -> dict:
+    """property name -> the figure of its closed-loop counterexample (as `verify
+    --report-dir` writes them)."""
+    figures = {}
+    for r in results:
+        for e in r.evidence:
+            if e.trace and e.status == Status.VIOLATED:
+                shown = e.trace.get("shown") or list(e.trace["signals"])
+                figures[r.name] = draw_trace(e.trace, shown, r.name)
+    return figures
