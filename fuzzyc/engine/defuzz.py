@@ -42,30 +42,25 @@ from itertools import product
 import numpy as np
 
 from .centroid import ClosedFormCentroid
+from .crisp import AT_LEVEL_STEPS, safe_ratio
+from .crisp import FLAT_TOLERANCE  # noqa: F401  (the C back end reads it from here)
+from .crisp import mean_of_maximum as _mean_of_maximum
 from .membership import linear_coefficients, memberships, term_inverse, trapezoid
-from ..semantics.model import (Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable,
-                    aggregation_snorm)
+from ..semantics.model import Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable
+from ..semantics.operators import AGGREGATIONS, DEFUZZIFIERS, IMPLICATIONS, members
 from .norms import combine, implied
 
 GRID_POINTS = 2001
-# M counts as maximal where M >= top (1 - FLAT_TOLERANCE), top = max(M): relative, so that a
-# low top is not flat everywhere (the absolute top - 1e-12 made every point of a top of 1e-15
-# a maximum, the mean of maximum the range's midpoint; the float C's 4.8e-7 did at 1e-9)
-FLAT_TOLERANCE = 1e-12
 # assumption: at most 60 steps for the probsum bisector inside its piece: Newton's method
 # converges in a handful, and 60 halvings (the fallback) take a piece of any width below one ulp
 # of its position (2**-60 < eps / 2**8), so it is exact to the last bits either way.
 BISECTION_STEPS = 60
-# ulps a clip point may move toward its term's top (_at_level; the C headers do the same): the
-# rounding of a + h (b - a) or of d - h (d - c) is half an ulp, the term's value there a few
-AT_LEVEL_STEPS = 3
 # assumption: rules firing at once in a sample, for sizing chunks under probsum / bounded sum
 # (the rules that do not fire are dropped); a partitioned rule base fires at most 2**I, 8 for
 # the paper's three inputs.  More firing rules only make a chunk larger than planned.
 FIRING_GUESS = 16
 
-PEAK_BASED = (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE,
-              Defuzzifier.WEIGHTED_SUM)
+PEAK_BASED = members(DEFUZZIFIERS, lambda rec: rec.family == "peaks")
 
 
 @dataclass(frozen=True)
@@ -98,16 +93,16 @@ SCATTERS = {Aggregation.MAX: Scatter(np.maximum), Aggregation.SUM: Scatter(np.ad
 
 
 # aggregations folded with their s-norm, and implications other than MIN/PRODUCT: M is not
-# piecewise linear (nor a low-degree polynomial) there, so it is integrated on the grid
-FOLDED = (Aggregation.DRASTIC_SUM, Aggregation.EINSTEIN_SUM, Aggregation.HAMACHER_SUM,
-          Aggregation.NILPOTENT_MAX)
-EXACT_IMPLICATIONS = (Implication.MIN, Implication.PRODUCT)
+# piecewise linear (nor a low-degree polynomial) there, so it is integrated on the grid (the
+# registry's `exact`)
+FOLDED = members(AGGREGATIONS, lambda rec: not rec.exact)
+EXACT_IMPLICATIONS = members(IMPLICATIONS, lambda rec: rec.exact)
 
 
 def _folded_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
                       aggregation: Aggregation) -> np.ndarray:
     """alpha (N, T) for an s-norm folded over the candidates in order (0 where none)."""
-    snorm = aggregation_snorm(aggregation)
+    snorm = AGGREGATIONS[aggregation].snorm
     J = np.broadcast_to(J, act.shape)
     out = np.zeros((act.shape[0], n_terms))
     rows = np.arange(act.shape[0])
@@ -140,14 +135,6 @@ def term_strengths(act: np.ndarray, J: np.ndarray, n_terms: int,
     out = np.full(n * (n_terms + 1), scatter.start)
     scatter.ufunc.at(out, flat.ravel(), scatter.values(act).ravel())
     return scatter.finish(out.reshape(n, n_terms + 1)[:, :n_terms])
-
-
-def safe_ratio(num: np.ndarray, den: np.ndarray, default) -> np.ndarray:
-    """num / den where den > 0, else default (a number, or an array broadcast against them)."""
-    if np.size(den) and den.min() > 0:      # every den positive (a NaN min is not): no mask
-        return num / den
-    ok = den > 0
-    return np.where(ok, num / np.where(ok, den, 1.0), default)
 
 
 class OutputDefuzzifier:
@@ -314,9 +301,9 @@ class OutputDefuzzifier:
                 alpha = np.where(void, 0.0, alpha)
             num = alpha @ z if z.ndim == 1 else (alpha * z).sum(axis=1)
             den = alpha.sum(axis=1)
-            if method == Defuzzifier.WEIGHTED_SUM:
-                return np.where(den > 0, num, var.default)
-            return safe_ratio(num, den, var.default)
+            # the defuzzifier's own ratio or sum; a centroid of singletons is their ratio
+            ratio = DEFUZZIFIERS[method].numpy if method in PEAK_BASED else safe_ratio
+            return ratio(num, den, var.default)
         if self.closed_form is not None:
             return self.closed_form(alpha)
         if not self._static_items():
@@ -349,7 +336,7 @@ class OutputDefuzzifier:
             return _area_defuzzify(method, x, _probsum(items), self.var.default)
         if agg in FOLDED:
             folded = combine([items[..., k] for k in range(items.shape[2])] or
-                             [np.zeros(items.shape[:2])], aggregation_snorm(agg), False)
+                             [np.zeros(items.shape[:2])], AGGREGATIONS[agg].snorm, False)
             return _area_defuzzify(method, x, folded, self.var.default)
         x, f = _bounded_at_one(x, items.sum(axis=2))
         return _area_defuzzify(method, x, f, self.var.default)
@@ -362,7 +349,8 @@ class OutputDefuzzifier:
         z = term_inverse(self.var.kinds[t], np.asarray(self.var.params, dtype=float)[t],
                          np.where(firing, levels, 1.0)).clip(self.var.lo, self.var.hi)
         num = np.where(firing, levels * z, 0.0).sum(axis=1)
-        return safe_ratio(num, levels.sum(axis=1), self.var.default)
+        return DEFUZZIFIERS[Defuzzifier.TSUKAMOTO].numpy(num, levels.sum(axis=1),
+                                                         self.var.default)
 
     def _sample(self, levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Points (N, P) sorted, and the implied items IMP(level_k, mu_ids_k) there (N, P, K)."""
@@ -547,50 +535,6 @@ def _cross(l1: tuple[float, float], l2: tuple[float, float]) -> float:
 
 def _area_defuzzify(method: Defuzzifier, x: np.ndarray, f: np.ndarray,
                     default: float) -> np.ndarray:
-    """Exact centroid / bisector / mean of maximum of the piecewise-linear (x, f)."""
-    x0, x1, f0, f1 = x[:, :-1], x[:, 1:], f[:, :-1], f[:, 1:]
-    dx = x1 - x0
-    piece_area = 0.5 * (f0 + f1) * dx
-    area = piece_area.sum(axis=1)
-    if method == Defuzzifier.CENTROID:
-        moment = (dx * (f0 * (2 * x0 + x1) + f1 * (x0 + 2 * x1)) / 6.0).sum(axis=1)
-        return safe_ratio(moment, area, default)
-    if method == Defuzzifier.BISECTOR:
-        return np.where(area > 0, _bisector(x0, dx, f0, f1, piece_area, area), default)
-    return _mean_of_maximum(x, f, default)
-
-
-def _bisector(x0, dx, f0, f1, piece_area, area) -> np.ndarray:
-    """The leftmost u with int_lo^u M = area / 2, solving the quadratic inside its piece."""
-    half = 0.5 * area
-    before = np.cumsum(piece_area, axis=1) - piece_area
-    k = np.argmax(before + piece_area >= half[:, None], axis=1)[:, None]
-    take = lambda a: np.take_along_axis(a, k, axis=1)[:, 0]   # noqa: E731
-    rem = half - take(before)
-    a0, d, g0, g1 = take(x0), take(dx), take(f0), take(f1)
-    slope = np.where(d > 0, (g1 - g0) / np.where(d > 0, d, 1.0), 0.0)
-    # t solves g0 t + slope t^2 / 2 = rem; this form is stable for slope = 0 too.
-    den = g0 + np.sqrt(np.maximum(g0 * g0 + 2.0 * slope * rem, 0.0))
-    t = np.where(den > 0, 2.0 * rem / np.where(den > 0, den, 1.0), 0.0)
-    return a0 + np.clip(t, 0.0, d)
-
-
-def _mean_of_maximum(x: np.ndarray, f: np.ndarray, default: float) -> np.ndarray:
-    top = f.max(axis=1)
-    is_top = f >= (top * (1.0 - FLAT_TOLERANCE))[:, None]
-    x0, x1 = x[:, :-1], x[:, 1:]
-    # A vertical edge is stored as two points a few ulps apart (_at_level moves clip points
-    # by up to AT_LEVEL_STEPS ulps): a piece that short is one point, not a plateau, or a
-    # one-ulp "plateau" at a vertical edge would outweigh every isolated peak.
-    apart = (x1 - x0) > 2 * AT_LEVEL_STEPS * np.spacing(np.maximum(np.abs(x0), np.abs(x1)))
-    plateau = is_top[:, :-1] & is_top[:, 1:] & apart
-    length = np.where(plateau, x1 - x0, 0.0)
-    total = length.sum(axis=1)
-    plateau_mean = (length * 0.5 * (x0 + x1)).sum(axis=1) / np.where(total > 0, total, 1.0)
-    # Isolated maxima: each run of top points closer than `apart` is one point, counted at its
-    # first (the point list repeats a point, or splits it across a vertical edge).
-    starts = ~(is_top[:, :-1] & ~apart)
-    distinct = np.concatenate([np.ones((len(x), 1), bool), starts], axis=1) & is_top
-    point_mean = (np.where(distinct, x, 0.0).sum(axis=1)
-                  / np.maximum(distinct.sum(axis=1), 1))
-    return np.where(top > 0, np.where(total > 0, plateau_mean, point_mean), default)
+    """Exact centroid / bisector / mean of maximum of the piecewise-linear (x, f): the
+    defuzzifier's own function (its registry record's, fuzzyc.engine.crisp)."""
+    return DEFUZZIFIERS[method].numpy(x, f, default)
