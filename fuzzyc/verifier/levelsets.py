@@ -1,9 +1,11 @@
 """Where a clause is true at least to a level: closed intervals, in closed form.
 
-Every term shape of the language is quasi-concave (trapezoid, gaussian, bell) or monotone
-(sigmoid), so {x : mu(x) >= lam} is one closed interval and {x : 1 - mu(x) >= lam} the
-complement of an open one. That is what makes coverage under the min t-norm decidable exactly:
-a rule fires >= level on a box (a union of boxes with `not`), and boxes are checked exactly.
+The shapes whose registry record has level sets (`Shape.superlevel`: trapezoid, gaussian,
+bell, sigmoid, singleton) are quasi-concave or monotone, so {x : mu(x) >= lam} is one closed
+interval and {x : 1 - mu(x) >= lam} the complement of an open one; the proof methods take
+only those (`fuzzyc.semantics.shapes.provable_kinds`).  That is what makes coverage under the
+min t-norm decidable exactly: a rule fires >= level on a box (a union of boxes with `not`),
+and boxes are checked exactly.
 """
 from __future__ import annotations
 
@@ -11,6 +13,7 @@ import numpy as np
 
 from ..engine.membership import HEDGE_EXPONENT
 from ..semantics.model import TermKind, Variable
+from ..semantics.shapes import SHAPES
 
 INF = np.inf
 
@@ -22,24 +25,10 @@ def _superlevel(kind: int, p: np.ndarray, lam: float, strict: bool) -> tuple[flo
         return (-INF, INF)
     if lam >= 1 and strict or lam > 1:
         return None
-    a, b, c, d = p
-    if kind == TermKind.TRAPEZOID:
-        lo = -INF if np.isneginf(a) else a + lam * (b - a)
-        hi = INF if np.isposinf(d) else d - lam * (d - c)
-        return (lo, hi) if lo <= hi else None
-    if kind == TermKind.SINGLETON:
-        return None if strict and lam >= 1 else ((a, a) if lam > 0 else (-INF, INF))
-    if kind == TermKind.GAUSSIAN:
-        half = abs(b) * np.sqrt(-2.0 * np.log(lam)) if lam > 0 else INF
-        return (a - half, a + half)
-    if kind == TermKind.BELL:
-        half = abs(b) * (1.0 / lam - 1.0) ** (1.0 / (2.0 * c)) if lam > 0 else INF
-        return (a - half, a + half)
-    # SIGMOID: mu = 1/(1+exp(-s(x-c))) never reaches 1
-    if lam >= 1:
-        return None
-    edge = a + np.log(lam / (1.0 - lam)) / b if lam > 0 else -INF * np.sign(b)
-    return (edge, INF) if b > 0 else (-INF, edge)
+    level = SHAPES[TermKind(int(kind))].superlevel
+    if level is None:
+        raise ValueError(f"{TermKind(int(kind)).name.lower()} terms have no level sets here")
+    return level(p, lam, strict)
 
 
 def clause_intervals(var: Variable, term: int, hedge: int, negated: bool,

@@ -23,15 +23,16 @@ from ..engine import inference as engine
 from ..engine.defuzz import FOLDED
 from ..semantics.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, RuleBase, SNorm, TNorm,
                      TermKind)
+from ..semantics.shapes import SHAPES, provable_kinds
 from .result import Evidence, Status
 from .space import break_points, hedge_free, restrict, tensor_points
 
 TOL = 1e-9
 AREA_BASED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
-# What the proof methods (here, coverage.py, levelsets.py) were written for; the rest of the
-# model (fuzzylite's extra norms, shapes and hedges, linear consequents) goes to the search.
-PROVABLE_TERMS = {TermKind.TRAPEZOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind.SIGMOID,
-                  TermKind.SINGLETON}
+# What the proof methods (here, coverage.py, levelsets.py) were written for: the shapes whose
+# registry record has closed-form level sets; the rest of the model (fuzzylite's extra norms,
+# shapes and hedges, linear consequents) goes to the search.
+PROVABLE_TERMS = provable_kinds()
 
 
 def beyond_proofs(rb: RuleBase) -> str | None:
@@ -52,7 +53,7 @@ def beyond_proofs(rb: RuleBase) -> str | None:
         return "no proof method for the hedges seldom/sharply"
     kinds = {TermKind(int(k)) for v in rb.inputs + rb.outputs for k in v.kinds}
     if kinds - PROVABLE_TERMS:
-        names = ", ".join(sorted(k.name.lower() for k in kinds - PROVABLE_TERMS))
+        names = ", ".join(sorted(SHAPES[k].name for k in kinds - PROVABLE_TERMS))
         return f"no proof method for {names} terms"
     return None
 

@@ -9,41 +9,16 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .. import units
-from ...engine.membership import discrete_problem
 from ...semantics.model import SourceLoc, TermKind, Variable
+from ...semantics.shapes import WORDS, plain_words, term_core
 from ..syntax import Name, Stmt, TermDef
 
 INF = math.inf
 
-SHAPE_ARITY = {"tri": 3, "trap": 4, "lshoulder": 2, "rshoulder": 2, "gauss": 2, "bell": 3,
-               "sigmoid": 2, "singleton": 1, "linear": None, "discrete": None}
-
-# Shapes written with their parameters in the model's order: word -> (kind, arity, the condition
-# that keeps them well defined, what to say when it fails)
-PLAIN_SHAPES = {
-    "sshape": (TermKind.SSHAPE, 2, lambda v: v[0] < v[1], "sshape(start, end) with start < end"),
-    "zshape": (TermKind.ZSHAPE, 2, lambda v: v[0] < v[1], "zshape(start, end) with start < end"),
-    "pishape": (TermKind.PISHAPE, 4, lambda v: v[0] < v[1] and v[2] < v[3],
-                "pishape(a, b, c, d) with a < b and c < d"),
-    "spike": (TermKind.SPIKE, 2, lambda v: v[1] > 0, "spike(center, width) with width > 0"),
-    "cosine": (TermKind.COSINE, 2, lambda v: v[1] > 0, "cosine(center, width) with width > 0"),
-    "concave": (TermKind.CONCAVE, 2, lambda v: v[0] != v[1],
-                "concave(inflection, end) with inflection != end"),
-    "sigmoid_difference": (TermKind.SIGMOID_DIFFERENCE, 4, lambda v: v[1] != 0 and v[2] != 0,
-                           "sigmoid_difference(left, rising, falling, right) with slopes != 0"),
-    "sigmoid_product": (TermKind.SIGMOID_PRODUCT, 4, lambda v: v[1] != 0 and v[2] != 0,
-                        "sigmoid_product(left, rising, falling, right) with slopes != 0"),
-    "gaussian_product": (TermKind.GAUSSIAN_PRODUCT, 4, lambda v: v[1] > 0 and v[3] > 0,
-                         "gaussian_product(mean_a, sigma_a, mean_b, sigma_b) with sigmas > 0"),
-    "binary": (TermKind.BINARY, 2, lambda v: v[0] != v[1],
-               "binary(start, direction) with direction != start"),
-    "semi_ellipse": (TermKind.SEMI_ELLIPSE, 2, lambda v: v[0] != v[1],
-                     "semi_ellipse(start, end) with start != end"),
-    "arc": (TermKind.ARC, 2, lambda v: v[0] != v[1], "arc(start, end) with start != end"),
-}
-
-SHAPE_ARITY.update({word: arity for word, (_, arity, _, _) in PLAIN_SHAPES.items()})
-
+# The registry's plain words (numbers = the model's params in order), as
+# word -> (kind, arity, the condition that keeps them well defined, how to write them)
+PLAIN_SHAPES = {word: (shape.kind, w.arity, w.valid, w.usage)
+                for word, (shape, w) in plain_words().items()}
 
 @dataclass
 class LinguisticVar:
@@ -62,30 +37,6 @@ class LinguisticVar:
 
     def term_names(self) -> list[str]:
         return [t[0] for t in self.terms]
-
-
-def term_core(kind: TermKind, params) -> tuple[float, float]:
-    """The interval where a term is fully true (or its centre): it must meet the range."""
-    if kind in (TermKind.TRAPEZOID, TermKind.PISHAPE):
-        return params[1], params[2]
-    if kind in (TermKind.SIGMOID_DIFFERENCE, TermKind.SIGMOID_PRODUCT):
-        return params[0], params[3]
-    if kind == TermKind.GAUSSIAN_PRODUCT:
-        return params[0], params[2]
-    if kind == TermKind.SEMI_ELLIPSE:
-        return 0.5 * (params[0] + params[1]), 0.5 * (params[0] + params[1])
-    rising = {TermKind.SSHAPE: True, TermKind.ZSHAPE: False,
-              TermKind.CONCAVE: params[0] < params[1], TermKind.ARC: params[0] < params[1],
-              TermKind.BINARY: params[0] < params[1]}.get(kind)
-    if rising is not None:      # an edge: fully true from its end on (up to its end)
-        edge = params[0] if kind in (TermKind.ZSHAPE, TermKind.BINARY) else params[1]
-        return (edge, INF) if rising else (-INF, edge)
-    if kind == TermKind.LINEAR:
-        return -INF, INF
-    if kind == TermKind.DISCRETE:     # x1 y1 x2 y2 ...: where y is highest
-        top = [x for x, y in zip(params[0::2], params[1::2]) if y == max(params[1::2])]
-        return top[0], top[-1]
-    return params[0], params[0]
 
 
 def to_variable(v: LinguisticVar) -> Variable:
@@ -198,70 +149,22 @@ class TermsBuilder:
             self._append_term(var, name, TermKind.TRAPEZOID, params)
 
     def _add_term(self, var: LinguisticVar, term: TermDef) -> None:
+        shape, word = WORDS[term.shape]
         values = [n.value for n in term.args]
-        arity = SHAPE_ARITY[term.shape] or len(values)
+        arity = word.arity or len(values)
         if len(values) != arity:
             self.error(term.args[0].loc if term.args else term.name.loc,
                        f"`{term.shape}` takes {arity} number{'s' if arity > 1 else ''}, "
                        f"got {len(values)}")
             return
-        shape = term.shape
-        where = term.args[0].loc
-        if shape in ("tri", "trap"):
-            points = values if shape == "trap" else [values[0], values[1], values[1], values[2]]
-            if any(p > q for p, q in zip(points, points[1:])) or points[0] == points[-1]:
-                order = "a <= b <= c" if shape == "tri" else "a <= b <= c <= d"
-                self.error(where, f"degenerate {shape} `{term.name.text}`"
-                                  f"({', '.join(f'{v:g}' for v in values)}): break points must "
-                                  f"satisfy {order} with a < {'c' if shape == 'tri' else 'd'}")
-                return
-            self._append_term(var, term.name, TermKind.TRAPEZOID, tuple(points))
-        elif shape == "lshoulder":
-            if not values[0] < values[1]:
-                self.error(where, f"lshoulder `{term.name.text}` needs its top end before its "
-                                  "foot: lshoulder(c, d) with c < d")
-                return
-            self._append_term(var, term.name, TermKind.TRAPEZOID, (-INF, -INF, *values))
-        elif shape == "rshoulder":
-            if not values[0] < values[1]:
-                self.error(where, f"rshoulder `{term.name.text}` needs rshoulder(a, b) with a < b")
-                return
-            self._append_term(var, term.name, TermKind.TRAPEZOID, (*values, INF, INF))
-        elif shape == "gauss":
-            if not values[1] > 0:
-                self.error(term.args[1].loc, f"gauss `{term.name.text}` needs a width > 0")
-                return
-            self._append_term(var, term.name, TermKind.GAUSSIAN, (*values, 0, 0))
-        elif shape == "bell":
-            if not (values[1] > 0 and values[2] > 0):
-                self.error(term.args[1].loc, f"bell `{term.name.text}` needs width > 0 and slope > 0")
-                return
-            self._append_term(var, term.name, TermKind.BELL, (*values, 0))
-        elif shape == "sigmoid":
-            if values[1] == 0:
-                self.error(term.args[1].loc, f"sigmoid `{term.name.text}` needs a slope other than 0")
-                return
-            self._append_term(var, term.name, TermKind.SIGMOID, (*values, 0, 0))
-        elif shape in PLAIN_SHAPES:
-            kind, _, valid, usage = PLAIN_SHAPES[shape]
-            if not valid(values):
-                self.error(where, f"degenerate {shape} `{term.name.text}`: write {usage}")
-                return
-            self._append_term(var, term.name, kind, (*values, 0, 0, 0)[:max(4, arity)])
-        elif shape == "discrete":      # x1, y1, x2, y2, ...: the points stay as written
-            problem = discrete_problem(values)
-            if problem:
-                self.error(where, f"discrete `{term.name.text}`: {problem}")
-                return
-            self._append_term(var, term.name, TermKind.DISCRETE, tuple(values))
-        elif shape == "linear":
-            if var.is_input:
-                self.error(term.name.loc, f"a linear term is a Takagi-Sugeno consequent: input "
-                                          f"`{var.name}` cannot have one")
-                return
-            self._append_term(var, term.name, TermKind.LINEAR, (*values, 0, 0, 0)[:max(4, arity)])
-        else:
-            self._append_term(var, term.name, TermKind.SINGLETON, (values[0], 0, 0, 0))
+        if not word.valid(values):
+            self.error(term.args[word.at].loc, word.message(values, term.name.text))
+            return
+        if var.is_input and not shape.on_inputs:
+            self.error(term.name.loc, f"a linear term is a Takagi-Sugeno consequent: input "
+                                      f"`{var.name}` cannot have one")
+            return
+        self._append_term(var, term.name, shape.kind, word.params(values))
 
     def _append_term(self, var: LinguisticVar, name: Name, kind: TermKind, params,
                      learnable: bool = False) -> int:

@@ -1,8 +1,11 @@
 """A rule base evaluated on boxes: sound bounds of every output over every input in a box.
 
-- Memberships: every term kind of the model is unimodal (rises to a plateau [p1, p2], then
-  falls) or monotone (an empty plateau), so over [x1, x2] its least value is the smaller of its
-  end values and its largest is 1 where [x1, x2] meets the plateau, else the larger end value.
+- Memberships: each shape's registry record (`fuzzyc.semantics.shapes`) encloses its values
+  over an interval soundly: by its critical points (where it may turn or jump) or by
+  composing its monotone factors.  A shape without an enclosure (a formula) is refused by
+  name.  (This once assumed every shape was unimodal or monotone: a gaussian product, a
+  sigmoid difference or product, a semi-ellipse or a point list over a box around its top
+  got the larger end value as its largest, short of the engine's.)
 - Hedges, NOT, t-norms, s-norms, weights >= 0, the firing threshold and the aggregations are
   monotone in every argument: bounds go through the engine's own code
   (`engine.flat_activations`, `norms.firing`, `defuzz.term_strengths`) as lower and upper
@@ -26,12 +29,8 @@ import numpy as np
 from ...engine.defuzz import OutputDefuzzifier, term_strengths
 from ...engine.inference import flat_activations
 from ...engine.norms import firing
-from ...engine.membership import term_values
 from ...semantics.model import Defuzzifier, RuleBase, TermKind
-
-UNIMODAL = {TermKind.TRAPEZOID: (1, 2), TermKind.PISHAPE: (1, 2), TermKind.GAUSSIAN: (0, 0),
-            TermKind.BELL: (0, 0), TermKind.SPIKE: (0, 0), TermKind.COSINE: (0, 0),
-            TermKind.SINGLETON: (0, 0)}     # the params that are the plateau's ends
+from ...semantics.shapes import SHAPES, enclosed_kinds, enclosures
 
 
 def unsupported(rb: RuleBase) -> str | None:
@@ -48,26 +47,17 @@ def unsupported(rb: RuleBase) -> str | None:
     for v in rb.inputs + rb.outputs:
         if v.formulas:
             return f"the Function (formula) terms of `{v.name}`"
+    for v in rb.inputs:     # the shape records say which shapes have an enclosure
+        missing = {TermKind(int(k)) for k in v.kinds} - enclosed_kinds()
+        if missing:
+            names = ", ".join(sorted(SHAPES[k].name for k in missing))
+            return f"the {names} terms of `{v.name}` (no enclosure over intervals)"
     return None
-
-
-def _plateaus(kinds: np.ndarray, params: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    lo = np.full(len(kinds), np.inf)
-    hi = np.full(len(kinds), -np.inf)
-    for t, kind in enumerate(kinds):
-        ends = UNIMODAL.get(TermKind(int(kind)))
-        if ends is not None:
-            lo[t], hi[t] = params[t, ends[0]], params[t, ends[1]]
-    return lo, hi
 
 
 def membership_bounds(var, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(N,) input bounds -> (N, T) least and largest membership of each term."""
-    at_lo = term_values(var.kinds, var.params, lo)
-    at_hi = term_values(var.kinds, var.params, hi)
-    p1, p2 = _plateaus(var.kinds, var.params)
-    meets = (lo[:, None] <= p2) & (hi[:, None] >= p1)
-    return np.minimum(at_lo, at_hi), np.where(meets, 1.0, np.maximum(at_lo, at_hi))
+    return enclosures(var.kinds, var.params, var.points, lo, hi)
 
 
 def ratio_bounds(w_lo: np.ndarray, w_hi: np.ndarray, z: np.ndarray, default: float
@@ -105,11 +95,14 @@ def _suffix(a: np.ndarray) -> np.ndarray:
 
 
 def _supports(var) -> tuple[np.ndarray, np.ndarray]:
-    p, k = var.params, var.kinds
-    lo = np.where(k == TermKind.TRAPEZOID, p[:, 0], np.where(k == TermKind.SINGLETON, p[:, 0],
-                                                              var.lo))
-    hi = np.where(k == TermKind.TRAPEZOID, p[:, 3], np.where(k == TermKind.SINGLETON, p[:, 0],
-                                                              var.hi))
+    """Where each term may be positive (the registry's supports), clipped to the range."""
+    lo, hi = np.full(var.n_terms, float(var.lo)), np.full(var.n_terms, float(var.hi))
+    params = np.asarray(var.params, dtype=float)
+    for t, kind in enumerate(var.kinds):
+        record = SHAPES[TermKind(int(kind))]
+        data = (var.points or {}).get(t) if record.per_term else params[t:t + 1]
+        if data is not None:
+            lo[t], hi[t] = (float(np.ravel(v)[0]) for v in record.support(data))
     return np.clip(lo, var.lo, var.hi), np.clip(hi, var.lo, var.hi)
 
 
