@@ -35,7 +35,8 @@ integral, Octave's merging of equal Sugeno values).
 """
 from __future__ import annotations
 
-from dataclasses import replace
+import re
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -116,35 +117,103 @@ class ToolEngine:
         return evaluate_as(self.rb, np.asarray(xt).T, self.name, self.resolution, held).T
 
 
+@dataclass
+class FileSettings:
+    """What a fuzzylite file says that the model does not carry (fuzzylite's OutputVariable
+    and InputVariable, pyfuzzylite 8's variable.py): each variable's `lock-range` (inputs
+    clamped to the range before the rules, outputs clipped after the default), each output's
+    sampling resolution (FLL `Centroid 500`) and whether its default is `nan` (a numeric
+    default replaces a NaN output: no rule fired, or an empty fuzzy set)."""
+    locked: set[str] = field(default_factory=set)
+    resolution: dict[str, int] = field(default_factory=dict)
+    nan_default: set[str] = field(default_factory=set)
+    known: bool = False       # read from an FLL or FCL file (other files: NaN stays NaN)
+
+
+FLL_SECTION = re.compile(r"^\s*(InputVariable|OutputVariable|RuleBlock|Engine)\s*:\s*(\S*)")
+FLL_SETTING = re.compile(r"^\s*(lock-range|defuzzifier|default)\s*:\s*(\S+)\s*(\S*)")
+FCL_OUTPUT = re.compile(r"DEFUZZIFY\s+(\w+)(.*?)END_DEFUZZIFY", re.S | re.I)
+
+
+def file_settings(model: Model) -> FileSettings:
+    """The settings of the FLL or FCL file the model was imported from (none for others)."""
+    text, path = model.source_text or "", (model.source_path or "").lower()
+    found = FileSettings(known=path.endswith(".fll") or ".fcl" in path)
+    if path.endswith(".fll"):
+        name = ""
+        for line in text.splitlines():
+            line = line.split("#", 1)[0]
+            section, setting = FLL_SECTION.match(line), FLL_SETTING.match(line)
+            if section:
+                name = section.group(2) if section.group(1).endswith("Variable") else ""
+            elif setting and name:
+                key, value, extra = setting.groups()
+                if key == "lock-range" and value == "true":
+                    found.locked.add(name)
+                elif key == "defuzzifier" and extra.isdigit():
+                    found.resolution[name] = int(extra)
+                elif key == "default" and value.lower() == "nan":
+                    found.nan_default.add(name)
+    elif ".fcl" in path:
+        for name, body in FCL_OUTPUT.findall(text):
+            if re.search(r"LOCK\s*:[^;]*RANGE", body, re.I):
+                found.locked.add(name)
+            if re.search(r"DEFAULT\s*:=\s*nan", body, re.I):
+                found.nan_default.add(name)
+    return found
+
+
 class Chain:
     """A model's rule blocks in order as one function of its inputs (the signals an imported
     model reads) to every block's outputs: `inputs`, `outputs` and `evaluate` under a
-    semantics (a chained fuzzylite engine: one block reads another's output)."""
+    semantics (a chained fuzzylite engine: one block reads another's output).  Under
+    fuzzylite's semantics the file's settings apply (FileSettings)."""
 
     def __init__(self, model: Model):
         self.blocks = model.blocks
         self.inputs = model.blocks[0].inputs if len(model.blocks) == 1 else model.signals
         self.outputs = [v for rb in model.blocks for v in rb.outputs]
+        self.settings = file_settings(model)
 
     def evaluate(self, x: np.ndarray, semantics: str = "exact",
                  resolution: dict[str, int] | None = None) -> np.ndarray:
         """x (N, I) -> (N, O) under `semantics`; `resolution`: an output's own sampling
-        resolution (a block takes its first output's), else the tool's default."""
+        resolution (a block takes its first output's), else the file's, else the tool's
+        default."""
         x = np.atleast_2d(np.asarray(x, dtype=float))
-        env = {v.name: x[:, i] for i, v in enumerate(self.inputs)}
+        fuzzylite = semantics in ("fuzzylite", "pyfuzzylite")
+        settings = self.settings if fuzzylite else FileSettings()
+        resolution = {**settings.resolution, **(resolution or {})}
+        env = {v.name: np.clip(x[:, i], v.lo, v.hi) if v.name in settings.locked
+               else x[:, i] for i, v in enumerate(self.inputs)}
         written: set[str] = set()
         for rb in self.blocks:
-            if semantics in ("fuzzylite", "pyfuzzylite"):
+            if fuzzylite:
                 rb = reading_activations(rb, written)
             xb = np.column_stack([env[v.name] for v in rb.inputs])
-            points = [resolution[v.name] for v in rb.outputs if v.name in (resolution or {})]
+            points = [resolution[v.name] for v in rb.outputs if v.name in resolution]
             # the rows are one controller's successive samples (fuzzylite's -d inputs.fld)
             y = evaluate_as(rb, xb, semantics, points[0] if points else None,
                             Held(sequence=True))
+            if fuzzylite:
+                y = _as_fuzzylite_outputs(rb.outputs, y, settings)
             env.update({v.name: y[:, o] for o, v in enumerate(rb.outputs)})
             env.update(term_activations(rb, xb))
             written.update(v.name for v in rb.outputs)
         return np.column_stack([env[v.name] for v in self.outputs])
+
+
+def _as_fuzzylite_outputs(outputs: list[Variable], y: np.ndarray,
+                          settings: FileSettings) -> np.ndarray:
+    """pyfuzzylite 8's OutputVariable.defuzzify after the defuzzifier: a NaN becomes the
+    default unless that is nan, then lock-range clips to the range."""
+    y = y.copy()
+    for o, var in enumerate(outputs):
+        if settings.known and var.name not in settings.nan_default:
+            y[:, o] = np.where(np.isnan(y[:, o]), var.default, y[:, o])
+        if var.name in settings.locked:
+            y[:, o] = np.clip(y[:, o], var.lo, var.hi)
+    return y
 
 
 IDENTITY = (0.0, 1.0, np.inf, np.inf)     # a trapezoid whose membership is x on [0, 1]
