@@ -36,20 +36,23 @@ def draw_runs(runs: dict[str, Trace], signals: list[str] | None = None,
     several = len(runs) > 1
     fig, axes = plt.subplots(len(names), 1, figsize=(8, 1.8 * len(names) + 0.6), sharex=True,
                              squeeze=False)
+    start, end = _time_span(runs.values(), names)
     for ax, name in zip(axes[:, 0], names):
         for k, (label, trace) in enumerate(runs.items()):    # zorder: the first run on top
             if name not in trace:
                 continue
-            shown = trace[name][:, :SHOWN_LOOPS]
+            kept = trace.time <= end
+            shown = trace[name][kept, :SHOWN_LOOPS]
             style = {"lw": 1.0, "zorder": 3} if k == 0 else {"lw": 0.8, "alpha": 0.55,
                                                                "zorder": 2}
             for loop in range(shown.shape[1]):
                 colour = f"C{k}" if several else f"C{loop % 10}"
                 legend = plot_text(label or "run") if loop == 0 else None
-                ax.plot(trace.time, shown[:, loop], color=colour, label=legend, **style)
+                ax.plot(trace.time[kept], shown[:, loop], color=colour, label=legend, **style)
         ref = references.get(name)
         if isinstance(ref, str) and ref in first:
-            ax.plot(first.time, first[ref][:, 0], "k--", lw=0.8, zorder=4,
+            kept = first.time <= end
+            ax.plot(first.time[kept], first[ref][kept, 0], "k--", lw=0.8, zorder=4,
                     label=plot_text(f"set point {ref}"))
         elif ref is not None:
             ax.axhline(float(ref), color="k", ls="--", lw=0.8, zorder=4,
@@ -59,7 +62,7 @@ def draw_runs(runs: dict[str, Trace], signals: list[str] | None = None,
         if len(ax.lines) > 1:
             ax.legend(fontsize=7, loc="best")
     axes[-1, 0].set_xlabel("time [s]")
-    axes[-1, 0].set_xlim(*_time_span(runs.values(), names))
+    axes[-1, 0].set_xlim(start, end)
     if title:
         axes[0, 0].set_title(plot_text(title), fontsize=9)
     fig.tight_layout()

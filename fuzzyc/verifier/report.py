@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
@@ -177,7 +178,9 @@ def trace_marks(check, scenario, model, params: dict[str, float]) -> dict:
     for name in list(units):
         for prefix in ("sensed_", "baseline_"):
             units.setdefault(prefix + name, units[name])
-    return {"units": units, "marks": _limit_marks(check, params)}
+    # a param the scenario schedules (fopdt's set point r) is a signal of the trace
+    constants = {k: v for k, v in params.items() if k not in scenario.schedules}
+    return {"units": units, "marks": _limit_marks(check, constants)}
 
 
 def _constant(expr, params: dict[str, float]) -> float | None:
@@ -213,20 +216,24 @@ def _limit_marks(check, params: dict[str, float]) -> list[list]:
         if isinstance(lhs, sympy.Symbol):
             marks.append([lhs.name, limit, text])
         elif isinstance(lhs, sympy.Abs):
-            marks += _band_marks(lhs.args[0], limit, text, params)
+            marks += _band_marks(lhs.args[0], limit, text, params, check.text)
     return marks
 
 
-def _band_marks(inner, limit: float, text: str, params: dict[str, float]) -> list[list]:
+def _band_marks(inner, limit: float, text: str, params: dict[str, float],
+                written: str) -> list[list]:
     """abs(y - r) < limit: on y's panel, r (a number, or a signal drawn as a line) and r +-
     limit; nothing for other shapes."""
     import sympy
-    # the panel: the first signal written with a + (abs(y - r): y, its set point r)
-    signals = [s for s in inner.free_symbols if s.name not in params and inner.coeff(s) == 1]
+    # the panel: a signal (not a param) of coefficient +-1, the first in the check's text
+    # (abs(y - r): y, its set point r; sympy may have reordered it to Abs(r - y))
+    signals = [s for s in inner.free_symbols
+               if s.name not in params and inner.coeff(s) in (1, -1)]
     if not signals:
         return []
-    signals.sort(key=lambda s: str(inner).index(s.name))
-    rest = -(inner - signals[0])
+    signals.sort(key=lambda s: (re.search(rf"\b{re.escape(s.name)}\b", written) or
+                                re.search("$", written)).start())
+    rest = signals[0] - inner / inner.coeff(signals[0])
     centre = _constant(rest, params)
     if centre is not None:
         return [[signals[0].name, centre, f"set point {centre:g}"],
