@@ -269,12 +269,15 @@ def names(table: dict, chosen) -> str:
 
 
 def format_words(table: dict, fmt: str, read: bool = True) -> dict:
-    """word -> member in format `fmt` (fz, fll, fcl, fis), in enum order; with `read`, the
-    words only read follow each written one."""
+    """word -> member in format `fmt` (fz, fll, fcl, fis): the written words in enum order,
+    then, with `read`, the words only read (so a listing shows the written words first)."""
     out = {}
     for k, rec in table.items():
         written = rec.word if fmt == "fz" else getattr(rec, fmt)
-        for word in ((written,) if written else ()) + (rec.also_in(fmt) if read else ()):
+        if written:
+            out.setdefault(written, k)
+    for k, rec in table.items():
+        for word in rec.also_in(fmt) if read else ():
             out.setdefault(word, k)
     return out
 
