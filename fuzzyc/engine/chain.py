@@ -31,7 +31,8 @@ import sympy
 
 from .inference import compiled
 from .expressions import clip, compile_value
-from ..semantics.model import Model, Op, OutputKind, TermKind, set_entries
+from ..semantics.chain_ops import OUTPUT_OPS, STEP_OPS, run_chain
+from ..semantics.model import Model, TermKind, set_entries
 from ..language.numbers import real_array
 from .held_outputs import Held
 
@@ -55,15 +56,17 @@ class Controller:
             self.batch = int(batch)
         n = self.batch
         # NaN memory = "no sample yet"; only finite values are ever stored.
-        self._memory = {s.name: np.full(n, np.nan) for s in self.model.steps if s.op != Op.ASSIGN}
+        self._memory = {s.name: np.full(n, np.nan) for s in self.model.steps
+                        if STEP_OPS[s.op].stateful}
         self._primed: set[str] = set()     # the steps whose memory is finite for every loop
-        self._state = {o.name: np.full(n, self._initial_state(o)) for o in self.model.outputs}
+        self._state = {o.name: np.full(n, OUTPUT_OPS[o.kind].initial_state(o))
+                       for o in self.model.outputs}
         self.signals = {}
         # a bare name returns the caller's array itself: a memory keeps a copy of it
-        self._steps = [(s, compile_value(s.expr), isinstance(s.expr, sympy.Symbol))
-                       for s in self.model.steps]
-        self._outputs = [(o, compile_value(o.expr), self._state_limits(o))
-                         for o in self.model.outputs]
+        self._steps = {s.name: (compile_value(s.expr), isinstance(s.expr, sympy.Symbol))
+                       for s in self.model.steps}
+        self._outputs = {o.name: (compile_value(o.expr), OUTPUT_OPS[o.kind].state_limits(o))
+                         for o in self.model.outputs}
         # per rule block in order: its input names, its (index, output name)s, its engine, and
         # what gives its terms' activations to later blocks (fuzzylite's chains) or None
         self._blocks = [self._block(k) for k in range(len(self.model.blocks))]
@@ -89,20 +92,6 @@ class Controller:
         return ([v.name for v in rb.inputs], list(enumerate(v.name for v in rb.outputs)),
                 engine, gives_activations)
 
-    @staticmethod
-    def _initial_state(out) -> float:
-        if out.kind == OutputKind.RECIPROCAL_INCREMENT:
-            return 1.0 / out.init
-        return float(out.init)
-
-    @staticmethod
-    def _state_limits(out) -> tuple[float, float]:
-        """The saturation of an output's state: [lo, hi], or [1/hi, 1/lo] for a reciprocal."""
-        if out.kind != OutputKind.RECIPROCAL_INCREMENT:
-            return out.lo, out.hi
-        with np.errstate(divide="ignore"):
-            return np.float64(1.0) / out.hi, np.float64(1.0) / out.lo
-
     def _column(self, value, n: int) -> np.ndarray:
         """value as a float (N,) array: itself when it already is one (steps never write into
         their arguments, so sharing it is safe), else broadcast."""
@@ -127,79 +116,15 @@ class Controller:
         except KeyError:
             missing = [name for name in self.input_names if name not in inputs]
             raise KeyError(f"no value for input(s): {', '.join(missing)}") from None
+        chain = FloatChain(self, env)
         with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            for s, value, alias in self._steps:
-                env[s.name] = self._run_step(s, self._column(value(env), n), alias)
-            activations: dict[str, np.ndarray] = {}     # `V.t` of fuzzylite's chains
-            for (inputs, outputs, engine, gives_activations), held in zip(self._blocks,
-                                                                           self._held):
-                # the block's inputs as rows (I, N), its outputs as rows (O, N)
-                x = np.array([env[name] if name in env else activations[name]
-                              for name in inputs])     # each one (N,) float
-                y = engine.evaluate_rows(x, held) if n else np.empty((len(outputs), 0))
-                env.update({name: y[o] for o, name in outputs})
-                if gives_activations is not None:
-                    activations.update(gives_activations(x.T))
-            outputs = {o.name: self._run_output(o, self._column(value(env), n), limits)
-                       for o, value, limits in self._outputs}
+            run_chain(self.model, chain)
+        outputs = chain.outputs
         env.update(outputs)
         for name in self.params:    # env holds every param: what is left are the signals
             del env[name]
         self.signals = env
         return outputs
-
-    def _run_step(self, s, arg: np.ndarray, alias: bool = False) -> np.ndarray:
-        if s.op == Op.ASSIGN:
-            return arg
-        mem = self._memory[s.name]
-        if s.name in self._primed:
-            # no loop is fresh (the usual case after the first sample): the branches of the
-            # general case below without their masks, the same values
-            if s.op == Op.DELTA:
-                value, keep = arg - mem, arg
-            elif s.op == Op.PREV:
-                value, keep = mem, arg
-            else:
-                a, b = s.coeffs
-                value = a * mem + b * arg
-                keep = value
-            # a sum is finite only if every term is (one that overflows only costs time)
-            if math.isfinite(np.add.reduce(keep)):
-                self._memory[s.name] = keep.copy() if alias and keep is arg else keep
-            else:
-                self._memory[s.name] = np.where(np.isfinite(keep), keep, mem)
-            return value
-        fresh = np.isnan(mem)
-        if s.op == Op.DELTA:
-            value = np.where(fresh, np.where(np.isnan(arg), np.nan, 0.0), arg - mem)
-            keep = arg
-        elif s.op == Op.PREV:
-            value = np.where(fresh, arg, mem)
-            keep = arg
-        else:   # LOWPASS
-            a, b = s.coeffs
-            value = np.where(fresh, arg, a * mem + b * arg)
-            keep = value
-        self._memory[s.name] = np.where(np.isfinite(keep), keep, mem)
-        if not np.isnan(self._memory[s.name]).any():
-            self._primed.add(s.name)
-        return value
-
-    def _run_output(self, out, value: np.ndarray, limits: tuple[float, float]) -> np.ndarray:
-        state = self._state[out.name]
-        # every loop finite (the usual case): the masks below change nothing
-        finite = True if math.isfinite(np.add.reduce(value)) else np.isfinite(value)
-        if out.kind == OutputKind.DIRECT:
-            state = clip(value, *limits) if finite is True else \
-                np.where(finite, clip(value, *limits), state)
-            self._state[out.name] = state
-            return state.copy()
-        state = clip(state + (value if finite is True else np.where(finite, value, 0.0)),
-                     *limits)
-        self._state[out.name] = state
-        if out.kind == OutputKind.INCREMENT:
-            return state.copy()
-        return 1.0 / state
 
     def set_consequent_values(self, output: str, values: np.ndarray) -> None:
         """Set the singleton values of a rule-base output's terms (the learned parameters)."""
@@ -215,3 +140,122 @@ class Controller:
             raise ValueError(f"{output}: values must be finite")
         set_entries(var, "params", np.s_[:, 0], values)   # a new array: see the docstring
         self._blocks[k] = self._block(k)    # rebuilt for the new values
+
+
+class FloatChain:
+    """The chain walk's float domain (`fuzzyc.semantics.chain_ops`): one sample of a
+    Controller's loops, numpy (N,) arrays.  Memories hold NaN until their first finite sample
+    ("fresh"); a memory finite in every loop is primed, and its step skips the masks (the same
+    values: see the module docstring)."""
+
+    def __init__(self, controller: Controller, env: dict):
+        self.c, self.env, self.n = controller, env, controller.batch
+        self.outputs: dict[str, np.ndarray] = {}
+        self.arg = None          # the current step's argument (maybe the caller's array)
+
+    # -- arithmetic -----------------------------------------------------------------------
+
+    @staticmethod
+    def sub(a, b):
+        return a - b
+
+    @staticmethod
+    def mix(a, x, b, y):
+        return a * x + b * y
+
+    @staticmethod
+    def zero_unless_nan(x):
+        return np.where(np.isnan(x), np.nan, 0.0)
+
+    @staticmethod
+    def clamp(x, lo, hi):
+        return clip(x, lo, hi)
+
+    @staticmethod
+    def if_finite(test, then, otherwise):
+        # a sum is finite only if every term is (the usual case: no mask)
+        if math.isfinite(np.add.reduce(test)):
+            return then
+        return np.where(np.isfinite(test), then, otherwise)
+
+    @staticmethod
+    def finite_or_zero(x):
+        return x if math.isfinite(np.add.reduce(x)) else np.where(np.isfinite(x), x, 0.0)
+
+    @staticmethod
+    def saturating_add(state, x, lo, hi):
+        return clip(state + x, lo, hi)
+
+    @staticmethod
+    def reciprocal(o, state):
+        return 1.0 / state
+
+    # -- steps ----------------------------------------------------------------------------
+
+    def argument(self, s, stateful: bool) -> np.ndarray:
+        self.arg = self.c._column(self.c._steps[s.name][0](self.env), self.n)
+        return self.arg
+
+    def memory(self, s, rule, arg) -> np.ndarray:
+        return self.c._memory[s.name]
+
+    @staticmethod
+    def may_be_seen(s) -> bool:
+        return True     # arg - NaN is NaN where fresh: computed, then not selected
+
+    def may_be_fresh(self, s) -> bool:
+        return s.name not in self.c._primed
+
+    def select(self, s, seen, fresh):
+        if fresh is None:
+            return seen
+        return np.where(np.isnan(self.c._memory[s.name]), fresh, seen)
+
+    def store(self, s, keep) -> None:
+        memories, mem = self.c._memory, self.c._memory[s.name]
+        if s.name in self.c._primed:
+            if math.isfinite(np.add.reduce(keep)):
+                alias = self.c._steps[s.name][1]
+                memories[s.name] = keep.copy() if alias and keep is self.arg else keep
+            else:
+                memories[s.name] = np.where(np.isfinite(keep), keep, mem)
+            return
+        memories[s.name] = np.where(np.isfinite(keep), keep, mem)
+        if not np.isnan(memories[s.name]).any():
+            self.c._primed.add(s.name)
+
+    def define(self, s, value) -> None:
+        self.env[s.name] = value
+
+    # -- rule blocks and outputs --------------------------------------------------------------
+
+    def rule_blocks(self) -> None:
+        env, n = self.env, self.n
+        activations: dict[str, np.ndarray] = {}     # `V.t` of fuzzylite's chains
+        for (inputs, outputs, engine, gives_activations), held in zip(self.c._blocks,
+                                                                       self.c._held):
+            # the block's inputs as rows (I, N), its outputs as rows (O, N)
+            x = np.array([env[name] if name in env else activations[name]
+                          for name in inputs])     # each one (N,) float
+            y = engine.evaluate_rows(x, held) if n else np.empty((len(outputs), 0))
+            env.update({name: y[o] for o, name in outputs})
+            if gives_activations is not None:
+                activations.update(gives_activations(x.T))
+
+    def limits(self, o) -> tuple[float, float]:
+        return self.c._outputs[o.name][1]
+
+    def output_value(self, k: int, o) -> np.ndarray:
+        return self.c._column(self.c._outputs[o.name][0](self.env), self.n)
+
+    def output_state(self, o) -> np.ndarray:
+        return self.c._state[o.name]
+
+    def set_state(self, o, state) -> None:
+        self.c._state[o.name] = state
+
+    read_state = output_state
+
+    def emit_output(self, k: int, o, result) -> None:
+        # the state itself stays the controller's: the caller gets a copy
+        self.outputs[o.name] = result.copy() if result is self.c._state[o.name] else result
