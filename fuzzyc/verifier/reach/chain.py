@@ -15,9 +15,10 @@ import numpy as np
 import sympy
 
 from ...engine import inference as engine
-from ...semantics.model import Model, Op, OutputKind
+from ...semantics.chain_ops import OUTPUT_OPS, run_chain
+from ...semantics.model import Model
 from . import rulebase as set_rulebase
-from .affine import Affine, Symbols, monotone
+from .affine import Affine, Symbols, join_common, monotone, where
 
 SUB_BOXES = 1024    # sub-boxes per box for the rule base remainder (n per axis, n^I about this)
 
@@ -210,47 +211,138 @@ class SetController:
         self.state: dict[str, Affine | float] = {}     # step memories, output states
         self.memos = [{} for _ in model.blocks]       # per rule block: rulebase_forms' memo
         for out in model.outputs:
-            init = 1.0 / out.init if out.kind == OutputKind.RECIPROCAL_INCREMENT else out.init
-            self.state["out:" + out.name] = float(init)
+            self.state["out:" + out.name] = OUTPUT_OPS[out.kind].initial_state(out)
 
     def step(self, inputs: dict) -> dict:
-        env = {**self.params, **inputs}
-        for s in self.model.steps:
-            arg = evaluate(s.expr, env)
-            key = "mem:" + s.name
-            mem = self.state.get(key)
-            if s.op == Op.ASSIGN:
-                value = arg
-            elif s.op == Op.DELTA:
-                value = 0.0 if mem is None else arg - mem
-                self.state[key] = arg
-            elif s.op == Op.PREV:
-                value = arg if mem is None else mem
-                self.state[key] = arg
-            else:
-                a, b = s.coeffs
-                value = arg if mem is None else mem * a + arg * b
-                self.state[key] = value
-            env[s.name] = value
-        for rb, memo in zip(self.model.blocks, self.memos):   # in order: a block may read
-            xs = [self._form(env[v.name]) for v in rb.inputs]      # an earlier one's outputs
-            for v, y in zip(rb.outputs, rulebase_forms(rb, xs, memo)):
-                env[v.name] = y
-        outputs = {}
-        for out in self.model.outputs:
-            value, key = evaluate(out.expr, env), "out:" + out.name
-            if out.kind == OutputKind.DIRECT:
-                state = self._form(value).clip(out.lo, out.hi)
-            else:
-                lo, hi = (out.lo, out.hi) if out.kind == OutputKind.INCREMENT else (
-                    1.0 / out.hi, 1.0 / out.lo)
-                state = self._form(self.state[key] + value).clip(lo, hi)
-            self.state[key] = state
-            outputs[out.name] = state if out.kind != OutputKind.RECIPROCAL_INCREMENT else \
-                _reciprocal(state, lo, hi)
-        env.update(outputs)
-        self.signals = env
-        return outputs
+        chain = SetChain(self, {**self.params, **inputs})
+        run_chain(self.model, chain)
+        chain.env.update(chain.outputs)
+        self.signals = chain.env
+        return chain.outputs
 
     def _form(self, value: Value) -> Affine:
         return value if isinstance(value, Affine) else Affine(self.sym, value)
+
+
+def _unbounded(x: Value) -> np.ndarray | bool:
+    """Per box, whether x may take a non-finite value (its bounds are not finite)."""
+    if not isinstance(x, Affine):
+        return not np.isfinite(x)
+    lo, hi = x.bounds()
+    return ~(np.isfinite(lo) & np.isfinite(hi))
+
+
+class SetChain:
+    """The chain walk's set domain (`fuzzyc.semantics.chain_ops`): one period of a
+    SetController on affine forms (numbers where a value does not vary).  Sound: where a set
+    may hold a non-finite value, the float semantics' holding rules are read as "may hold" (the
+    join of holding and not); a memory that may store one is refused (Unsupported), as its
+    last finite value has no bounded set."""
+
+    def __init__(self, controller: SetController, env: dict):
+        self.c, self.env = controller, env
+        self.outputs: dict[str, Value] = {}
+
+    def _form(self, value: Value) -> Affine:
+        return self.c._form(value)
+
+    # -- arithmetic -----------------------------------------------------------------------
+
+    @staticmethod
+    def sub(a, b):
+        return a - b
+
+    @staticmethod
+    def mix(a, x, b, y):
+        return x * a + y * b
+
+    @staticmethod
+    def zero_unless_nan(x):
+        return float("nan") if not isinstance(x, Affine) and np.isnan(x) else 0.0
+
+    def clamp(self, x, lo: float, hi: float) -> Affine:
+        """clip(x, lo, hi); a box where x is unbounded may be anywhere in [lo, hi]."""
+        bad = _unbounded(x)
+        if not np.any(bad):
+            return self._form(x).clip(lo, hi)
+        whole = Affine.interval(self.c.sym, lo, hi)
+        if not isinstance(x, Affine):
+            return whole
+        with np.errstate(invalid="ignore", over="ignore"):
+            clipped = x.clip(lo, hi)
+        return where(bad, whole, clipped)
+
+    def if_finite(self, test, then, otherwise):
+        bad = _unbounded(test)
+        if not np.any(bad):
+            return then
+        if not isinstance(test, Affine):       # a number that is not finite: holds
+            return otherwise
+        return where(bad, join_common(self._form(then), self._form(otherwise)), then)
+
+    @staticmethod
+    def finite_or_zero(x):
+        # a set of finite values is itself; an unbounded one makes the sum unbounded, which
+        # `clamp` reads as the whole range (sound for x and 0 alike)
+        return 0.0 if not isinstance(x, Affine) and not np.isfinite(x) else x
+
+    def saturating_add(self, state, x, lo: float, hi: float):
+        return self.clamp(state + x, lo, hi)
+
+    @staticmethod
+    def reciprocal(o, state):
+        lo, hi = OUTPUT_OPS[o.kind].state_limits(o)
+        return _reciprocal(state, lo, hi)
+
+    # -- steps ----------------------------------------------------------------------------
+
+    def argument(self, s, stateful: bool):
+        return evaluate(s.expr, self.env)
+
+    def memory(self, s, rule, arg):
+        return self.c.state.get("mem:" + s.name)
+
+    def may_be_seen(self, s) -> bool:
+        return ("mem:" + s.name) in self.c.state
+
+    def may_be_fresh(self, s) -> bool:
+        return ("mem:" + s.name) not in self.c.state
+
+    @staticmethod
+    def select(s, seen, fresh):
+        return fresh if seen is None else seen
+
+    def store(self, s, keep) -> None:
+        if np.any(_unbounded(keep)):
+            raise Unsupported(f"`{s.name}` may not be finite: its memory has no bounded set")
+        self.c.state["mem:" + s.name] = keep
+
+    def define(self, s, value) -> None:
+        self.env[s.name] = value
+
+    # -- rule blocks and outputs --------------------------------------------------------------
+
+    def rule_blocks(self) -> None:
+        env = self.env
+        for rb, memo in zip(self.c.model.blocks, self.c.memos):   # in order: a block may
+            xs = [self._form(env[v.name]) for v in rb.inputs]      # read an earlier one's
+            for v, y in zip(rb.outputs, rulebase_forms(rb, xs, memo)):   # outputs
+                env[v.name] = y
+
+    @staticmethod
+    def limits(o) -> tuple[float, float]:
+        return OUTPUT_OPS[o.kind].state_limits(o)
+
+    def output_value(self, k: int, o):
+        return evaluate(o.expr, self.env)
+
+    def output_state(self, o):
+        return self.c.state["out:" + o.name]
+
+    def set_state(self, o, state) -> None:
+        self.c.state["out:" + o.name] = state
+
+    read_state = output_state
+
+    def emit_output(self, k: int, o, result) -> None:
+        self.outputs[o.name] = result
