@@ -1,7 +1,8 @@
 """The .fz front end: text -> lark parse tree -> syntax objects -> Model.
 
-Syntax errors are reported per statement: when the whole file does not parse, each statement
-is parsed on its own, so one run reports every broken statement, not just the first.
+Syntax errors are reported per statement: lark's error recovery (`.recovery`) skips the rest of
+a broken statement and parses on from the next, so one run reports every broken statement (up
+to MAX_SYNTAX_ERRORS), not just the first.
 """
 from __future__ import annotations
 
@@ -12,28 +13,30 @@ from pathlib import Path
 
 from lark import Lark, Token, Tree
 from lark.lark import PostLex
+from lark.lexer import PatternStr
+from lark.parsers.lalr_parser_state import ParserState
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from .builder import Builder
 from ..errors import Reporter, shown_char, source_lines
 from .limits import MAX_NESTING, check_model, number_problem, read_rule_file
+from .recovery import Recovery
 from ..semantics.model import Model
 from .syntax import ToSyntax
 
-STATEMENT_KEYWORDS = ("period", "param", "input", "let", "var", "terms", "inference", "rule",
-                      "table", "output", "note", "verify", "block")
+# Syntax errors reported in one run; past it the last one says that more follow.  A limit of
+# the front end like those of fuzzyc.language.limits (it belongs there and in docs/limits.md).
+MAX_SYNTAX_ERRORS = 20
 
-# MAX_NESTING (fuzzyc.language.limits): the tree depth the transformer and the builder recurse through
-# (a statement and its expression's operators each take a level).
+# MAX_NESTING (fuzzyc.language.limits): the tree depth the transformer and the builder recurse
+# through (a statement and its expression's operators each take a level).
 
 # How the parser's terminal names read in a message.
 READABLE = {
     "NAME": "a name", "SIGNED_NUMBER": "a number", "NUMBER": "a number", "INT": "a rule number",
     "SIGNED_INT": "a whole number", "STRING": "a quoted title", "LBRACE": "`{`", "RBRACE": "`}`",
     "LPAR": "`(`", "RPAR": "`)`", "LSQB": "`[`", "RSQB": "`]`", "COMMA": "`,`", "COLON": "`:`",
-    "SEMICOLON": "`;`", "EQUAL": "`=`", "ARROW": "`->`", "SHAPE": "a term shape (tri, trap, "
-    "lshoulder, rshoulder, gauss, bell, sigmoid, singleton, sshape, zshape, pishape, spike, "
-    "cosine, concave, linear)", "HEDGE": "a hedge", "NOT": "`not`",
+    "SEMICOLON": "`;`", "EQUAL": "`=`", "ARROW": "`->`", "HEDGE": "a hedge", "NOT": "`not`",
     "INFERENCE_KEY": "an inference setting (and, or, implication, aggregation, defuzzify)",
     "AXIS": "`rows` or `cols`", "DIRECTION": "`increasing` or `decreasing`",
     "COMPARE": "a comparison (<, <=, >, >=)", "DOTTED_NAME": "a parameter name",
@@ -90,11 +93,9 @@ def load(path: str | Path) -> Model:
 
 def parse(text: str, path: str = "<string>") -> Model:
     reporter = Reporter(path, text)
-    try:
-        tree = _lark().parse(text, start="start")
-    except UnexpectedInput:
-        _report_syntax_errors(text, reporter)
-        reporter.raise_if_any()
+    tree = _parse_tree(text, reporter)
+    reporter.raise_if_any()
+    if tree is None:
         raise AssertionError("a syntax error was found but not reported")  # pragma: no cover
     too_deep = _first_too_deep(tree)
     if too_deep is not None:
@@ -131,43 +132,19 @@ def _first_too_deep(tree: Tree) -> Tree | None:
     return None
 
 
-def _report_syntax_errors(text: str, reporter: Reporter) -> None:
-    """Parse statement by statement so that independent mistakes are all reported."""
-    lines = source_lines(text)
-    chunks = _statement_chunks(lines)
-    if not chunks:
-        _report(_first_error(text, "start"), reporter)
-        return
-    for first, last in chunks:
-        padded = "\n" * first + "\n".join(lines[first:last])
-        error = _first_error(padded, "statements")
-        if error is not None:
-            _report(error, reporter)
-    if not reporter.diagnostics:
-        _report(_first_error(text, "start"), reporter)
+def _parse_tree(text: str, reporter: Reporter) -> Tree | None:
+    """The parse tree, or None; every syntax error found goes to `reporter` (the tree of a
+    file with errors is one lark patched up to go on, never used)."""
+    def too_many() -> None:
+        reporter.diagnostics[-1].message += (
+            f"; more syntax errors follow (fuzzyc reports the first {MAX_SYNTAX_ERRORS}, "
+            "fuzzyc.language.parser.MAX_SYNTAX_ERRORS)")
 
-
-def _statement_chunks(lines: list[str]) -> list[tuple[int, int]]:
-    """Line spans [first, last) of the statements inside `controller ... { }`."""
-    starts, depth, end = [], 0, len(lines)
-    keyword = re.compile(r"\s*(" + "|".join(STATEMENT_KEYWORDS) + r")\b")
-    for i, line in enumerate(lines):
-        code = line.split("#", 1)[0]
-        if depth == 1 and keyword.match(code):
-            starts.append(i)
-        depth += code.count("{") - code.count("}")
-        if depth <= 0 and starts and i > starts[-1]:
-            end = i
-            break
-    return [(s, e) for s, e in zip(starts, starts[1:] + [end])]
-
-
-def _first_error(text: str, start: str) -> UnexpectedInput | None:
+    recovery = Recovery(_lark(), lambda exc: _report(exc, reporter), MAX_SYNTAX_ERRORS, too_many)
     try:
-        _lark().parse(text, start=start)
-    except UnexpectedInput as exc:
-        return exc
-    return None
+        return _lark().parse(text, start="start", on_error=recovery)
+    except UnexpectedInput:
+        return None         # reported by `recovery`, which stops at the end or the limit
 
 
 def _report(exc: UnexpectedInput | None, reporter: Reporter) -> None:
@@ -177,22 +154,61 @@ def _report(exc: UnexpectedInput | None, reporter: Reporter) -> None:
         reporter.error(reporter.loc(exc.line, exc.column),
                        f"unexpected character {shown_char(exc.char)}")
         return
-    if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken) and exc.token.type == "$END"):
+    if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken)
+                                          and exc.token.type == "$END"):
         lines = source_lines(reporter.text)
         last = max(len(lines) - (lines[-1] == ""), 1)
         reporter.error(reporter.loc(last, 1), "the file ends too early: a statement or the "
                                               "closing `}` of the controller is missing")
         return
     token: Token = exc.token
-    if token.type == "KEYWORD_AS_NAME":
+    if token.type == "KEYWORD_AS_NAME" and _expected(exc) & {"NAME", "DOTTED_NAME"}:
         reporter.error(reporter.loc(token.line, token.column),
                        f"`{token}` is a keyword, not a name; a name spelled like a keyword is "
                        f"written in backticks (`{token}` with the backticks typed)")
         return
-    expected = sorted({READABLE.get(t, f"`{t.lower()}`") for t in exc.expected
-                       if not t.startswith("__")})
+    expected = sorted({_readable(t) for t in _expected(exc) if not t.startswith("__")})
     reporter.error(reporter.loc(token.line, token.column),
                    f"unexpected `{token}`; expected {_one_of(expected)}")
+
+
+def _expected(exc: UnexpectedToken) -> set[str]:
+    """What the parser takes where the error is: lark's `accepts()` tries each terminal (the
+    parse table's row also lists look-aheads of LALR-merged states, `bounded` after `e is N`).
+    A token the lexer did not expect comes with what the lexer knew instead: NAME always
+    (`_Names.always_accept`), a keyword only as the NAME it is spelled like (`at` expects
+    `least`, not a name)."""
+    if exc.interactive_parser is not None:
+        return set(exc.interactive_parser.accepts())
+    state = exc.state
+    if isinstance(state, ParserState):
+        return {t for t in state.parse_conf.states[state.position] if t.isupper()}
+    return set(exc.expected)
+
+
+def _readable(terminal: str) -> str:
+    """How a terminal of the grammar reads in a message: its words, or the text it stands for
+    (`-` for MINUS, `let` for LET)."""
+    if terminal == "SHAPE":     # the grammar's own words: the one list of them
+        return f"a term shape ({', '.join(shape_words())})"
+    if terminal in READABLE:
+        return READABLE[terminal]
+    literal = _literals().get(terminal)
+    return f"`{literal}`" if literal is not None else f"`{terminal.lower()}`"
+
+
+@functools.lru_cache(maxsize=1)
+def _literals() -> dict[str, str]:
+    """Terminal name -> the one text it matches, for the terminals that are a fixed text."""
+    return {t.name: t.pattern.value for t in _lark().terminals if isinstance(t.pattern, PatternStr)}
+
+
+@functools.lru_cache(maxsize=1)
+def shape_words() -> tuple[str, ...]:
+    """The term shapes the grammar takes, from its SHAPE terminal (`(?:tri|trap|...)\\b` once
+    lark has compiled it): the one list the message about a shape names."""
+    pattern = _lark().get_terminal("SHAPE").pattern.value.replace("\\b", "")
+    return tuple(sorted(re.findall(r"[A-Za-z_][A-Za-z0-9_]*", pattern)))
 
 
 def _one_of(options: list[str]) -> str:
