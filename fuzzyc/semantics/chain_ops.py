@@ -80,6 +80,7 @@ class StepOp:
     when_seen: Callable[..., Value] | None = None
     when_fresh: Callable[..., Value] | None = None
     memory_bounds: Callable[..., tuple[float, float] | None] | None = None
+    bounded_when: str = ""      # where memory_bounds is not None, in words
 
     def kept(self, arg: Value, value: Value) -> Value:
         return arg if self.keeps == "argument" else value
@@ -113,7 +114,7 @@ STEP_OPS: dict[Op, StepOp] = {r.op: r for r in (
            "first sample x(0)", stateful=True, keeps="value",
            when_seen=lambda d, arg, mem, coeffs: d.mix(coeffs[0], mem, coeffs[1], arg),
            when_fresh=lambda d, arg: arg,
-           memory_bounds=_lowpass_bounds),
+           memory_bounds=_lowpass_bounds, bounded_when="0 <= a < 1 and b >= 0"),
 )}
 
 

@@ -36,7 +36,8 @@ from dataclasses import dataclass
 import sympy
 
 from ...errors import Diagnostic, FuzzycError
-from ...semantics.model import Model, Op, OutputKind
+from ...semantics.chain_ops import OUTPUT_OPS, STEP_OPS, run_output, run_step
+from ...semantics.model import Model
 from ...escape import c_identifier
 
 CHAIN_BITS = 31
@@ -101,6 +102,9 @@ class FixedChain:
         self.steps = 1                   # the run length the integrators' errors are bound for
         self.rulebase_error = None       # input errors (LSBs) -> rule-base output errors
         self.output_errors: dict[str, float] = {}
+        self.state_errors: dict[str, float] = {}     # per output: its state's, after update
+        self.code: list[str] = []        # the statements of the step or output being walked
+        self.io_frac, self.io_max = 0, 0     # the output being walked: its I/O scale
 
     # -- arithmetic on Fx and float constants -------------------------------------------------
 
@@ -243,48 +247,88 @@ class FixedChain:
 
     def step(self, s) -> list[str]:
         """The statements of one chain step (memories in the state `s`, kept at 31 bits)."""
+        self.code = []
+        run_step(self, s)
+        return self.code
+
+    # -- the chain walk's fixed-point domain (fuzzyc.semantics.chain_ops): values are Fx --------
+
+    def sub(self, a: Fx, b: Fx) -> Fx:
+        frac = max(a.frac, b.frac)
+        return self.fitted(f"({self.align(a, frac)} - {self.align(b, frac)})", frac,
+                           a.lo - b.hi, a.hi - b.lo,
+                           self.align_error(a, frac) + self.align_error(b, frac))
+
+    def mix(self, a: float, x: Fx, b: float, y: Fx) -> Fx:
+        """a x + b y at x's precision and within x's range (a filter's memory bounds it)."""
+        v = self.add([self.scale(x, a), self.scale(y, b)])
+        return Fx(self.align(v, x.frac), x.frac, x.lo, x.hi, self.align_error(v, x.frac))
+
+    @staticmethod
+    def zero_unless_nan(x: Fx) -> float:
+        return 0.0      # integers are never NaN
+
+    def argument(self, s, stateful: bool) -> Fx | float:
         self.where = f"`let {s.name}`"
         arg = self.expr(s.expr)
-        if s.op == Op.ASSIGN:
+        if not stateful:
             if s.lo is not None and s.hi is not None:
                 arg = self.saturate(arg, s.lo, s.hi)
-            return [self.bind(s.name, arg)[0]]
+            return arg
         arg = self.constant(arg)
-        ident = c_identifier(s.name)
-        mem, seen, out = f"s->memory_{ident}", f"s->seen_{ident}", f"v_{ident}"
-        if s.op == Op.DELTA:
-            value = self.fitted(f"(arg - {mem})", arg.frac, arg.lo - arg.hi, arg.hi - arg.lo,
-                                2 * arg.err)
-            first, keep = "0", "arg"
-        elif s.op == Op.PREV:
-            value, first, keep = Fx(mem, arg.frac, arg.lo, arg.hi, arg.err), "arg", "arg"
-        else:
-            a, b = s.coeffs
-            if not (0.0 <= a < 1.0 and b >= 0.0):
-                raise _fail(f"the fixed-point chain emits lowpass(x, a, b) for 0 <= a < 1 and "
-                            f"b >= 0 only (bounded memory); {self.where} has a = {a:g}, "
-                            f"b = {b:g}")
-            gain = b / (1.0 - a)     # the filter's memory stays in the hull of these
-            lo, hi = min(arg.lo, gain * arg.lo), max(arg.hi, gain * arg.hi)
-            frac = frac_for(lo, hi)
+        self.code += [f"int64_t v_{c_identifier(s.name)};", "{",
+                      f"    const int64_t arg = {arg.code};"]
+        return Fx("arg", arg.frac, arg.lo, arg.hi, arg.err)
 
-            def mixed(memory_err: float) -> Fx:
-                """a memory + b arg at frac bits, the memory off by memory_err."""
-                v = self.add([self.scale(Fx(mem, frac, lo, hi, memory_err), a),
-                              self.scale(Fx("arg", arg.frac, arg.lo, arg.hi, arg.err), b)])
-                return Fx(self.align(v, frac), frac, lo, hi, self.align_error(v, frac))
-            # the memory's error E satisfies E <= f(E) = f(0) + slope E, slope < 1, and starts
-            # at the first sample's (arg itself): the larger of that and the fixed point
-            slope = mixed(1.0).err - mixed(0.0).err
-            start = arg.err + drop_error(arg.frac, frac)
-            memory_err = max(start, mixed(0.0).err / (1.0 - slope)) if slope < 1 else math.inf
-            value = mixed(memory_err)
-            first, keep = self.rescale("arg", arg.frac, frac), out
+    def memory(self, s, rule, arg: Fx) -> Fx:
+        """The memory as an Fx: an earlier argument at the argument's precision, or a value at
+        the precision its bounds allow, off by the fixed point E = f(E) of its recursion's
+        error (f affine: slope below 1 or no bound), from the first sample's (arg itself)."""
+        mem = f"s->memory_{c_identifier(s.name)}"
+        if rule.keeps == "argument":
+            return Fx(mem, arg.frac, arg.lo, arg.hi, arg.err)
+        bounds = rule.memory_bounds(s.coeffs, arg.lo, arg.hi)
+        if bounds is None:
+            coeffs = ", ".join(f"{n} = {c:g}" for n, c in zip("ab", s.coeffs))
+            raise _fail(f"the fixed-point chain emits {rule.word} for {rule.bounded_when} only "
+                        f"(bounded memory); {self.where} has {coeffs}")
+        lo, hi = bounds
+        frac = frac_for(lo, hi)
+
+        def kept_error(memory_err: float) -> float:
+            trial = Fx(mem, frac, lo, hi, memory_err)
+            return rule.kept(arg, rule.when_seen(self, arg, trial, s.coeffs)).err
+        slope = kept_error(1.0) - kept_error(0.0)
+        start = self.align_error(arg, frac)
+        memory_err = max(start, kept_error(0.0) / (1.0 - slope)) if slope < 1 else math.inf
+        return Fx(mem, frac, lo, hi, memory_err)
+
+    @staticmethod
+    def may_be_seen(s) -> bool:
+        return True
+
+    @staticmethod
+    def may_be_fresh(s) -> bool:
+        return True
+
+    def select(self, s, seen: Fx, fresh: Fx | float) -> Fx:
+        ident = c_identifier(s.name)
+        out = f"v_{ident}"
+        self.code.append(f"    {out} = s->seen_{ident} ? {seen.code} : "
+                         f"{self.align(fresh, seen.frac)};")
+        self.symbols[s.name] = Fx(out, seen.frac, seen.lo, seen.hi, seen.err)
+        return self.symbols[s.name]
+
+    def store(self, s, keep: Fx) -> None:
+        ident = c_identifier(s.name)     # integers are always finite: always stored
         self.memories.append(ident)
-        self.symbols[s.name] = Fx(out, value.frac, value.lo, value.hi, value.err)
-        return [f"int64_t {out};", "{", f"    const int64_t arg = {arg.code};",
-                f"    {out} = {seen} ? {value.code} : {first};",
-                f"    {mem} = (int32_t){keep}; {seen} = 1;", "}"]
+        self.code.append(f"    s->memory_{ident} = (int32_t){keep.code}; s->seen_{ident} = 1;")
+
+    def define(self, s, value: Fx | float) -> None:
+        if STEP_OPS[s.op].stateful:     # declared and set in its block: close it
+            self.code.append("}")
+        else:
+            self.code.append(self.bind(s.name, value)[0])
 
     def rulebase_io(self, rb, full: int, rb_prefix: str, input_guard: int,
                     guards: list[int]) -> list[str]:
@@ -327,53 +371,108 @@ class FixedChain:
 
     def output(self, k: int, o, io_frac: int, io_max: int) -> list[str]:
         """Statements updating output k's state (31 bits) and writing out[k]."""
+        self.io_frac, self.io_max, self.code = io_frac, io_max, []
+        run_output(self, k, o)
+        return self.code
+
+    def state_fields(self) -> list[str]:
+        """The state struct's fields (after the steps: their memories are known)."""
+        fields = [f"    int32_t memory_{i};\n    unsigned char seen_{i};" for i in self.memories]
+        return fields + ([f"    {'int64_t' if OUTPUT_OPS[o.kind].integrates else 'int32_t'} "
+                          f"out_{c_identifier(o.name)};   /* at 2^-{self.state_frac(o)} */"
+                          for o in self.model.outputs] or ["    unsigned char unused;"])
+
+    def init_lines(self) -> list[str]:
+        init = [f"    s->memory_{i} = 0; s->seen_{i} = 0;" for i in self.memories]
+        return init + [f"    s->out_{c_identifier(o.name)} = "
+                       f"{self.const(self.initial_state(o), self.state_frac(o))};"
+                       for o in self.model.outputs]
+
+    def initial_state(self, o) -> float:
+        """The state's start, held to its range (an integer state must lie there; the first
+        update saturates the engine's too)."""
+        lo, hi = self.state_range(o)
+        return min(max(OUTPUT_OPS[o.kind].initial_state(o), lo), hi)
+
+    # -- outputs in the chain walk's domain ------------------------------------------------------
+
+    def limits(self, o) -> tuple[float, float]:
+        return self.state_range(o)
+
+    def output_value(self, k: int, o) -> Fx:
         self.where = f"the output `{o.name}`"
-        value = self.constant(self.expr(o.expr))
-        state = f"s->out_{c_identifier(o.name)}"
+        return self.constant(self.expr(o.expr))
+
+    def output_state(self, o) -> Fx:
         frac = self.state_frac(o)
         lo, hi = self.state_range(o)
-        bounds = f"{self.const(lo, frac)}, {self.const(hi, frac)}"
-        bounds_err = max(const_error(lo, frac), const_error(hi, frac))
-        if o.kind == OutputKind.DIRECT:
-            code = [f"{state} = (int32_t){self.p}sat({self.align(value, frac)}, {bounds});"]
-            state_err = self.align_error(value, frac) + bounds_err
-        else:
-            code = [f"{state} = {self.p}sat_add({state}, {self.align(value, frac)}, {bounds});"]
-            start = 1.0 / o.init if o.kind == OutputKind.RECIPROCAL_INCREMENT else o.init
-            state_err = const_error(min(max(start, lo), hi), frac) + self.steps * (
-                self.align_error(value, frac) + bounds_err)
-        guard = frac - frac_for(lo, hi)
-        base = frac - guard              # the state rounded back to 31 bits
-        read = f"{self.p}shr({state}, {guard})" if guard else state
-        result = Fx(read, base, o.lo, o.hi, state_err + drop_error(frac, base))
-        if o.kind == OutputKind.RECIPROCAL_INCREMENT:   # u = 1/v, rounded to nearest
-            uf = frac_for(o.lo, o.hi)
-            one = 1 << (uf + base)
-            v_min, v_err = 1.0 / o.hi, result.err
-            u_err = v_err / (v_min * (v_min - v_err)) if v_err < v_min else math.inf
-            result = Fx(f"u_{c_identifier(o.name)}", uf, o.lo, o.hi,
-                        u_err + 0.5 * 2.0 ** -uf + max(const_error(o.lo, uf),
-                                                       const_error(o.hi, uf)))
-            v = f"reciprocal_{c_identifier(o.name)}"    # v = 1/u, 31 bits
-            code.append(f"const int64_t {v} = {read};")
-            code.append(f"const int64_t {result.code} = {self.p}sat(({one} + {v} / 2) / "
-                        f"{v}, {self.const(o.lo, uf)}, {self.const(o.hi, uf)});")
-        code.append(f"out[{k}] = ({self.io}){self.p}sat({self.align(result, io_frac)}, "
-                    f"{-io_max}, {io_max});")
-        self.symbols[o.name] = result
-        self.output_errors[o.name] = self.align_error(result, io_frac)
-        return code
+        return Fx(f"s->out_{c_identifier(o.name)}", frac, lo, hi,
+                  const_error(self.initial_state(o), frac))
+
+    def clamp(self, x: Fx | float, lo: float, hi: float) -> Fx:
+        return self.saturate(x, lo, hi)
 
     @staticmethod
-    def state_range(o) -> tuple[float, float]:
-        if o.kind == OutputKind.RECIPROCAL_INCREMENT:
-            if not o.lo > 0:
-                raise _fail(f"the fixed-point chain needs 0 < lo for the 1/integrate output "
-                            f"`{o.name}`")
-            return 1.0 / o.hi, 1.0 / o.lo
-        return o.lo, o.hi
+    def if_finite(test: Fx, then: Fx, otherwise: Fx) -> Fx:
+        return then     # integers are always finite
+
+    @staticmethod
+    def finite_or_zero(x: Fx) -> Fx:
+        return x
+
+    def saturating_add(self, state: Fx, x: Fx, lo: float, hi: float) -> Fx:
+        """state + x held to [lo, hi] at the state's precision; its error after `steps`
+        samples: the start's plus `steps` times the increment's and the bounds' rounding."""
+        frac = state.frac
+        bounds_err = max(const_error(lo, frac), const_error(hi, frac))
+        code = f"{self.p}sat_add({state.code}, {self.align(x, frac)}, {self.const(lo, frac)}, " \
+               f"{self.const(hi, frac)})"
+        return Fx(code, frac, lo, hi, state.err + self.steps * (self.align_error(x, frac)
+                                                                + bounds_err))
+
+    def set_state(self, o, state: Fx) -> None:
+        cast = "" if OUTPUT_OPS[o.kind].integrates else "(int32_t)"
+        self.code.append(f"s->out_{c_identifier(o.name)} = {cast}{state.code};")
+        self.state_errors[o.name] = state.err
+
+    def read_state(self, o) -> Fx:
+        """The state rounded back to 31 bits (integrators keep STATE_GUARD more)."""
+        frac = self.state_frac(o)
+        guard = frac - frac_for(*self.state_range(o))
+        base = frac - guard
+        state = f"s->out_{c_identifier(o.name)}"
+        read = f"{self.p}shr({state}, {guard})" if guard else state
+        return Fx(read, base, o.lo, o.hi, self.state_errors[o.name] + drop_error(frac, base))
+
+    def reciprocal(self, o, state: Fx) -> Fx:
+        """u = 1/v, rounded to nearest, at the precision of the output's range."""
+        uf = frac_for(o.lo, o.hi)
+        one = 1 << (uf + state.frac)
+        v_min, v_err = 1.0 / o.hi, state.err
+        u_err = v_err / (v_min * (v_min - v_err)) if v_err < v_min else math.inf
+        result = Fx(f"u_{c_identifier(o.name)}", uf, o.lo, o.hi,
+                    u_err + 0.5 * 2.0 ** -uf + max(const_error(o.lo, uf),
+                                                   const_error(o.hi, uf)))
+        v = f"reciprocal_{c_identifier(o.name)}"    # v = 1/u, 31 bits
+        self.code.append(f"const int64_t {v} = {state.code};")
+        self.code.append(f"const int64_t {result.code} = {self.p}sat(({one} + {v} / 2) / "
+                         f"{v}, {self.const(o.lo, uf)}, {self.const(o.hi, uf)});")
+        return result
+
+    def emit_output(self, k: int, o, result: Fx) -> None:
+        self.code.append(f"out[{k}] = ({self.io}){self.p}sat("
+                         f"{self.align(result, self.io_frac)}, {-self.io_max}, {self.io_max});")
+        self.symbols[o.name] = result
+        self.output_errors[o.name] = self.align_error(result, self.io_frac)
+
+    def state_range(self, o) -> tuple[float, float]:
+        rule = OUTPUT_OPS[o.kind]
+        if rule.reciprocal and not o.lo > 0:
+            raise _fail(f"the fixed-point chain needs 0 < lo for the 1/integrate output "
+                        f"`{o.name}`")
+        return rule.state_limits(o)
 
     def state_frac(self, o) -> int:
         """Fraction bits of output o's state: integrators keep STATE_GUARD more (int64)."""
-        return frac_for(*self.state_range(o)) + (0 if o.kind == OutputKind.DIRECT
-                                                 else STATE_GUARD)
+        return frac_for(*self.state_range(o)) + (STATE_GUARD if OUTPUT_OPS[o.kind].integrates
+                                                 else 0)
