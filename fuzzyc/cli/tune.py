@@ -1,0 +1,54 @@
+"""`fuzzyc tune FILE --data train.csv [--validate check.csv | --folds K] --seed S -o OUT`:
+fit the numbers FILE's `tune` section frees to the data (least squares within their bounds),
+keep its monotone / covers / bounded properties, and write the tuned .fz (only the tuned
+numbers changed, a provenance comment block on top)."""
+from __future__ import annotations
+
+from ..atomic import write_text
+from ..errors import Diagnostic, FuzzycError
+from .common import at_least, check_output
+
+
+def add_parser(subparsers) -> None:
+    p = subparsers.add_parser("tune", help="fit the numbers a .fz file's `tune` section frees "
+                                           "to data, keeping its properties")
+    p.add_argument("file", metavar="FILE", help="a .fz rule file with a `tune` section")
+    p.add_argument("--data", required=True, metavar="CSV",
+                   help="training data: a header naming the rule base's inputs and outputs")
+    group = p.add_mutually_exclusive_group()
+    group.add_argument("--validate", metavar="CSV", help="data to report the error on")
+    group.add_argument("--folds", type=at_least(2), metavar="K",
+                       help="K-fold cross-validation error instead")
+    p.add_argument("--seed", type=at_least(0), default=0, help="seed (default 0): the fold "
+                   "split and the property searches; the same seed gives the same file")
+    p.add_argument("--passes", type=at_least(1), default=20,
+                   help="hybrid passes for Takagi-Sugeno rule bases (default 20)")
+    p.add_argument("--max-nfev", type=at_least(1), default=None, metavar="N",
+                   help="evaluations per least-squares run (default: scipy's)")
+    p.add_argument("-o", "--output", required=True, metavar="OUT", help="the tuned .fz")
+    p.set_defaults(run=run)
+
+
+def run(args) -> int:
+    from ..tune import tune
+    check_output(args.output)
+    try:
+        result = tune(args.file, args.data, validate=args.validate, folds=args.folds,
+                      seed=args.seed, passes=args.passes, max_nfev=args.max_nfev)
+    except (ValueError, KeyError, OSError) as exc:
+        message = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
+        raise FuzzycError([Diagnostic(None, message)]) from None
+    write_text(args.output, result.text)
+    fit = result.fit
+    print(f"{args.file}: {len(fit.numbers)} numbers tuned by {fit.method}")
+    print(f"RMSE on {args.data}: {fit.rmse_before:.6g} before, {fit.rmse_after:.6g} after")
+    if fit.validation is not None:
+        said = args.validate or f"{args.folds}-fold cross-validation"
+        before = "" if fit.validation_before is None else f"{fit.validation_before:.6g} before, "
+        print(f"RMSE on {said}: {before}{fit.validation:.6g} after")
+    for c in fit.properties:
+        print(f"property `{c.text}`: {c.before} before, {c.after} after")
+    for why in fit.rejected:
+        print(f"rejected: {why}")
+    print(f"wrote {args.output}")
+    return 0

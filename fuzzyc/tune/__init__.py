@@ -1,0 +1,72 @@
+"""`fuzzyc tune`: fit the numbers a rule file's `tune` section frees to data, keep the file's
+monotone / covers / bounded properties, and write the tuned .fz with its provenance.
+
+    from fuzzyc.tune import fit_data, tune
+    fit = fit_data(model, x, y, seed=0)                 # numbers only
+    result = tune("rule.fz", "train.csv", validate="check.csv", seed=0)
+    result.text                                         # the tuned file
+"""
+from __future__ import annotations
+
+import hashlib
+import os
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..semantics.model import Model
+from .data import Table, read_csv
+from .fit import FitResult, fit_data
+from .rewrite import rewrite
+
+__all__ = ["FitResult", "TuneResult", "fit_data", "tune"]
+
+
+@dataclass
+class TuneResult:
+    fit: FitResult
+    text: str                  # the tuned .fz: the source with the tuned numbers replaced
+    provenance: list[str]
+
+
+def tune(model: Model | str | os.PathLike, data: str | os.PathLike, *,
+         validate: str | os.PathLike | None = None, folds: int | None = None, seed: int = 0,
+         passes: int = 20, max_nfev: int | None = None) -> TuneResult:
+    """Tune a .fz file (or a model parsed from .fz text) against the CSV `data`; `validate`
+    (a CSV) or `folds` (K-fold cross-validation) measure the error on data it was not fitted
+    to.  The result's text differs from the source only in the tuned numbers and the
+    provenance comment block on top; the same files and seed give the same text, byte for
+    byte."""
+    if not isinstance(model, Model):
+        from ..language.parser import load
+        model = load(model)
+    if not model.source_text or not str(model.source_path or "").endswith((".fz", "<string>")):
+        raise ValueError("tune rewrites a .fz file: convert the model to .fz first "
+                         "(fuzzyc convert), add a `tune` section, and tune that")
+    train = read_csv(data, model)
+    check: Table | None = read_csv(validate, model) if validate is not None else None
+    fit = fit_data(model, train.x, train.y, seed=seed, passes=passes, max_nfev=max_nfev,
+                   validate=(check.x, check.y) if check else None, folds=folds)
+    lines = provenance(model, fit, train, check, folds, passes, max_nfev)
+    return TuneResult(fit, rewrite(model.source_text, fit.numbers, fit.values, lines), lines)
+
+
+def provenance(model: Model, fit: FitResult, train: Table, check: Table | None,
+               folds: int | None, passes: int, max_nfev: int | None) -> list[str]:
+    """What the tuned file came from and how well it fits: no time, no path, no machine (the
+    same inputs give the same lines)."""
+    name = Path(model.source_path or "model.fz").name
+    source = hashlib.sha256((model.source_text or "").encode()).hexdigest()
+    lines = [f"tuned from {name} (sha256 {source})",
+             f"data {train.name} sha256 {train.sha256}, {len(train.x)} rows",
+             f"seed {fit.seed}, passes {passes}, max_nfev {max_nfev}; method: {fit.method}",
+             f"{len(fit.numbers)} numbers tuned; RMSE on the data before {fit.rmse_before:.6g}, "
+             f"after {fit.rmse_after:.6g}"]
+    if check is not None:
+        lines.append(f"validation {check.name} sha256 {check.sha256}, {len(check.x)} rows: "
+                     f"RMSE before {fit.validation_before:.6g}, after {fit.validation:.6g}")
+    elif folds:
+        lines.append(f"{folds}-fold cross-validation RMSE {fit.validation:.6g}")
+    for c in fit.properties:
+        lines.append(f"property `{c.text}`: {c.before} before, {c.after} after")
+    lines += [f"rejected: {why}" for why in fit.rejected]
+    return lines
