@@ -5,8 +5,10 @@ the consequents by bounded linear least squares with the premises fixed, then mo
 premises (and rule weights) by a few trust-region least-squares steps with the analytic
 Jacobian; a joint polish of everything follows.  Other rule bases get scipy's trust-region
 least squares with finite differences through the engine.  The file's monotone, covers and
-bounded properties that held before are penalties during the search and decided by the
-verifier after it (fuzzyc.tune.constraints).  Nothing here draws a random number but the
+bounded properties that held before are penalties during the search (a few weights in turn)
+and decided by the verifier after it (fuzzyc.tune.constraints); when every candidate loses
+one, the result is the point nearest the candidate, on the segment from the written numbers
+(which kept them), that the verifier accepts (bisection).  Nothing here draws a random number but the
 fold split, from the seed: the same data and seed give the same numbers, bit for bit."""
 from __future__ import annotations
 

@@ -1,0 +1,116 @@
+"""Properties kept: for each kind (bounded, monotone, covers) the unconstrained optimum of the
+data violates it, and the tuned result keeps it, as the verifier decides."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from fuzzyc.engine.inference import evaluate
+from fuzzyc.language.parser import parse
+from fuzzyc.tune import fit_data
+from fuzzyc.verifier.runner import Options, check_property
+from fuzzyc.verifier.result import Result, Status
+
+from test_tune_fit import TWO_SINGLETONS, X, Y
+
+KEPT = (Status.PROVED, Status.HELD)
+
+
+def verdict(model, kind: str) -> Status:
+    prop = next(p for p in model.properties if p.kind == kind)
+    return Result(prop, prop.text, check_property(model, prop, Options(max_examples=50))).status
+
+
+def with_verify(text: str, props: str) -> str:
+    return text.replace("  tune {", f"  verify {{\n    {props}\n  }}\n  tune {{")
+
+
+def test_bounded_is_kept():
+    # unconstrained, b = 25/6 (test_tune_fit): y(1) = 25/6 leaves [-1, 3]
+    model = parse(with_verify(TWO_SINGLETONS % ("weighted_average", 10), "bounded y in [-1, 3]"))
+    assert verdict(model, "bounded") in KEPT            # y = x as written
+    free = fit_data(model, X, Y, keep_properties=False)
+    assert free.values[1] == pytest.approx(25 / 6) and verdict(free.model, "bounded") == \
+        Status.VIOLATED
+    kept = fit_data(model, X, Y)
+    assert verdict(kept.model, "bounded") in KEPT
+    assert kept.values[1] <= 3.0 and kept.values[1] == pytest.approx(3.0, abs=1e-3)
+    # with b = 3 the best a is -0.6 (test_tune_fit's active bound)
+    assert kept.values[0] == pytest.approx(-0.6, abs=1e-2)
+    assert [(c.text, c.before, c.after) for c in kept.properties] == [
+        ("bounded y in [-1, 3]", "proved", "proved")]
+    assert kept.rmse_after > free.rmse_after              # what keeping it costs
+
+
+MONOTONE = """controller mono {
+  input x in [0, 1]
+  terms x : lo = lshoulder(0, 1), hi = rshoulder(0, 1)
+  var y in [-5, 5] default 0
+  terms y : r1 = linear(0, 1), r2 = linear(0, 1)
+  inference and = product, defuzzify = weighted_average
+  rule if x is lo then y is r1
+  rule if x is hi then y is r2
+  output u in [-5, 5] = y
+  verify {
+    monotone y increasing in x
+  }
+  tune {
+    y in +/- 4
+  }
+}
+"""
+
+
+def test_monotone_is_kept():
+    # y = (1 - x)(c0 + c1 x) + x (d0 + d1 x) is any quadratic; the data rises then falls, so
+    # the best quadratic falls at the end
+    model = parse(MONOTONE)
+    xs = np.linspace(0, 1, 9)
+    ys = np.sin(np.pi * xs * 0.8)               # up to x = 0.625, then down
+    assert verdict(model, "monotone") in KEPT   # y = x as written
+    free = fit_data(model, xs[:, None], ys, keep_properties=False)
+    assert verdict(free.model, "monotone") == Status.VIOLATED
+    kept = fit_data(model, xs[:, None], ys)
+    assert verdict(kept.model, "monotone") in KEPT
+    grid = np.linspace(0, 1, 401)[:, None]
+    assert np.all(np.diff(evaluate(kept.model.rulebase, grid)[:, 0]) >= -1e-9)
+    assert kept.rmse_before > kept.rmse_after > free.rmse_after
+
+
+COVERS = """controller cover {
+  input x in [0, 1]
+  terms x : lo = gauss(0, 0.5), hi = gauss(1, 0.5)
+  var y in [0, 1] default 0
+  terms y : a = singleton(0), b = singleton(1)
+  inference and = product, defuzzify = weighted_average
+  rule if x is lo then y is a
+  rule if x is hi then y is b
+  output u in [0, 1] = y
+  verify {
+    covers x at least 0.5
+  }
+  tune {
+    x.lo.sigma, x.hi.sigma in [0.05, 1]
+  }
+}
+"""
+
+
+def test_covers_is_kept():
+    # a step at 0.5 wants steep Gaussians; the strongest rule at x = 0.5 fires
+    # exp(-0.25 / (2 sigma^2)), at least 0.5 while sigma >= sqrt(0.125 / ln 2) = 0.4247
+    model = parse(COVERS)
+    xs = np.linspace(0, 1, 21)
+    ys = (xs > 0.5).astype(float)
+    assert verdict(model, "covers") in KEPT     # sigma 0.5: exp(-0.5) = 0.61 at x = 0.5
+    free = fit_data(model, xs[:, None], ys, keep_properties=False)
+    assert verdict(free.model, "covers") == Status.VIOLATED
+    kept = fit_data(model, xs[:, None], ys)
+    assert verdict(kept.model, "covers") in KEPT
+    # with sigmas s1, s2 the two cross at x = s1 / (s1 + s2), where both fire
+    # exp(-1 / (2 (s1 + s2)^2)): at least 0.5 while s1 + s2 >= 1 / sqrt(2 ln 2) = 0.8493
+    total = kept.values.sum()
+    assert 1 / np.sqrt(2 * np.log(2)) - 1e-9 <= total < 0.86     # kept, and only just
+    assert free.values.sum() < 0.8                                # the free fit went past it
+    assert kept.rmse_after > free.rmse_after
+    assert [(c.before, c.after) for c in kept.properties] == [("proved", "proved")]
