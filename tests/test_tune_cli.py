@@ -80,3 +80,16 @@ def test_refusals(files, tmp_path, capsys):
     with pytest.raises(SystemExit):        # --validate and --folds exclude each other
         main(["tune", str(rule), "--data", str(train), "--validate", str(check),
               "--folds", "2", "-o", str(tmp_path / "o.fz")])
+
+
+def test_the_api_gives_the_commands_text(files, tmp_path):
+    import fuzzyc
+    rule, train, check = files
+    out = tmp_path / "tuned.fz"
+    assert main(["tune", str(rule), "--data", str(train), "--validate", str(check),
+                 "-o", str(out)]) == 0
+    result = fuzzyc.tune(rule, train, validate=check)
+    assert result.text == out.read_text()
+    assert result.fit.values == pytest.approx([-5 / 6, 25 / 6], abs=1e-6)
+    import fuzzyc.tune as package                 # the package is the same callable
+    assert package(rule, train, validate=check).text == result.text

@@ -10,15 +10,32 @@ from __future__ import annotations
 
 import hashlib
 import os
+import sys
+import types
 from dataclasses import dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING, Any
 
 from ..semantics.model import Model
-from .data import Table, read_csv
-from .fit import FitResult, fit_data
-from .rewrite import rewrite
+
+if TYPE_CHECKING:
+    from .data import Table
+    from .fit import FitResult
 
 __all__ = ["FitResult", "TuneResult", "fit_data", "tune"]
+
+
+def fit_data(model: Model, x, y, **options: Any) -> FitResult:
+    """fuzzyc.tune.fit.fit_data (scipy loads on first use, not with `import fuzzyc`)."""
+    from .fit import fit_data as fit
+    return fit(model, x, y, **options)
+
+
+def __getattr__(name: str) -> Any:
+    if name == "FitResult":
+        from .fit import FitResult
+        return FitResult
+    raise AttributeError(f"module 'fuzzyc.tune' has no attribute '{name}'")
 
 
 @dataclass
@@ -42,6 +59,8 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike, *,
     if not model.source_text or not str(model.source_path or "").endswith((".fz", "<string>")):
         raise ValueError("tune rewrites a .fz file: convert the model to .fz first "
                          "(fuzzyc convert), add a `tune` section, and tune that")
+    from .data import read_csv
+    from .rewrite import rewrite
     train = read_csv(data, model)
     check: Table | None = read_csv(validate, model) if validate is not None else None
     fit = fit_data(model, train.x, train.y, seed=seed, passes=passes, max_nfev=max_nfev,
@@ -70,3 +89,14 @@ def provenance(model: Model, fit: FitResult, train: Table, check: Table | None,
         lines.append(f"property `{c.text}`: {c.before} before, {c.after} after")
     lines += [f"rejected: {why}" for why in fit.rejected]
     return lines
+
+
+class _CallableModule(types.ModuleType):
+    """`fuzzyc.tune(...)` is the API's tune whether `fuzzyc.tune` names this package (once it
+    is imported, Python sets the attribute) or the function fuzzyc exports."""
+
+    def __call__(self, *args: Any, **options: Any) -> TuneResult:
+        return tune(*args, **options)
+
+
+sys.modules[__name__].__class__ = _CallableModule
