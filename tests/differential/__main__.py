@@ -19,7 +19,7 @@ import numpy as np
 from . import cases, tools
 from .compare import TOOLS
 from .judge import Verdict, judge
-from .shrink import diagnose, shrink_all
+from .shrink import diagnose_all, shrink_all
 from .spec import Generator, evaluation_points
 
 COLUMNS = ("tool, format", "generated", "imported", "refused", "crashed", "agree", "disagree",
@@ -63,8 +63,8 @@ def report(key: str, made: list, verdicts: list[Verdict], args) -> list[str]:
     found = [(s, x, v) for (s, x), v in zip(made, verdicts)
              if v.status in ("disagree", "crashed")][:args.shrink]
     causes = collections.Counter()
-    for small, small_x, last in shrink_all(key, found, args.shrink_seconds):
-        cause = diagnose(key, small, small_x, last)
+    shrunk = shrink_all(key, found, args.shrink_seconds)
+    for (small, small_x, last), cause in zip(shrunk, diagnose_all(key, shrunk)):
         causes[cause] += 1
         if args.keep:
             cases.keep(key, cause, small, small_x, last)

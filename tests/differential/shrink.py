@@ -1,5 +1,5 @@
 """A disagreement or crash made small while it persists (`shrink`), and its cause found by
-undoing one construct at a time until fuzzyc and the tool agree (`diagnose`).
+undoing one construct at a time until fuzzyc and the tool agree (`diagnose_all`).
 
 Each round judges a few simpler variants of every case at once (one tool batch), and keeps the
 first variant that fails the same way: rules, outputs, inputs and terms dropped, conditions cut
@@ -235,15 +235,24 @@ def _as_triangles(system: System, shape: str) -> None:
                 t.params = [var.lo, rounded((var.lo + var.hi) / 2), var.hi]
 
 
-def diagnose(key: str, system: System, x: np.ndarray, verdict: Verdict) -> str:
-    """The first construct whose undoing makes fuzzyc and the tool agree (or the crash)."""
-    if verdict.status == "crashed":
-        return f"crash: {verdict.message}"
-    undone = list(_undo(system))
-    verdicts = judge(key, [s for _, s, _ in undone], [x] * len(undone))
-    for (cause, _, _), got in zip(undone, verdicts):
-        if got.status == "agree":
-            return cause
-    shapes = sorted({t.shape for v in system.inputs + system.outputs for t in v.terms})
-    defuzz = sorted({v.defuzzifier for v in system.outputs})
-    return f"not found by undoing (shapes {' '.join(shapes)}; {' '.join(defuzz)})"
+def diagnose_all(key: str, found: list[tuple[System, np.ndarray, Verdict]]) -> list[str]:
+    """Per case the first construct whose undoing makes fuzzyc and the tool agree (or the
+    crash); every case's variants judged in one tool batch."""
+    batch, owners = [], []
+    for k, (system, x, verdict) in enumerate(found):
+        if verdict.status != "crashed":
+            for cause, variant, _ in _undo(system):
+                batch.append((cause, variant, x))
+                owners.append(k)
+    verdicts = judge(key, [v for _, v, _ in batch], [x for _, _, x in batch])
+    causes: list[str | None] = [f"crash: {v.message}" if v.status == "crashed" else None
+                                for _, _, v in found]
+    for k, (cause, _, _), got in zip(owners, batch, verdicts):
+        if causes[k] is None and got.status == "agree":
+            causes[k] = cause
+    for k, (system, _, _) in enumerate(found):
+        if causes[k] is None:
+            shapes = sorted({t.shape for v in system.inputs + system.outputs for t in v.terms})
+            defuzz = sorted({v.defuzzifier for v in system.outputs})
+            causes[k] = f"not found by undoing (shapes {' '.join(shapes)}; {' '.join(defuzz)})"
+    return causes
