@@ -8,8 +8,9 @@ least squares with finite differences through the engine.  The file's monotone, 
 bounded properties that held before are penalties during the search (a few weights in turn)
 and decided by the verifier after it (fuzzyc.tune.constraints); when every candidate loses
 one, the result is the point nearest the candidate, on the segment from the written numbers
-(which kept them), that the verifier accepts (bisection).  Nothing here draws a random number but the
-fold split, from the seed: the same data and seed give the same numbers, bit for bit."""
+(which kept them), that the verifier accepts (bisection).  Nothing here draws a random
+number but the fold split, from the seed: the same data and seed give the same numbers, bit
+for bit (the verifier's searches are seeded too)."""
 from __future__ import annotations
 
 import copy

@@ -14,8 +14,7 @@ import math
 from dataclasses import replace
 
 from ...semantics.model import RuleBase, SourceLoc, TermKind, Variable
-from ...semantics.tunable import (ORDERED, POSITIVE, TunedNumber, parameter_names, shape_word,
-                                  slots)
+from ...semantics.tunable import ORDERED, POSITIVE, TunedNumber, parameter_names, slots
 from ..syntax import Name, Num, Stmt, TermDef
 from .terms import term_core
 
