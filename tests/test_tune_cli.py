@@ -77,6 +77,17 @@ def test_refusals(files, tmp_path, capsys):
     broken.write_text(rule.read_text().replace("y.a.value", "y.c.value"))
     assert main(["tune", str(broken), "--data", str(train), "-o", str(tmp_path / "o.fz")]) == 2
     assert "broken.fz:11:7: error: `y` has no term `c`" in capsys.readouterr().err
+    # never over an input, and an existing file only with --force
+    assert main(["tune", str(rule), "--data", str(train), "-o", str(rule), "--force"]) == 2
+    assert f"{rule} is the input file {rule}" in capsys.readouterr().err
+    assert main(["tune", str(rule), "--data", str(train), "-o", str(train), "--force"]) == 2
+    assert f"{train} is the input file {train}" in capsys.readouterr().err
+    out = tmp_path / "exists.fz"
+    out.write_text("mine")
+    assert main(["tune", str(rule), "--data", str(train), "-o", str(out)]) == 2
+    assert "not overwriting" in capsys.readouterr().err and out.read_text() == "mine"
+    assert main(["tune", str(rule), "--data", str(train), "-o", str(out), "--force"]) == 0
+    assert out.read_text().startswith("# ---- fuzzyc tune: provenance")
     with pytest.raises(SystemExit):        # --validate and --folds exclude each other
         main(["tune", str(rule), "--data", str(train), "--validate", str(check),
               "--folds", "2", "-o", str(tmp_path / "o.fz")])

@@ -4,6 +4,8 @@ keep its monotone / covers / bounded properties, and write the tuned .fz (only t
 numbers changed, a provenance comment block on top)."""
 from __future__ import annotations
 
+import os
+
 from ..atomic import write_text
 from ..errors import Diagnostic, FuzzycError
 from .common import at_least, check_output
@@ -25,12 +27,15 @@ def add_parser(subparsers) -> None:
                    help="hybrid passes for Takagi-Sugeno rule bases (default 20)")
     p.add_argument("--max-nfev", type=at_least(1), default=None, metavar="N",
                    help="evaluations per least-squares run (default: scipy's)")
-    p.add_argument("-o", "--output", required=True, metavar="OUT", help="the tuned .fz")
+    p.add_argument("-o", "--output", required=True, metavar="OUT",
+                   help="the tuned .fz (never one of the inputs)")
+    p.add_argument("--force", action="store_true", help="replace OUT if it exists")
     p.set_defaults(run=run)
 
 
 def run(args) -> int:
     from ..tune import tune
+    _check_not_overwriting([args.file, args.data, args.validate], args.output, args.force)
     check_output(args.output)
     try:
         result = tune(args.file, args.data, validate=args.validate, folds=args.folds,
@@ -52,3 +57,19 @@ def run(args) -> int:
         print(f"rejected: {why}")
     print(f"wrote {args.output}")
     return 0
+
+
+def _check_not_overwriting(inputs: list[str | None], output: str, force: bool) -> None:
+    """FuzzycError when OUT is one of the inputs (also through a link: samefile), or exists
+    and --force is not given (lexists: a dangling link counts)."""
+    for source in filter(None, inputs):
+        try:
+            same = os.path.exists(output) and os.path.samefile(source, output)
+        except OSError:        # a missing input: reading it says so
+            same = False
+        if same:
+            raise FuzzycError([Diagnostic(None, f"{output} is the input file {source}: write "
+                                                "the tuned file to another file")])
+    if os.path.lexists(output) and not force:
+        raise FuzzycError([Diagnostic(None, f"not overwriting {output}, which exists: give "
+                                            "--force to replace it")])
