@@ -159,3 +159,19 @@ def test_a_rule_weight_not_written_is_added():
     text = rewrite(source, [weight], [0.5], [])
     assert "  rule r3: if p is L and q is S then y is r3 with 0.5\n" in text
     assert parse(text).rulebase.weights[2] == 0.5
+
+
+def test_relative_bounds_are_written_absolute():
+    # `+/- 3` around the written values: around the tuned ones it would be another box, and
+    # a value tuned to its bound would put the next tune's box outside the rules of the file
+    source = MG_LIKE % "weighted_average"
+    model = parse(source)
+    rng = np.random.default_rng(0)
+    x = rng.uniform(0, 2, size=(40, 2))
+    fit = fit_data(model, x, np.sin(x[:, 0]) + x[:, 1] ** 2, max_nfev=5, passes=2)
+    text = rewrite(source, fit.numbers, fit.values, [])
+    assert "  tune {  # the bounds as tuned, absolute\n    p.S.center in [0.4, 0.6]\n" in text
+    again = parse(text)
+    assert [(n.target, n.lo, n.hi) for n in again.tunables] == \
+        [(n.target, n.lo, n.hi) for n in fit.numbers]
+    assert Space(again).x0.tolist() == fit.values.tolist()

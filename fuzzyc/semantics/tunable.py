@@ -91,7 +91,9 @@ class TunedNumber:
     kind "weight": the weight of the rule named `rule` (rule `rule_index` of block `block`).
     kind "param": the value of param `param`.
     `token`: where the number is written (None: a rule without `with w`, whose weight is then
-    written at `insert_at`, the end of the rule); `loc`: the `tune` line that frees it."""
+    written at `insert_at`, the end of the rule); `loc`: the `tune` line that frees it, in the
+    statement spanning `section`; `spread`: its bound was said relative to the written value
+    (a tuned file says it absolute: the value it was relative to has moved)."""
     kind: str
     target: str               # e.g. "e.NB.b", "r1.weight", "GE"
     value: float              # as written
@@ -109,3 +111,5 @@ class TunedNumber:
     block: int = 0
     rule_index: int = 0
     param: str = ""
+    spread: bool = False      # bounded as `+/- d` around the written value
+    section: tuple[SourceLoc, SourceLoc] | None = None   # its `tune { ... }`, start and end

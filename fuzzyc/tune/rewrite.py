@@ -31,10 +31,35 @@ def rewrite(text: str, numbers: list[TunedNumber], values, provenance: list[str]
         elif n.insert_at is not None:
             line, col = n.insert_at.line - 1, n.insert_at.col - 1
             edits.append((line, col, 0, f" with {num(value)}"))
-    for line, col, length, new in sorted(edits, reverse=True):
-        lines[line] = lines[line][:col] + new + lines[line][col + length:]
+    for start, end, text in _absolute_sections(numbers):
+        edits.append((start.line - 1, start.col - 1, None, (end.line - 1, end.col - 1, text)))
+    for line, col, length, new in sorted(edits, key=lambda e: e[:2], reverse=True):
+        if length is None:              # a whole `tune` statement, over several lines
+            last, end, text = new
+            lines[line:last + 1] = (lines[line][:col] + text + lines[last][end:]).split("\n")
+        else:
+            lines[line] = lines[line][:col] + new + lines[line][col + length:]
     body = "\n".join(lines)
     return "\n".join(_block(provenance)) + "\n" + _without_block(body)
+
+
+def _absolute_sections(numbers: list[TunedNumber]):
+    """(start, end, text) of each `tune` statement with a `+/- d` bound: written again with
+    every number's bound absolute, one line each, as the tuner used them (relative to the
+    tuned values they would mean another box)."""
+    from ..language.parser import fz_name
+    sections: dict = {}
+    for n in numbers:
+        if n.section is not None:
+            sections.setdefault(n.section, []).append(n)
+    for (start, end), inside in sections.items():
+        if not any(n.spread for n in inside):
+            continue
+        pad = " " * (start.col + 1)
+        lines = [f"{pad}{'.'.join(fz_name(p) for p in n.target.split('.'))} in "
+                 f"[{num(n.lo)}, {num(n.hi)}]" for n in inside]
+        yield start, end, "tune {  # the bounds as tuned, absolute\n" + "\n".join(lines) + \
+            "\n" + " " * (start.col - 1) + "}"
 
 
 def _block(provenance: list[str]) -> list[str]:

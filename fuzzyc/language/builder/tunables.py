@@ -39,6 +39,8 @@ class TunablesBuilder:
                 bound = self._tune_bound(item["bound"])
                 for path in item["paths"]:
                     for number in self._tune_target(path, bound, written, blocks):
+                        number = replace(number, section=(s.loc, s.end),
+                                         spread=bound is not None and bound[0] == "spread")
                         key = (number.kind, number.var, number.term, number.index,
                                number.rule, number.param)
                         if key in found:
