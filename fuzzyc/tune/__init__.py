@@ -66,7 +66,19 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike, *,
     fit = fit_data(model, train.x, train.y, seed=seed, passes=passes, max_nfev=max_nfev,
                    validate=(check.x, check.y) if check else None, folds=folds)
     lines = provenance(model, fit, train, check, folds, passes, max_nfev)
-    return TuneResult(fit, rewrite(model.source_text, fit.numbers, fit.values, lines), lines)
+    text = rewrite(model.source_text, fit.numbers, fit.values, lines)
+    _check_reads_back(text, fit)
+    return TuneResult(fit, text, lines)
+
+
+def _check_reads_back(text: str, fit: FitResult) -> None:
+    """The tuned text parses to exactly the tuned numbers and bounds (a bug otherwise)."""
+    from ..language.parser import parse
+    again = parse(text, "<tuned>").tunables
+    said = [(n.target, n.value, n.lo, n.hi) for n in again]
+    meant = [(n.target, float(v), n.lo, n.hi) for n, v in zip(fit.numbers, fit.values)]
+    if said != meant:
+        raise AssertionError(f"the tuned text reads back otherwise: {said} != {meant}")
 
 
 def provenance(model: Model, fit: FitResult, train: Table, check: Table | None,
