@@ -87,7 +87,7 @@ def test_params_and_bad_data_are_refused():
 MG_LIKE = """controller tsk {
   input p in [0, 2]
   input q in [0, 2]
-  terms p : S = bell(0.5, 0.6, 2), L = gauss(1.5, 0.5)
+  terms p : S = bell(0.5, 0.6, 2), M = tri(0.4, 1, 1.6), L = gauss(1.5, 0.5)
   terms q : S = bell(0.4, 0.7, 1.5), L = bell(1.6, 0.6, 2.5)
   var y in [-5, 5] default 0.25
   terms y : r1 = linear(0.1, 1, -1), r2 = linear(0, 2, 0.5), r3 = singleton(1),
@@ -97,9 +97,10 @@ MG_LIKE = """controller tsk {
   rule if p is S and q is L then y is r2 with 0.7
   rule r3: if p is L and q is S then y is r3
   rule if p is L and q is L then y is r4
+  rule if p is M then y is r2 with 0.5
   output u in [-5, 5] = y
   tune {
-    p.S, p.L, q.* in +/- 0.1
+    p.S, p.M, p.L, q.* in +/- 0.1
     y in +/- 3
     r3.weight in [0.2, 1]
   }

@@ -1,5 +1,6 @@
 """The Takagi-Sugeno rule base as ANFIS sees it: outputs linear in the consequents, and
-analytic derivatives with respect to the premises (bell and Gaussian terms) and rule weights.
+analytic derivatives with respect to the premises (every input shape whose registry record has
+a derivative, fuzzyc.semantics.shapes) and the rule weights.
 
 It applies to one rule block of flat AND rules (no `not`, no hedges) under the product t-norm,
 every output defuzzified by weighted_average or weighted_sum, every consequent a singleton or
@@ -15,10 +16,10 @@ from ..engine.membership import linear_coefficients, memberships
 from ..engine.norms import firing
 from ..semantics.model import (ACTIVATION_FLOOR, Connective, Defuzzifier, Hedge, Model, TermKind,
                                TNorm)
+from ..semantics.shapes import SHAPES
 from .space import Space
 
 SUGENO = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
-DIFFERENTIABLE = (TermKind.BELL, TermKind.GAUSSIAN)
 
 
 def sugeno_problem(model: Model) -> str:
@@ -50,8 +51,8 @@ class SugenoForm:
         self.n_inputs = len(rb.inputs)
         kinds = {n.kind for n in space.numbers}
         self.analytic = "param" not in kinds and all(
-            self._premise_kind(n) in DIFFERENTIABLE for n in space.numbers
-            if n.kind == "term" and n.var in {v.name for v in rb.inputs})
+            n.slots and SHAPES[self._premise_kind(n)].derivative is not None
+            for n in space.numbers if n.kind == "term" and n.var in {v.name for v in rb.inputs})
         outputs = {v.name for v in rb.outputs}
         # consequent numbers: the outputs' singleton values and linear coefficients
         self.linear_part = np.array([n.kind == "term" and n.var in outputs
@@ -151,7 +152,7 @@ class SugenoForm:
             i = rb.input_index(number.var)
             var = rb.inputs[i]
             t = var.index(number.term)
-            dmu = _dmu(TermKind(int(var.kinds[t])), var.params[t], number.index, self.x[:, i])
+            dmu = _dmu(TermKind(int(var.kinds[t])), var.params[t], number.slots, self.x[:, i])
             users = rb.antecedents[:, i] == t
             others = np.prod(np.delete(M[:, users, :], i, axis=2), axis=2)
             dact[:, users] = np.asarray(rb.weights)[users] * dmu[:, None] * others
@@ -184,23 +185,9 @@ class SugenoForm:
         return A.reshape(n * len(rb.outputs), len(numbers))
 
 
-def _dmu(kind: TermKind, params, index: int, x: np.ndarray) -> np.ndarray:
-    """d mu / d (written number `index`) of a bell (center, width, slope) or a Gaussian
-    (mean, sigma) at x."""
-    if kind == TermKind.GAUSSIAN:
-        m, s = float(params[0]), float(params[1])
-        mu = np.exp(-((x - m) ** 2) / (2 * s * s))
-        return mu * (x - m) / s ** 2 if index == 0 else mu * (x - m) ** 2 / s ** 3
-    c, a, b = (float(p) for p in params[:3])
-    u = (x - c) / a
-    au = np.abs(u)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        f = au ** (2 * b)
-        mu = 1.0 / (1.0 + f)
-        if index == 0:            # d/dc = mu^2 2b f / (u a)
-            d = np.where(au > 0, mu * mu * 2 * b * f / (u * a), 0.0)
-        elif index == 1:          # d/da = mu^2 2b f / a
-            d = mu * mu * 2 * b * f / a
-        else:                     # d/db = -mu^2 f 2 ln|u|
-            d = np.where(au > 0, -mu * mu * f * 2 * np.log(np.where(au > 0, au, 1.0)), 0.0)
+def _dmu(kind: TermKind, params, slots: tuple[int, ...], x: np.ndarray) -> np.ndarray:
+    """d mu / d (a written number) at x: the shape record's derivative with respect to the
+    model params the number sets (a tri's b is the trapezoid's b and c: their sum)."""
+    d = SHAPES[kind].derivative(x[:, None], np.asarray(params, dtype=float)[None, :])[:, 0, :]
+    d = d[:, list(slots)].sum(axis=1)
     return np.where(np.isfinite(d), d, 0.0)
