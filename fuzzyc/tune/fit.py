@@ -162,7 +162,7 @@ def _search(space: Space, form: SugenoForm | None, X, Y, passes, max_nfev, penal
 
     theta = space.x0.copy()
     analytic = form is not None and form.analytic
-    if form is not None and form.linear_part.any() and not weight:
+    if form is not None and form.linear_part.any():     # the penalised search starts there too
         theta = _hybrid(form, theta, space, target, passes, max_nfev)
         method = "ANFIS hybrid (bounded linear least squares + trust-region least squares)"
     else:

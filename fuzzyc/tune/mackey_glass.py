@@ -79,11 +79,16 @@ def export(folder: Path) -> list[Path]:
     return written
 
 
-def run(passes: int, max_nfev: int | None, seed: int = 0):
-    """(the fit, NDEI train, NDEI check, CPU seconds) of the 104-parameter ANFIS."""
-    from ..language.parser import load
+def run(passes: int, max_nfev: int | None, seed: int = 0, bounded: tuple | None = None):
+    """(the fit, NDEI train, NDEI check, CPU seconds) of the 104-parameter ANFIS; `bounded`
+    (lo, hi): with `verify { bounded y in [lo, hi] }` added to the file, kept by the tuner."""
+    from ..language.parser import parse
     from .fit import fit_data
-    model = load(rule_file())
+    text = rule_file().read_text()
+    if bounded is not None:
+        text = text.replace("  tune {", f"  verify {{\n    bounded y in [{bounded[0]:g}, "
+                                         f"{bounded[1]:g}]\n  }}\n  tune {{")
+    model = parse(text, str(rule_file()))
     X, y = dataset()
     start = time.process_time()
     fit = fit_data(model, X[:500], y[:500], validate=(X[500:], y[500:]), seed=seed,
@@ -93,11 +98,14 @@ def run(passes: int, max_nfev: int | None, seed: int = 0):
 
 
 def table(fit, ndei_train: float, ndei_check: float, seconds: float, passes: int,
-          max_nfev: int | None) -> str:
+          max_nfev: int | None, kept: list | None = None) -> str:
+    """The table; `kept`: (label, fit, NDEI train, NDEI check, seconds) of constrained runs."""
+    def row(label, fit, train, check, seconds):
+        return (label, f"{train:.4f}", f"{check:.4f}", str(len(fit.numbers)), f"{seconds:.0f} s")
     rows = [("", "NDEI train", "NDEI check", "parameters", "CPU time"),
-            (f"fuzzyc tune ({passes} pass{'es' if passes != 1 else ''}, max_nfev {max_nfev})",
-             f"{ndei_train:.4f}",
-             f"{ndei_check:.4f}", str(len(fit.numbers)), f"{seconds:.0f} s"),
+            row(f"fuzzyc tune ({passes} pass{'es' if passes != 1 else ''}, max_nfev "
+                f"{max_nfev})", fit, ndei_train, ndei_check, seconds),
+            *(row(*k) for k in kept or []),
             ("Jang 1993, ANFIS (500 epochs)", "-", f"{JANG_NDEI_CHECK:.3f}", "104", "-")]
     lines = ["| " + " | ".join(row) + " |" for row in rows]
     lines.insert(1, "|" + "---|" * len(rows[0]))
@@ -114,6 +122,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--max-nfev", type=int, default=1000,
                         help="evaluations per least-squares run (default 1000)")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--bounded", type=float, nargs=2, metavar=("LO", "HI"),
+                        help="also tune with `bounded y in [LO, HI]` kept (a second row)")
     parser.add_argument("-o", "--output", help="write the tuned .fz here")
     parser.add_argument("--export", metavar="DIR", help="only write the rule file, train.csv "
                         "and check.csv to DIR (for `fuzzyc tune`)")
@@ -123,9 +133,17 @@ def main(argv: list[str] | None = None) -> int:
             print(f"wrote {path}")
         return 0
     fit, ndei_train, ndei_check, seconds = run(args.passes, args.max_nfev, args.seed)
+    kept = []
+    if args.bounded:
+        lo, hi = args.bounded
+        bounded = run(args.passes, args.max_nfev, args.seed, (lo, hi))
+        kept.append((f"the same, keeping bounded y in [{lo:g}, {hi:g}]", *bounded))
     print("Mackey-Glass x(t+6), 500 training and 500 checking samples (t = 118..1117); "
           "NDEI = RMSE / standard deviation of the target")
-    print(table(fit, ndei_train, ndei_check, seconds, args.passes, args.max_nfev))
+    print(table(fit, ndei_train, ndei_check, seconds, args.passes, args.max_nfev, kept))
+    for label, fitted, *_ in kept:
+        for c in fitted.properties:
+            print(f"{label}: `{c.text}` {c.before} before tuning, {c.after} after")
     if args.output:
         from ..language.parser import load
         from .rewrite import rewrite
