@@ -144,6 +144,9 @@ def main(argv: list[str] | None = None) -> int:
     for label, fitted, *_ in kept:
         for c in fitted.properties:
             print(f"{label}: `{c.text}` {c.before} before tuning, {c.after} after")
+        print(f"{label}: {fitted.method}")
+        for why in fitted.rejected:
+            print(f"{label}: rejected: {why}")
     if args.output:
         from ..language.parser import load
         from .rewrite import rewrite
