@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING, Any
 if TYPE_CHECKING:
     from .api import (Controller, Explanation, FuzzycError, Header, Learning, Model, Simulation,
                       compile_c, compile_lut, copy_examples, evaluate, example, examples, explain,
-                      learn, load, parse, plot, save, simulate, verify)
+                      learn, load, parse, plot, save, simulate, tune, verify)
     from .verifier.report import VerifyReport
     from .verifier.result import Evidence, Result, Status
 
@@ -21,7 +21,7 @@ __version__ = "0.1.0"
 _HOME = {**dict.fromkeys(["Controller", "Explanation", "FuzzycError", "Header", "Learning",
                           "Model", "Simulation", "compile_c", "compile_lut", "copy_examples",
                           "evaluate", "example", "examples", "explain", "learn", "load", "parse",
-                          "plot", "save", "simulate", "verify"], "fuzzyc.api"),
+                          "plot", "save", "simulate", "tune", "verify"], "fuzzyc.api"),
          "VerifyReport": "fuzzyc.verifier.report",
          **dict.fromkeys(["Evidence", "Result", "Status"], "fuzzyc.verifier.result")}
 

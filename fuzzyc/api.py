@@ -32,7 +32,7 @@ if TYPE_CHECKING:
 __all__ = ["Controller", "Explanation", "FuzzycError", "Header", "Learning", "Model",
            "Simulation", "compile_c", "compile_lut", "copy_examples", "evaluate", "example",
            "examples", "explain", "learn", "load", "parse", "plot", "save", "simulate",
-           "verify"]
+           "tune", "verify"]
 
 PathLike = str | os.PathLike
 
@@ -153,6 +153,20 @@ def compile_lut(model: Model, resolution: int = 33) -> Header:
     error = table.measure_error()
     return Header(f"{c_identifier(model.name)}_lut.h", generate_lut_header(model, table, error),
                   {v.name: float(e) for v, e in zip(model.rulebase.outputs, error)})
+
+
+# -- tuning -----------------------------------------------------------------------------------
+
+def tune(model: Model | PathLike, data: PathLike, *, validate: PathLike | None = None,
+         folds: int | None = None, seed: int = 0, passes: int = 20,
+         max_nfev: int | None = None) -> Any:
+    """Fit the numbers a .fz file's `tune` section frees to the CSV `data` (docs/tuning.md);
+    `validate` (a CSV) or `folds` (K-fold cross-validation) measure the error elsewhere.
+    Returns a fuzzyc.tune.TuneResult: `.text` is the tuned file, `.fit` the numbers, errors
+    and properties before and after."""
+    from .tune import tune as run
+    return run(model, data, validate=validate, folds=folds, seed=seed, passes=passes,
+               max_nfev=max_nfev)
 
 
 # -- verification and simulation -------------------------------------------------------------

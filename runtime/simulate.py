@@ -170,6 +170,9 @@ def signal_units(scenario) -> dict[str, str]:
         for item in (*model.signals, *model.outputs, *model.steps):
             if item.unit:
                 units.setdefault(item.name, item.unit)
+    for signal, target in references(scenario).items():   # a set point has its signal's unit
+        if isinstance(target, str) and signal in units:
+            units.setdefault(target, units[signal])
     return units
 
 

@@ -64,6 +64,13 @@ SUBSTITUTED = {
     "pytest --fuzzyc-verify rulebases/":
         ("pytest --fuzzyc-verify rulebases/fopdt_pi.fz",
          "the six shipped files take minutes (`make test` collects rulebases/ with the plugin)"),
+    "python -m fuzzyc.tune.mackey_glass":
+        ("python -m fuzzyc.tune.mackey_glass --passes 1 --max-nfev 3",
+         "the full fit takes a minute of CPU; one pass and 3 evaluations take the same path "
+         "(tests/test_tune_mackey_glass.py checks the short fit's errors)"),
+    "python -m fuzzyc.tune.mackey_glass --bounded -0.5 2.5 --max-nfev 300":
+        ("python -m fuzzyc.tune.mackey_glass --bounded -0.5 2.5 --passes 1 --max-nfev 3",
+         "the two fits take four minutes of CPU; 3 evaluations each take the same path"),
     "python -m fuzzyc.conformance [--details] [--no-live]":
         ("python -m fuzzyc.conformance --details --no-live",
          "[...] marks optional flags; --no-live: no fuzzylite/octave runs (`make conformance`)"),
@@ -89,6 +96,9 @@ NOT_RUN = {
     "fuzzyc verify rulebases/edm_sink_gap.fz --prove --prove-boxes 128":
         "the line above with a larger budget: minutes; the substituted run of the line above "
         "takes --prove-boxes",
+    "fuzzyc tune mg/mackey_glass_anfis.fz --data mg/train.csv --validate mg/check.csv --seed 0 -o mg/tuned.fz":
+        "its files are the ones the line above writes, and each doc command runs in a fresh "
+        "copy; tests/test_tune_cli.py runs fuzzyc tune on files it writes",
     "python -m fuzzyc.plants.corner_table --against table4.csv":
         "table4.csv is the user's measurements (held out of the project); "
         "tests/test_corner_validation.py runs --against on files it writes",

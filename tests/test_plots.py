@@ -65,7 +65,8 @@ def test_rule_viewer_wedm_two_rules():
     du1 = axes[2, 3]
     assert vertical_lines(du1, DEFUZZIFIED_COLOUR) == pytest.approx([0.75])
     assert flat(stems(du1)) == pytest.approx([0.5, 0.5, 1.0, 0.5])
-    assert [ax.get_xlabel() for ax in axes[2]] == ["e1 [kHz]", "e2 [-]", "ce2 [-]", "du1 [-]",
+    # e1 = (Yr1 - spark_freq) * GE1 with a gain of no declared unit: not kHz (issue 30)
+    assert [ax.get_xlabel() for ax in axes[2]] == ["e1 [-]", "e2 [-]", "ce2 [-]", "du1 [-]",
                                                   "du2 [-]"]
     # each rule row: the input marked on every clause, the consequent cut at 0.5
     assert all(vertical_lines(axes[0, i]) == pytest.approx([x]) for i, x in enumerate([1, .75, 0]))
@@ -153,7 +154,8 @@ def test_runs_on_one_figure_with_units():
     assert len(top.lines) == 3 + 3 + 1              # 3 loops of each run, the set point
     assert [line.get_color() for line in top.lines] == ["C0"] * 3 + ["C1"] * 3 + ["k"]
     assert top.lines[-1].get_ydata()[0] == 1.5
-    assert [t.get_text() for t in top.get_legend().get_texts()] == ["fuzzy", "baseline"]
+    assert [t.get_text() for t in top.get_legend().get_texts()] == ["fuzzy", "baseline",
+                                                                     "set point 1.5"]
     assert top.get_ylabel() == "feed [mm/min]" and bottom.get_ylabel() == "spark_freq [kHz]"
     assert bottom.get_xlabel() == "time [s]" and top.get_title() == "a title"
 

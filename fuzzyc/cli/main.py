@@ -16,8 +16,8 @@ from .. import __version__
 from ..errors import FuzzycError
 
 # Each module has add_parser(subparsers) and run(args) -> exit status.
-COMMAND_MODULES = ("check", "eval", "plot", "compile", "simulate", "learn", "verify", "convert",
-                   "examples")
+COMMAND_MODULES = ("check", "eval", "plot", "compile", "simulate", "learn", "tune", "verify",
+                   "convert", "examples")
 
 BAD_INPUT, INTERNAL_ERROR, INTERRUPTED, BROKEN_PIPE = 2, 70, 130, 141
 

@@ -15,10 +15,13 @@ import numpy as np
 from ..semantics.model import Hedge, TermKind, Variable
 from ..semantics.shape_functions import discrete_problem, mu_function, trapezoid
 from ..semantics.shapes import SHAPES
+from ..semantics.operators import HEDGES, power_exponents
 
-# The power hedges, indexed by Hedge (NONE VERY SOMEWHAT EXTREMELY); the others (SELDOM,
-# SHARPLY) are piecewise and have no entry, so code that only knows powers fails loudly on them.
-HEDGE_EXPONENT = np.array([1.0, 2.0, 0.5, 3.0])
+# The power hedges' exponents, indexed by Hedge (NONE VERY SOMEWHAT EXTREMELY: the operator
+# registry's); the others (SELDOM, SHARPLY) are piecewise and have no entry, so code that only
+# knows powers fails loudly on them.
+HEDGE_EXPONENT = power_exponents()
+PIECEWISE_HEDGES = tuple(h for h, rec in HEDGES.items() if rec.exponent is None)
 LINEAR_SEARCH_BREAKS = 16
 
 
@@ -26,14 +29,10 @@ def apply_hedges(mu: np.ndarray, hedges: np.ndarray) -> np.ndarray:
     """mu (N, R) with hedges (R,) Hedge per column -> the hedged truth (N, R)."""
     power = HEDGE_EXPONENT[np.where(hedges < len(HEDGE_EXPONENT), hedges, Hedge.NONE)]
     out = mu ** power
-    for hedge, low, high in ((Hedge.SELDOM, lambda m: np.sqrt(0.5 * m),
-                              lambda m: 1.0 - np.sqrt(0.5 * (1.0 - m))),
-                             (Hedge.SHARPLY, lambda m: 2.0 * m * m,
-                              lambda m: 1.0 - 2.0 * (1.0 - m) ** 2)):
+    for hedge in PIECEWISE_HEDGES:      # each its registry record's function
         cols = np.flatnonzero(hedges == hedge)
         if cols.size:
-            m = np.clip(mu[:, cols], 0.0, 1.0)
-            out[:, cols] = np.where(m <= 0.5, low(m), high(m))
+            out[:, cols] = HEDGES[hedge].numpy(mu[:, cols])
     return out
 
 

@@ -10,11 +10,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import sympy
 
-from ..language.builder import PLAIN_SHAPES as BUILDER_SHAPES
 from ..language.builder import RuleSpec, assemble_rulebase, merge_rules
 from ..errors import Reporter, suggest
 from ..engine.formula import Formula
-from ..engine.membership import discrete_problem, monotonic
+from ..engine.membership import monotonic
+from ..semantics.shape_functions import discrete_problem
+from ..semantics.shapes import plain_words
 from ..semantics.model import (Aggregation, CondOp, Defuzzifier, Inference, Model, Output, OutputKind, Signal,
                      SourceLoc, TermKind, Variable, chain_output_names)
 
@@ -92,8 +93,8 @@ def shape(kind: TermKind, *params: float) -> tuple[TermKind, tuple[float, float,
 
 
 # The shapes every format writes as NAME p1 p2 ... in the model's own parameter order, with
-# the condition that keeps them well defined (the .fz language's table).
-PLAIN_SHAPES = {kind: (arity, valid) for kind, arity, valid, _ in BUILDER_SHAPES.values()}
+# the condition that keeps them well defined (the shape registry's plain words).
+PLAIN_SHAPES = {shape.kind: (word.arity, word.valid) for shape, word in plain_words().values()}
 
 
 def plain_shape_or_none(kind: TermKind, values: list[float]):

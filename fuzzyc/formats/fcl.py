@@ -34,40 +34,30 @@ from lark.exceptions import UnexpectedInput
 
 from ..errors import Reporter
 from ..escape import one_line
-from ..semantics.model import (Aggregation, Connective, Defuzzifier, Implication, Inference, Model,
-                     SNorm, SourceLoc, TermKind, TNorm)
+from ..semantics.model import (Aggregation, Connective, Defuzzifier, Inference, Model,
+                     SourceLoc, TermKind)
 from .common import (Collected, TermSpec, VarSpec, discrete_or_none, nan_default, shape,
                      trapezoid_or_none, tsukamoto_terms)
 from .blocks import block_names, block_view, chain_warning, file_variables, one_output
 from .export import (all_singletons, finish, left_out, model_identifier, num, peaks_instead,
                      rule_sentence, unsayable_hedges, unsayable_names)
 from .fll import HEDGES, fll_term, fuzzylite_shape
+from ..semantics import operators as ops
 from .functions import function_term
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
+# The operator words: the operator registry's (IEC's, fuzzylite's where IEC has none)
 OPERATORS = {
-    "and_op": ("AND", "and_", {"MIN": TNorm.MIN, "PROD": TNorm.PRODUCT,
-                               "BDIF": TNorm.BOUNDED_DIFFERENCE, "DPROD": TNorm.DRASTIC_PRODUCT,
-                               "EPROD": TNorm.EINSTEIN_PRODUCT, "HPROD": TNorm.HAMACHER_PRODUCT,
-                               "NMIN": TNorm.NILPOTENT_MIN}),
-    "or_op": ("OR", "or_", {"MAX": SNorm.MAX, "ASUM": SNorm.PROBSUM, "BSUM": SNorm.BOUNDED_SUM,
-                            "DSUM": SNorm.DRASTIC_SUM, "ESUM": SNorm.EINSTEIN_SUM,
-                            "HSUM": SNorm.HAMACHER_SUM, "NMAX": SNorm.NILPOTENT_MAX}),
-    "accu": ("ACCU", "aggregation", {"MAX": Aggregation.MAX, "SUM": Aggregation.SUM,
-                                     "PROBOR": Aggregation.PROBSUM,
-                                     "BSUM": Aggregation.BOUNDED_SUM,
-                                     "DSUM": Aggregation.DRASTIC_SUM,
-                                     "ESUM": Aggregation.EINSTEIN_SUM,
-                                     "HSUM": Aggregation.HAMACHER_SUM,
-                                     "NMAX": Aggregation.NILPOTENT_MAX}),
+    "and_op": ("AND", "and_", ops.format_words(ops.T_NORMS, "fcl", read=False)),
+    "or_op": ("OR", "or_", ops.format_words(ops.S_NORMS, "fcl", read=False)),
+    "accu": ("ACCU", "aggregation", ops.format_words(ops.AGGREGATIONS, "fcl", read=False)),
+    # ACT takes the AND words (fuzzylite writes EPROD, ...): implications are t-norms
+    "act": ("ACT", "implication", ops.format_words(ops.IMPLICATIONS, "fcl", read=False)),
 }
-# ACT takes the AND words (fuzzylite writes EPROD, ...): implications are t-norms
-OPERATORS["act"] = ("ACT", "implication", {word: Implication(int(t))
-                                           for word, t in OPERATORS["and_op"][2].items()})
 # fuzzylite's other words for what the model has (read only; export writes the IEC words)
-ALIASES = {"OR": {"NSUM": "BSUM"}, "ACCU": {"ASUM": "PROBOR", "NSUM": "BSUM"}}
-METHODS = {"COG": Defuzzifier.CENTROID, "COGS": Defuzzifier.CENTER_OF_AREA,
-           "COA": Defuzzifier.BISECTOR, "MM": Defuzzifier.MEAN_OF_MAXIMUM}
+ALIASES = {key: {word: rec.fcl for rec in table.values() for word in rec.also_in("fcl")}
+           for key, table in (("OR", ops.S_NORMS), ("ACCU", ops.AGGREGATIONS))}
+METHODS = ops.format_words(ops.DEFUZZIFIERS, "fcl", read=False)
 
 
 class _FclReader:

@@ -61,8 +61,10 @@ from ..language.conditions import Cond, premise
 from ..errors import Reporter, source_lines
 from ..escape import name_problems
 from ..semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Implication, Model,
-                     SNorm, SourceLoc, TermKind, TNorm, Variable)
+                     SourceLoc, TermKind, Variable)
 from ..engine.membership import linear_coefficients
+from ..semantics import operators as ops
+from ..semantics.shapes import SHAPES
 from ..language.numbers import parse_number
 from .common import (Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
                      trapezoid_or_none, tsukamoto_terms)
@@ -80,33 +82,17 @@ MF = re.compile(r"'([^']*)'\s*:\s*'([^']*)'\s*,\s*\[([^\]]*)\]\s*$")
 RULE = re.compile(r"\s*([-\d.\s]+?)\s*,\s*([-\d.\s]+?)\s*"
                   r"\(\s*([-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s*\)\s*:\s*(\d+)\s*$",
                   re.ASCII)
-SETTINGS = {
-    "AndMethod": ("and_", {"min": TNorm.MIN, "prod": TNorm.PRODUCT}),
-    "OrMethod": ("or_", {"max": SNorm.MAX, "probor": SNorm.PROBSUM}),
-    "ImpMethod": ("implication", {"min": Implication.MIN, "prod": Implication.PRODUCT}),
-    "AggMethod": ("aggregation", {"max": Aggregation.MAX, "sum": Aggregation.SUM,
-                                  "probor": Aggregation.PROBSUM}),
-    "DefuzzMethod": ("defuzzifier", {"centroid": Defuzzifier.CENTROID,
-                                     "bisector": Defuzzifier.BISECTOR,
-                                     "mom": Defuzzifier.MEAN_OF_MAXIMUM,
-                                     "wtaver": Defuzzifier.WEIGHTED_AVERAGE,
-                                     "wtsum": Defuzzifier.WEIGHTED_SUM}),
-}
-# The Octave toolkit's and fuzzylite's words for further norms (read only: export writes the
-# MATLAB words above, which every reader knows).
-T_NORM_WORDS = {"algebraic_product": TNorm.PRODUCT, "bounded_difference": TNorm.BOUNDED_DIFFERENCE,
-                "drastic_product": TNorm.DRASTIC_PRODUCT,
-                "einstein_product": TNorm.EINSTEIN_PRODUCT,
-                "hamacher_product": TNorm.HAMACHER_PRODUCT,
-                "nilpotent_minimum": TNorm.NILPOTENT_MIN}
-S_NORM_WORDS = {"algebraic_sum": SNorm.PROBSUM, "bounded_sum": SNorm.BOUNDED_SUM,
-                "drastic_sum": SNorm.DRASTIC_SUM, "einstein_sum": SNorm.EINSTEIN_SUM,
-                "hamacher_sum": SNorm.HAMACHER_SUM, "nilpotent_maximum": SNorm.NILPOTENT_MAX}
-READ_ALSO = {"AndMethod": T_NORM_WORDS, "OrMethod": S_NORM_WORDS,
-             "ImpMethod": {word: Implication(int(t)) for word, t in T_NORM_WORDS.items()},
-             "AggMethod": {word: Aggregation[s.name] for word, s in S_NORM_WORDS.items()
-                           if s.name in Aggregation.__members__} |
-             {"algebraic_sum": Aggregation.PROBSUM}}
+# The MATLAB words (written), and the Octave toolkit's and fuzzylite's words for further
+# operators (read only: export writes the MATLAB words, which every reader knows): the
+# operator registry's.
+_KEYS = (("AndMethod", "and_", ops.T_NORMS), ("OrMethod", "or_", ops.S_NORMS),
+         ("ImpMethod", "implication", ops.IMPLICATIONS),
+         ("AggMethod", "aggregation", ops.AGGREGATIONS),
+         ("DefuzzMethod", "defuzzifier", ops.DEFUZZIFIERS))
+SETTINGS = {key: (field, ops.format_words(table, "fis", read=False))
+            for key, field, table in _KEYS}
+READ_ALSO = {key: words for key, _, table in _KEYS
+             if (words := {w: k for k, rec in table.items() for w in rec.also_in("fis")})}
 # The Octave toolkit's hedges: a rule index `t.h` is term t with its membership raised to the
 # power round(100 h) / 10 (`1.05` somewhat, `1.2` very, `1.3` extremely, `1.4` very very), as
 # the hedges that make that power, nearest the term first (fuzzylite reads them so too).
@@ -456,14 +442,10 @@ AREA_METHODS = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_
 # range on (NumSamplePoints); not from a paper, used only to say so in a warning.
 MATLAB_POINTS = 101
 # (TermKind, MATLAB name, the model's params -> MATLAB's parameter order): the reader inverted
-FIS_SHAPES = {
-    TermKind.GAUSSIAN: ("gaussmf", lambda a, b, c, d: (b, a)),        # (mean, sigma) -> [sigma c]
-    TermKind.BELL: ("gbellmf", lambda a, b, c, d: (b, c, a)),         # (c, a, b) -> [a b c]
-    TermKind.SIGMOID: ("sigmf", lambda a, b, c, d: (b, a)),           # (c, a) -> [a c]
-    TermKind.SSHAPE: ("smf", lambda a, b, c, d: (a, b)),
-    TermKind.ZSHAPE: ("zmf", lambda a, b, c, d: (a, b)),
-    TermKind.PISHAPE: ("pimf", lambda a, b, c, d: (a, b, c, d)),
-}
+# (the shape registry's FIS names and parameter orders: gaussmf [sigma c], gbellmf [a b c],
+# sigmf [a c], smf, zmf, pimf as the model's)
+FIS_SHAPES = {kind: (shape.fis, shape.fis_params) for kind, shape in SHAPES.items()
+              if shape.fis_params is not None}
 
 
 def write_fis(model: Model, warnings: list[str] | None = None) -> str:

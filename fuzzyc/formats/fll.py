@@ -41,9 +41,11 @@ from lark.exceptions import UnexpectedInput
 
 from ..errors import Reporter, source_lines
 from ..escape import one_line
-from ..semantics.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, Inference, Model,
-                     SNorm, SourceLoc, TermKind, TNorm)
+from ..semantics.model import (Aggregation, Connective, Defuzzifier, Inference, Model,
+                     SourceLoc, TermKind)
 from ..engine.membership import linear_coefficients
+from ..semantics import operators as ops
+from ..semantics.shapes import SHAPES
 from ..language.numbers import not_a_number, parse_number
 from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, discrete_or_none, nan_default,
                      plain_shape_or_none, shape, trapezoid_or_none, tsukamoto_terms)
@@ -54,32 +56,18 @@ from .export import (all_singletons, compound_negations, finish, left_out, model
 from .functions import function_term
 from .rules import fcl_lark, rule_from_tree, syntax_error
 
-HEDGES = {"very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT, "seldom": Hedge.SELDOM,
-          "extremely": Hedge.SHARPLY}
-TNORMS = {"Minimum": TNorm.MIN, "AlgebraicProduct": TNorm.PRODUCT,
-          "BoundedDifference": TNorm.BOUNDED_DIFFERENCE, "DrasticProduct": TNorm.DRASTIC_PRODUCT,
-          "EinsteinProduct": TNorm.EINSTEIN_PRODUCT, "HamacherProduct": TNorm.HAMACHER_PRODUCT,
-          "NilpotentMinimum": TNorm.NILPOTENT_MIN}
-SNORMS = {"Maximum": SNorm.MAX, "AlgebraicSum": SNorm.PROBSUM, "BoundedSum": SNorm.BOUNDED_SUM,
-          "DrasticSum": SNorm.DRASTIC_SUM, "EinsteinSum": SNorm.EINSTEIN_SUM,
-          "HamacherSum": SNorm.HAMACHER_SUM, "NilpotentMaximum": SNorm.NILPOTENT_MAX,
-          "NormalizedSum": SNorm.BOUNDED_SUM}
-FLL_SHAPES = {"SShape": TermKind.SSHAPE, "ZShape": TermKind.ZSHAPE, "PiShape": TermKind.PISHAPE,
-              "Spike": TermKind.SPIKE, "Cosine": TermKind.COSINE, "Concave": TermKind.CONCAVE,
-              "SigmoidDifference": TermKind.SIGMOID_DIFFERENCE,
-              "SigmoidProduct": TermKind.SIGMOID_PRODUCT,
-              "GaussianProduct": TermKind.GAUSSIAN_PRODUCT, "Binary": TermKind.BINARY,
-              "SemiEllipse": TermKind.SEMI_ELLIPSE, "Arc": TermKind.ARC}
-IMPLICATIONS = {word: Implication(int(t)) for word, t in TNORMS.items()}
-AGGREGATIONS = {"Maximum": Aggregation.MAX, "UnboundedSum": Aggregation.SUM,
-                "AlgebraicSum": Aggregation.PROBSUM, "BoundedSum": Aggregation.BOUNDED_SUM,
-                "DrasticSum": Aggregation.DRASTIC_SUM, "EinsteinSum": Aggregation.EINSTEIN_SUM,
-                "HamacherSum": Aggregation.HAMACHER_SUM,
-                "NilpotentMaximum": Aggregation.NILPOTENT_MAX}
+# fuzzylite's operator words: the operator registry's (fuzzylite's `extremely` is SHARPLY;
+# NormalizedSum is read as BoundedSum)
+HEDGES = ops.format_words(ops.HEDGES, "fll")
+TNORMS = ops.format_words(ops.T_NORMS, "fll")
+SNORMS = ops.format_words(ops.S_NORMS, "fll")
+# fuzzylite's names of the plain shapes (numbers in the model's order): the shape registry's
+FLL_SHAPES = {SHAPES[kind].fll: kind for kind in PLAIN_SHAPES}
+IMPLICATIONS = ops.format_words(ops.IMPLICATIONS, "fll")
+AGGREGATIONS = ops.format_words(ops.AGGREGATIONS, "fll")
 # WeightedAverage grouped by these is the center of area with that aggregation
 GROUPING = {k: v for k, v in AGGREGATIONS.items() if v != Aggregation.SUM}
-INTEGRAL = {"Centroid": Defuzzifier.CENTROID, "Bisector": Defuzzifier.BISECTOR,
-            "MeanOfMaximum": Defuzzifier.MEAN_OF_MAXIMUM}
+INTEGRAL = {rec.fll: d for d, rec in ops.DEFUZZIFIERS.items() if rec.family == "area"}
 KNOWN_UNSUPPORTED_TERMS = ("Activated", "Aggregated")
 SECTIONS = ("Engine", "InputVariable", "OutputVariable", "RuleBlock")
 KEYS = {
@@ -594,8 +582,7 @@ def fll_term(kind: TermKind, p, is_input: bool) -> str | None:
         return f"Trapezoid {num(a)} {num(b)} {num(c)} {num(d)}"
     if kind == TermKind.SINGLETON:
         return None if is_input else f"Constant {num(a)}"
-    names = {TermKind.GAUSSIAN: "Gaussian", TermKind.BELL: "Bell", TermKind.SIGMOID: "Sigmoid",
-             **{k: name for name, k in FLL_SHAPES.items()}}
-    arity = {TermKind.GAUSSIAN: 2, TermKind.BELL: 3, TermKind.SIGMOID: 2,
-             **{k: n for k, (n, _) in PLAIN_SHAPES.items()}}
-    return " ".join([names[kind], *(num(x) for x in (a, b, c, d)[:arity[kind]])])
+    record = SHAPES[kind]           # its FLL name, and as many numbers as its .fz word
+    if record.fll is None or not record.words or record.words[0].arity is None:
+        return None                 # not a row of numbers (linear, points, formulas)
+    return " ".join([record.fll, *(num(x) for x in (a, b, c, d)[:record.words[0].arity])])

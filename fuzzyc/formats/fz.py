@@ -14,29 +14,30 @@ import math
 
 import numpy as np
 
-from ..semantics.model import (Aggregation, Defuzzifier, Hedge, Implication, Model, SNorm,
-                     TermKind, TNorm, Variable, chain_output_names)
-from ..language.builder.terms import PLAIN_SHAPES, term_core
+from ..semantics.model import Hedge, Model, TermKind, Variable, chain_output_names
+from ..semantics.shapes import SHAPES, term_core
 from ..escape import one_line
+from ..semantics.tunable import parameter_names, shape_word, slots
 from ..engine.membership import linear_coefficients
+from ..semantics import operators as ops
 from ..language.parser import fz_name, keywords
 from .blocks import block_names, block_view, file_variables, linear_on, read_inputs
 from .export import (left_out, model_identifier, num, refuse, rule_sentence, unsayable_functions,
                      unsayable_names)
 
-FZ_HEDGES = {h: h.name.lower() for h in Hedge if h != Hedge.NONE}
-FZ_INFERENCE = (
-    ("and", "and_", {t: t.name.lower() for t in TNorm}),
-    ("or", "or_", {s: s.name.lower() for s in SNorm}),
-    ("implication", "implication", {i: i.name.lower() for i in Implication}),
-    ("aggregation", "aggregation", {a: a.name.lower() for a in Aggregation}),
-    ("defuzzify", "defuzzifier", {d: d.name.lower() for d in Defuzzifier}),
-)
+# the .fz words: the operator registry's
+FZ_HEDGES = {h: rec.word for h, rec in ops.HEDGES.items() if h != Hedge.NONE}
+FZ_INFERENCE = tuple((key, field, {k: rec.word for k, rec in ops.REGISTRIES[key].items()})
+                     for key, field in (("and", "and_"), ("or", "or_"),
+                                        ("implication", "implication"),
+                                        ("aggregation", "aggregation"),
+                                        ("defuzzify", "defuzzifier")))
 
 
 def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     inputs, outputs = file_variables(model)
     several = len(model.blocks) > 1
+    names = _tuned_rule_names(model)      # rules whose weight the tune section names
     problems = unsayable_names(model, ".fz") + unsayable_functions(model, ".fz", False, False)
     lines = [f"controller {fz_name(model_identifier(model))} {_string(model.title)} {{"
              .replace("  ", " ")]
@@ -59,17 +60,19 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
                          f"in [{num(var.lo)}, {num(var.hi)}] default {num(var.default)}")
             lines.append(f"  terms {fz_name(var.name)} : {_terms(var, problems, len(read))}")
     if several:
-        for name, rb in zip(block_names(model, keywords()), model.blocks):
+        for b, (name, rb) in enumerate(zip(block_names(model, keywords()), model.blocks)):
             lines += [f"  block {name} {{",
-                      *("  " + line for line in _block_lines(block_view(model, rb), problems)),
+                      *("  " + line for line in _block_lines(block_view(model, rb), problems,
+                                                              names.get(b, {}))),
                       "  }"]
     else:
-        lines += _block_lines(model, problems)
+        lines += _block_lines(model, problems, names.get(0, {}))
     # `y_out`, or `y_out2` when the file has a `y_out` of its own: as the importers name it
     chain = chain_output_names([v.name for v in outputs], [v.name for v in inputs + outputs])
     for var, out in zip(outputs, chain):
         lines.append(f"  output {fz_name(out)}{_unit(var)} "
                      f"in [{num(var.lo)}, {num(var.hi)}] = {fz_name(var.name)}")
+    lines += _tune_lines(model, warnings)
     lines.append("}")
     refuse(model, ".fz", problems)
     if warnings is not None:
@@ -77,8 +80,8 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
-def _block_lines(model: Model, problems: list[str]) -> list[str]:
-    """The inference and rules of the model's one rule block."""
+def _block_lines(model: Model, problems: list[str], rule_names: dict[int, str]) -> list[str]:
+    """The inference and rules of the model's one rule block (rule r named rule_names[r])."""
     rb = model.rulebase
     inf = rb.inference
     lines = ["  inference " + ", ".join(f"{key} = {words[getattr(inf, field)]}"
@@ -90,7 +93,9 @@ def _block_lines(model: Model, problems: list[str]) -> list[str]:
                 f"{key} = {words[getattr(own, field)]}"
                 for key, field, words in FZ_INFERENCE[3:]))    # aggregation, defuzzify
     for r in range(rb.n_rules):
-        lines.append("  rule " + rule_sentence(model, r, FZ_HEDGES, ", ", problems, say=fz_name))
+        label = f"{fz_name(rule_names[r])}: " if r in rule_names else ""
+        lines.append("  rule " + label
+                     + rule_sentence(model, r, FZ_HEDGES, ", ", problems, say=fz_name))
     return lines
 
 
@@ -138,8 +143,43 @@ def _shape(kind: TermKind, p, var: str, term: str, problems: list[str]) -> str:
         if b == c:
             return f"tri({num(a)}, {num(b)}, {num(d)})"
         return f"trap({num(a)}, {num(b)}, {num(c)}, {num(d)})"
-    arity = {TermKind.GAUSSIAN: 2, TermKind.BELL: 3, TermKind.SIGMOID: 2, TermKind.SINGLETON: 1,
-             **{k: n for k, n, _, _ in PLAIN_SHAPES.values()}}
-    word = {TermKind.GAUSSIAN: "gauss", TermKind.BELL: "bell", TermKind.SIGMOID: "sigmoid",
-            TermKind.SINGLETON: "singleton", **{k: w for w, (k, *_) in PLAIN_SHAPES.items()}}
-    return f"{word[kind]}({', '.join(num(x) for x in (a, b, c, d)[:arity[kind]])})"
+    word = SHAPES[kind].words[0]        # the shape's one .fz word: its numbers are the params
+    return f"{word.word}({', '.join(num(x) for x in (a, b, c, d)[:word.arity])})"
+
+
+def _tuned_rule_names(model: Model) -> dict[int, dict[int, str]]:
+    """block -> rule -> the name the tune section gives it (its weight is tuned)."""
+    names: dict[int, dict[int, str]] = {}
+    for n in model.tunables:
+        if n.kind == "weight":
+            names.setdefault(n.block, {})[n.rule_index] = n.rule
+    return names
+
+
+def _tune_lines(model: Model, warnings: list[str] | None) -> list[str]:
+    """The tune section, one line per tuned number, named as this writer writes the term."""
+    lines = []
+    for n in model.tunables:
+        if n.kind == "param":          # the writer writes the bare rule base, no params
+            if warnings is not None:
+                warnings.append(f"tune: `{n.target}` is a param, which the .fz writer leaves "
+                                "out with the signal chain")
+            continue
+        target = f"{fz_name(n.rule)}.weight"
+        if n.kind == "term":
+            var = next(v for rb in model.blocks for v in rb.inputs + rb.outputs
+                       if v.name == n.var)
+            t = var.index(n.term)
+            word = shape_word(var.kinds[t], var.params[t])
+            count = len(var.term_numbers(t))
+            index = n.index if word in ("linear", "discrete") else next(
+                i for i in range(count) if n.slots[0] in slots(word, i))
+            spelled = parameter_names(word, max(count, index + 1))[index][0]
+            target = f"{fz_name(n.var)}.{fz_name(n.term)}.{spelled}"
+        line = f"    {target} in "
+        if any(kept.startswith(line) for kept in lines):    # a trap(a, b, b, d) written as tri
+            if warnings is not None:
+                warnings.append(f"tune: `{n.target}` is written as `{target}`, tuned once")
+            continue
+        lines.append(f"{line}[{num(n.lo)}, {num(n.hi)}]")
+    return ["  tune {", *lines, "  }"] if lines else []

@@ -22,6 +22,7 @@ from ..errors import Reporter, shown_char, source_lines
 from .limits import MAX_NESTING, check_model, number_problem, read_rule_file
 from .recovery import Recovery
 from ..semantics.model import Model
+from ..semantics.shapes import shape_words as registry_words
 from .syntax import ToSyntax
 
 # Syntax errors reported in one run; past it the last one says that more follow.  A limit of
@@ -41,6 +42,7 @@ READABLE = {
     "AXIS": "`rows` or `cols`", "DIRECTION": "`increasing` or `decreasing`",
     "COMPARE": "a comparison (<, <=, >, >=)", "DOTTED_NAME": "a parameter name",
     "PERCENT": "`%`", "UNIT_OP": "`/` or `*`", "$END": "the end of the file",
+    "DOT": "`.`", "PLUSMINUS": "`+/-`",
 }
 
 
@@ -189,8 +191,8 @@ def _expected(exc: UnexpectedToken) -> set[str]:
 def _readable(terminal: str) -> str:
     """How a terminal of the grammar reads in a message: its words, or the text it stands for
     (`-` for MINUS, `let` for LET)."""
-    if terminal == "SHAPE":     # the grammar's own words: the one list of them
-        return f"a term shape ({', '.join(shape_words())})"
+    if terminal == "SHAPE":     # the registry's words (tests hold the grammar's equal to them)
+        return f"a term shape ({', '.join(sorted(registry_words()))})"
     if terminal in READABLE:
         return READABLE[terminal]
     literal = _literals().get(terminal)

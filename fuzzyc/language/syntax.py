@@ -419,6 +419,25 @@ class ToSyntax(Transformer):
     def overshoot(self, meta, items):
         return self._stmt("overshoot", meta, {"signal": items[0], "limit": items[1]})
 
+    # ---- tuning (fuzzyc.language.builder.tunables reads these)
+    @v_args(meta=True)
+    def tune(self, meta, items):
+        return self._stmt("tune", meta, {"items": list(items)})
+
+    def tune_item(self, items):
+        *paths, bound = items
+        return {"paths": paths, "bound": bound}
+
+    def tune_path(self, items):
+        return list(items)
+
+    @v_args(meta=True)
+    def tune_any(self, meta, items):
+        return Name("*", SourceLoc(self.file, meta.line, meta.column))
+
+    def spread(self, items):
+        return ("spread", items[-1])
+
     def controller(self, items):
         items = list(items)
         name = items.pop(0)

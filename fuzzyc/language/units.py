@@ -21,8 +21,11 @@ def make(pairs: Iterable[tuple[str, int]]) -> Unit:
 
 
 def multiply(a: Unit | None, b: Unit | None, sign: int = 1) -> Unit | None:
-    """a * b (sign=1) or a / b (sign=-1); unknown only when both sides are unknown."""
-    if a is None and b is None:
+    """a * b (sign=1) or a / b (sign=-1); unknown when either side is: a gain declared
+    without a unit may hold any (0.25 per kHz), so a scaled error `(Yr1 - f) * GE1` is not in
+    kHz (the plots labelled `e1 [kHz]` on [-1, 1]). Declare the gain's unit (`kHz^-1`) to have
+    the product's checked."""
+    if a is None or b is None:
         return None
     return make(list(a or ()) + [(atom, sign * p) for atom, p in (b or ())])
 

@@ -200,16 +200,10 @@ class SNorm(IntEnum):
     NILPOTENT_MAX = 6
 
 
-class Implication(IntEnum):
-    """A t-norm of the rule's activation and the term's membership; numbered as TNorm.  The
-    engine integrates MIN and PRODUCT exactly, the others on its sampled grid (defuzz.py)."""
-    MIN = 0
-    PRODUCT = 1
-    BOUNDED_DIFFERENCE = 2
-    DRASTIC_PRODUCT = 3
-    EINSTEIN_PRODUCT = 4
-    HAMACHER_PRODUCT = 5
-    NILPOTENT_MIN = 6
+# An implication is a t-norm of the rule's activation and the term's membership: the same enum
+# (one record per member in fuzzyc.semantics.operators).  The engine integrates MIN and PRODUCT
+# exactly, the others on its sampled grid (defuzz.py).
+Implication = TNorm
 
 
 class Aggregation(IntEnum):
@@ -329,31 +323,14 @@ class Variable:
         return tuple(np.asarray(self.params[t], dtype=float).tolist())
 
     def peaks(self) -> np.ndarray:
-        """The representative value of each term (used by CENTER_OF_AREA and TSK outputs)."""
-        k, p = self.kinds, self.params
-        out = np.empty(len(k))
-        for i, (kind, (a, b, c, d)) in enumerate(zip(k, p)):
-            if kind == TermKind.TRAPEZOID:
-                lo_ = b if np.isfinite(b) else self.lo
-                hi_ = c if np.isfinite(c) else self.hi
-                out[i] = 0.5 * (lo_ + hi_)
-            elif kind == TermKind.SSHAPE or kind == TermKind.CONCAVE:
-                out[i] = b                       # where it reaches 1
-            elif kind in (TermKind.PISHAPE, TermKind.GAUSSIAN_PRODUCT):
-                out[i] = 0.5 * (a + c) if kind == TermKind.GAUSSIAN_PRODUCT else 0.5 * (b + c)
-            elif kind in (TermKind.SIGMOID_DIFFERENCE, TermKind.SIGMOID_PRODUCT):
-                out[i] = 0.5 * (a + d)           # between the two inflections
-            elif kind in (TermKind.SEMI_ELLIPSE,):
-                out[i] = 0.5 * (a + b)
-            elif kind == TermKind.ARC:
-                out[i] = b                       # where it reaches 1
-            elif kind in (TermKind.LINEAR, TermKind.FUNCTION):
-                out[i] = np.nan                  # no fixed value: depends on the inputs
-            elif kind == TermKind.DISCRETE:      # the mean of the highest points
-                xy = self.points[i]
-                out[i] = float(np.mean(xy[xy[:, 1] == xy[:, 1].max(), 0]))
-            else:  # GAUSSIAN mean, BELL centre, SIGMOID centre, SINGLETON value, ZSHAPE start,
-                out[i] = a                       # SPIKE and COSINE centre
+        """The representative value of each term (used by CENTER_OF_AREA and TSK outputs):
+        its shape record's peak (fuzzyc.semantics.shapes)."""
+        from .shapes import SHAPES      # the registry imports this module
+        out = np.empty(len(self.kinds))
+        for i, kind in enumerate(self.kinds):
+            record = SHAPES[TermKind(int(kind))]
+            data = (self.points or {}).get(i) if record.per_term else self.params[i]
+            out[i] = record.peak(data, self.lo, self.hi)
         return out
 
 
@@ -570,6 +547,8 @@ class Model:
     source_path: str | None = None
     source_text: str | None = None
     notes: list[str] = field(default_factory=list)   # findings recorded in the file
+    # what `fuzzyc tune` may move (fuzzyc.semantics.tunable.TunedNumber), the rest is frozen
+    tunables: list = field(default_factory=list)
 
     @property
     def source_hash(self) -> str:
@@ -605,6 +584,14 @@ class Model:
     def rulebase_input_sources(self) -> list[str]:
         """Names of the signals/steps that feed the rule base's inputs, in input order."""
         return [v.name for v in self.rulebase.inputs]
+
+    def __repr__(self) -> str:          # a few lines, not the dataclass's array dump
+        from ..display import model_text
+        return model_text(self)
+
+    def _repr_html_(self) -> str:       # Jupyter
+        from ..display import model_html
+        return model_html(self)
 
 
 def chain_output_names(outputs: list[str], taken: list[str]) -> list[str]:

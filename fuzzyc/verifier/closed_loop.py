@@ -75,11 +75,13 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
                   + (", ".join(f"{k}={v:.6g}" for k, v in _values(case).items())
                      or "nominal plant") + _event_text(case) + learned
                   + _replay(loop, c, case))
+        from .report import plot_trace, trace_marks
+        trace.update(trace_marks(c, scen, model, loop.params))   # units and limits, for plots
+        trace["shown"] = temporal.names_in(c) + [o.name for o in model.outputs] \
+            + _event_signals(case)
         if options.report_dir:
-            from .report import plot_trace
             name = re.sub(r"[^A-Za-z0-9]+", "_", f"{model.name}_{c.text}").strip("_")[:80]
-            shown = temporal.names_in(c) + [o.name for o in model.outputs] + _event_signals(case)
-            trace["plot"] = str(plot_trace(trace, shown, f"{model.name}: {c.text}",
+            trace["plot"] = str(plot_trace(trace, trace["shown"], f"{model.name}: {c.text}",
                                            plots.file(name, ".png")))
         results.append(proofs[i] + [Evidence("closed-loop", Status.VIOLATED, detail,
                                              cases=len(cases), trace=trace)])

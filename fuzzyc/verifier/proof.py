@@ -21,18 +21,24 @@ import numpy as np
 
 from ..engine import inference as engine
 from ..engine.defuzz import FOLDED
-from ..semantics.model import (Aggregation, Connective, Defuzzifier, Hedge, Implication, RuleBase, SNorm, TNorm,
-                     TermKind)
+from ..semantics.model import Aggregation, Connective, Defuzzifier, RuleBase, TNorm, TermKind
+from ..semantics.operators import DEFUZZIFIERS, HEDGES, IMPLICATIONS, S_NORMS, T_NORMS, members
 from ..semantics.shapes import SHAPES, provable_kinds
 from .result import Evidence, Status
 from .space import break_points, hedge_free, restrict, tensor_points
 
 TOL = 1e-9
-AREA_BASED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
+AREA_BASED = members(DEFUZZIFIERS, lambda rec: rec.family == "area")
 # What the proof methods (here, coverage.py, levelsets.py) were written for: the shapes whose
 # registry record has closed-form level sets; the rest of the model (fuzzylite's extra norms,
 # shapes and hedges, linear consequents) goes to the search.
 PROVABLE_TERMS = provable_kinds()
+# ... and the operators they were written for (the operator registry's `provable` and `exact`;
+# hedges: the power ones)
+PROVABLE_TNORMS = members(T_NORMS, lambda rec: rec.provable)
+PROVABLE_SNORMS = members(S_NORMS, lambda rec: rec.provable)
+PROVABLE_HEDGES = members(HEDGES, lambda rec: rec.exponent is not None)
+EXACT_IMPLICATIONS = members(IMPLICATIONS, lambda rec: rec.exact)
 
 
 def beyond_proofs(rb: RuleBase) -> str | None:
@@ -43,14 +49,15 @@ def beyond_proofs(rb: RuleBase) -> str | None:
     chosen = [rb.inference_of(o) for o in range(len(rb.outputs))] or [inf]
     if any(c.defuzzifier == Defuzzifier.TSUKAMOTO for c in chosen):
         return "no proof method for the tsukamoto defuzzifier"
-    if inf.implication not in (Implication.MIN, Implication.PRODUCT) or \
+    if inf.implication not in EXACT_IMPLICATIONS or \
             any(c.aggregation in FOLDED for c in chosen):
         return (f"no proof method for implication = {inf.implication.name.lower()}, "
                 f"aggregation = {', '.join(sorted({c.aggregation.name.lower() for c in chosen}))}")
-    if inf.and_ not in (TNorm.MIN, TNorm.PRODUCT) or inf.or_ not in (SNorm.MAX, SNorm.PROBSUM):
+    if inf.and_ not in PROVABLE_TNORMS or inf.or_ not in PROVABLE_SNORMS:
         return f"no proof method for and={inf.and_.name.lower()} or={inf.or_.name.lower()}"
-    if rb.hedges.size and int(rb.hedges.max()) > Hedge.EXTREMELY:
-        return "no proof method for the hedges seldom/sharply"
+    if rb.hedges.size and not set(np.unique(rb.hedges).tolist()) <= set(PROVABLE_HEDGES):
+        return "no proof method for the hedges " + "/".join(
+            rec.word for h, rec in HEDGES.items() if h not in PROVABLE_HEDGES)
     kinds = {TermKind(int(k)) for v in rb.inputs + rb.outputs for k in v.kinds}
     if kinds - PROVABLE_TERMS:
         names = ", ".join(sorted(SHAPES[k].name for k in kinds - PROVABLE_TERMS))

@@ -19,16 +19,20 @@ import numpy as np
 from ...engine.inference import CompiledRuleBase
 from ...errors import Diagnostic, FuzzycError
 from ...escape import c_comment, c_identifier, check_c_names
-from ...semantics.model import (ACTIVATION_FLOOR, Aggregation, Connective, Defuzzifier, Hedge, Model, Op,
-                     OutputKind, RuleBase, SNorm, TermKind, TNorm)
+from ...semantics.model import (ACTIVATION_FLOOR, Aggregation, Connective, Defuzzifier, Hedge, Model,
+                     RuleBase, TermKind)
+from ...semantics.operators import (AGGREGATIONS, DEFUZZIFIERS, HEDGES, S_NORMS, T_NORMS,
+                                    emitted_in_c, members)
+from ...semantics.shapes import SHAPES, c_kinds
 from .area import AreaWriter, is_sampled
 from .cells import active_codes, cell_row_c, cell_table, cell_table_c, index_type, int_table
 from .centroid import CentroidEmitter, area_segments, supported
-from .expressions import REAL_TYPES, ExprPrinter, RealType
+from .chain import CChain
+from .expressions import REAL_TYPES, RealType
 from .guard import checked_header
 from .rule_items import ItemWriter, per_item
 
-PEAK_BASED = (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
+PEAK_BASED = members(DEFUZZIFIERS, lambda rec: rec.family == "peaks")
 
 
 def _fail(message: str) -> FuzzycError:
@@ -76,24 +80,31 @@ def check_supported(rb: RuleBase) -> None:
                         f"{rb.inference.implication.name.lower()}-implied rules")
 
 
-C_TNORMS, C_SNORMS = (TNorm.MIN, TNorm.PRODUCT), (SNorm.MAX, SNorm.PROBSUM)
-C_TERM_KINDS = (TermKind.TRAPEZOID, TermKind.GAUSSIAN, TermKind.BELL, TermKind.SIGMOID,
-                TermKind.SINGLETON)
-C_HEDGES = (Hedge.NONE, Hedge.VERY, Hedge.SOMEWHAT, Hedge.EXTREMELY)
-C_AGGREGATIONS = (Aggregation.MAX, Aggregation.SUM)
+# The operators this back end emits: those with a C text in the operator registry.
+C_TNORMS, C_SNORMS = emitted_in_c(T_NORMS), emitted_in_c(S_NORMS)
+C_TERM_KINDS = c_kinds()       # the shapes whose registry record has a C emission
+C_HEDGES = emitted_in_c(HEDGES)
+C_AGGREGATIONS = emitted_in_c(AGGREGATIONS)
+C_DEFUZZIFIERS = emitted_in_c(DEFUZZIFIERS)
 SUMMED_PER_RULE = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)  # no aggregation
 
 
+def _words(table: dict, allowed) -> str:
+    return " | ".join(table[k].word for k in allowed)
+
+
 def _check_constructs(rb: RuleBase) -> None:
-    """The norms, hedges and term shapes the C back end emits (the engine has more)."""
+    """The norms, hedges and term shapes the C back end emits (the engine has more): every
+    operator without a C text in the registry is refused by name."""
     inf = rb.inference
     if rb.n_rules == 0:     # C has no empty arrays
         raise _fail("the C back end needs at least one rule; this rule base has none")
     for var in rb.outputs:
         if var.n_terms == 0:
             raise _fail(f"the C back end needs a term on every output; `{var.name}` has none")
-    if inf.defuzzifier == Defuzzifier.TSUKAMOTO:
-        raise _fail("the C back end does not emit the tsukamoto defuzzifier")
+    if inf.defuzzifier not in C_DEFUZZIFIERS:
+        raise _fail(f"the C back end does not emit the {DEFUZZIFIERS[inf.defuzzifier].word} "
+                    "defuzzifier")
     held = [v.name for v in rb.outputs if v.lock_previous]
     if held:
         raise _fail(f"the C back end does not emit lock-previous (`{held[0]}` holds its last "
@@ -110,22 +121,33 @@ def _check_constructs(rb: RuleBase) -> None:
                     f"{rb.nested_rules()} has a nested condition (use the lookup-table back "
                     "end, or split the rule)")
     if inf.and_ not in C_TNORMS or inf.or_ not in C_SNORMS:
-        raise _fail(f"the C back end emits and = min | product and or = max | probsum; "
-                    f"this rule base has and = {inf.and_.name.lower()}, "
-                    f"or = {inf.or_.name.lower()}")
+        raise _fail(f"the C back end emits and = {_words(T_NORMS, C_TNORMS)} and "
+                    f"or = {_words(S_NORMS, C_SNORMS)}; "
+                    f"this rule base has and = {T_NORMS[inf.and_].word}, "
+                    f"or = {S_NORMS[inf.or_].word}")
     if inf.aggregation not in C_AGGREGATIONS and inf.defuzzifier not in SUMMED_PER_RULE:
-        raise _fail(f"the C back end emits aggregation = max | sum; this rule base has "
-                    f"aggregation = {inf.aggregation.name.lower()} (use the lookup-table "
-                    f"back end, or weighted_average / weighted_sum, which sum over rules)")
+        raise _fail(f"the C back end emits aggregation = {_words(AGGREGATIONS, C_AGGREGATIONS)}; "
+                    f"this rule base has aggregation = {AGGREGATIONS[inf.aggregation].word} "
+                    "(use the lookup-table back end, or weighted_average / weighted_sum, which "
+                    "sum over rules)")
     hedges = sorted({Hedge(int(h)) for h in np.unique(rb.hedges)} - set(C_HEDGES))
     if hedges:
-        raise _fail("the C back end emits the hedges very, somewhat, extremely; not "
-                    + ", ".join(h.name.lower() for h in hedges))
+        raise _fail("the C back end emits the hedges "
+                    + ", ".join(HEDGES[h].word for h in C_HEDGES if h != Hedge.NONE)
+                    + "; not " + ", ".join(HEDGES[h].word for h in hedges))
     for var in rb.inputs + rb.outputs:
         for name, kind in zip(var.names, var.kinds):
             if kind not in C_TERM_KINDS:
-                raise _fail(f"the C back end does not emit {TermKind(int(kind)).name.lower()} "
+                raise _fail(f"the C back end does not emit {SHAPES[TermKind(int(kind))].name} "
                             f"terms (`{name}` of `{var.name}`); use the lookup-table back end")
+
+
+def _c_text(record) -> str:
+    """The record's C text; an operator without one was refused by _check_constructs, so
+    reaching here without one is a bug, never silently another operator."""
+    if record.c_float is None:
+        raise AssertionError(f"no C emission for {record.word}: _check_constructs lets it by")
+    return record.c_float
 
 
 class HeaderWriter:
@@ -209,43 +231,16 @@ class HeaderWriter:
 
     # -- membership -------------------------------------------------------------------------
 
-    @staticmethod
-    def trapezoid_row(params) -> list[float]:
-        a, b, c, d = (float(v) for v in params)
-        if np.isneginf(a):
-            b = -np.inf
-        if np.isposinf(d):
-            c = np.inf
-        rise = 1.0 / (b - a) if np.isfinite(a) and b > a else 0.0
-        fall = 1.0 / (d - c) if np.isfinite(d) and d > c else 0.0
-        return [a, b, c, d, rise, fall]
-
     def term_value(self, kind: TermKind, row: str, x: str) -> str:
-        """C expression of one term's membership at x (NaN x -> 0, infinities -> limits)."""
-        f, lit = self.real.fn, self.real.lit
-        if kind == TermKind.TRAPEZOID:
-            return f"{self.p}trapezoid({x}, {row})"
-        if kind == TermKind.SINGLETON:
-            return f"({x} == {row}[0] ? {lit(1)} : {lit(0)})"
-        if kind == TermKind.GAUSSIAN:
-            value = f"{f('exp')}(-({x} - {row}[0]) * ({x} - {row}[0]) * {row}[4])"
-        elif kind == TermKind.BELL:
-            value = (f"{lit(1)} / ({lit(1)} + {f('pow')}({f('fabs')}(({x} - {row}[0]) / "
-                     f"{row}[1]), {lit(2)} * {row}[2]))")
-        else:   # SIGMOID; 0 * inf (slope 0, infinite x) is NaN in C too, hence the check
-            value = f"{lit(1)} / ({lit(1)} + {f('exp')}(-{row}[1] * ({x} - {row}[0])))"
-        return f"{self.p}number_or_zero({value})"
+        """C expression of one term's membership at x (NaN x -> 0, infinities -> limits):
+        the shape record's emission."""
+        return SHAPES[kind].c_float(row, x, self.p, self.real.fn, self.real.lit)
 
-    def term_rows(self, var) -> list[list[float]]:
-        rows = []
-        for kind, params in zip(var.kinds, np.asarray(var.params, dtype=float)):
-            if kind == TermKind.TRAPEZOID:
-                rows.append(self.trapezoid_row(params))
-            elif kind == TermKind.GAUSSIAN:
-                rows.append(list(params) + [1.0 / (2.0 * params[1] ** 2), 0.0])
-            else:
-                rows.append(list(params) + [0.0, 0.0])
-        return rows
+    @staticmethod
+    def term_rows(var) -> list[list[float]]:
+        """Each term's row of the C table (6 numbers), as its shape record lays it out."""
+        return [SHAPES[TermKind(int(kind))].c_row(params)
+                for kind, params in zip(var.kinds, np.asarray(var.params, dtype=float))]
 
     def membership_functions(self) -> None:
         t, p, P = self.real.name, self.p, self.P
@@ -279,17 +274,15 @@ class HeaderWriter:
             if self.by_items(var):
                 continue
             strength = f"alpha{o}[{self.P}CONSEQUENTS[{rule}][{o}]]"
-            if self.aggregation_of(var) == Aggregation.MAX:
-                code.append(f"{strength} = {self.p}greater({strength}, {act});")
-            else:
-                code.append(f"{strength} += {act};")
+            code.append(_c_text(AGGREGATIONS[self.aggregation_of(var)])
+                        .format(acc=strength, x=act, p=self.p))
         return code
 
     def combine(self, a: str, b: str, conjunction: bool) -> str:
-        inf, p = self.rb.inference, self.p
-        if conjunction:
-            return f"{p}lesser({a}, {b})" if inf.and_ == TNorm.MIN else f"{a} * {b}"
-        return f"{p}greater({a}, {b})" if inf.or_ == SNorm.MAX else f"({a} + {b} - {a} * {b})"
+        """a (the rule base's t-norm or s-norm) b, as the registry writes it in C."""
+        inf = self.rb.inference
+        norm = T_NORMS[inf.and_] if conjunction else S_NORMS[inf.or_]
+        return _c_text(norm).format(a=a, b=b, p=self.p)
 
     def consequent_table(self, extra_row: bool) -> None:
         rb = self.rb
@@ -365,10 +358,16 @@ class HeaderWriter:
 
     def clause_helper(self) -> None:
         t, p, f, lit = self.real.name, self.p, self.real.fn, self.real.lit
-        self.out("/* Hedge (none, very, somewhat, extremely) then NOT, as in the model. */",
+        # hedge == 1 ? <very> : (hedge == 2 ? <somewhat> : (... : mu)), each the registry's
+        emitted = [h for h in C_HEDGES if h != Hedge.NONE]
+        choice = HEDGES[Hedge.NONE].c_float.format(mu="mu")
+        for n, h in enumerate(reversed(emitted)):
+            text = HEDGES[h].c_float.format(mu="mu", sqrt=f("sqrt"))
+            choice = f"hedge == {int(h)} ? {text} : " + (choice if n == 0 else f"({choice})")
+        self.out(f"/* Hedge ({', '.join(HEDGES[h].word for h in C_HEDGES)}) then NOT, as in "
+                 "the model. */",
                  f"static inline {t} {p}clause({t} mu, unsigned char hedge, unsigned char not_) {{",
-                 f"    {t} g = hedge == 1 ? mu * mu : (hedge == 2 ? {f('sqrt')}(mu) : "
-                 f"(hedge == 3 ? mu * mu * mu : mu));",
+                 f"    {t} g = {choice};",
                  f"    return not_ ? {lit(1)} - g : g;",
                  "}")
 
@@ -475,7 +474,8 @@ class HeaderWriter:
             num = " + ".join(f"{alpha}[{j}] * {lit(v)}" for j, v in enumerate(peaks))
             den = " + ".join(f"{alpha}[{j}]" for j in range(var.n_terms))
             code = [f"{{ {t} num = {num};", f"  {t} den = {den};"]
-            value = "num" if method == Defuzzifier.WEIGHTED_SUM else "num / den"
+            # the registry's text; a centroid of singletons is their ratio too
+            value = DEFUZZIFIERS[method].c_float if method in PEAK_BASED else "num / den"
             return code + [f"  y[{o}] = den > 0 ? {value} : {lit(var.default)}; }}"]
         if self.walks(var):
             return self.area.defuzzify(o, var, alpha)
@@ -549,94 +549,22 @@ class HeaderWriter:
             return f"{self.P}PARAM_{c_identifier(name)}"
         return f"v_{c_identifier(name)}"
 
+    def chain(self) -> CChain:
+        """The chain walk's C domain for this header (fuzzyc.backends.c.chain)."""
+        return CChain(self.model, self.real, self.p, self.P, self.symbol)
+
     def state_struct(self) -> None:
-        t = self.real.name
-        fields = []
-        for s in self.model.steps:
-            if s.op != Op.ASSIGN:
-                ident = c_identifier(s.name)
-                fields += [f"    {t} memory_{ident};   /* last finite value */",
-                           f"    unsigned char seen_{ident};   /* a finite value was stored */"]
-        for o in self.model.outputs:
-            state = "1/u(k-1)" if o.kind == OutputKind.RECIPROCAL_INCREMENT else "u(k-1)"
-            fields.append(f"    {t} out_{c_identifier(o.name)};   /* {state} */")
-        if not fields:
-            fields = ["    unsigned char unused;"]
-        self.out("typedef struct {", *fields, f"}} {self.p}state;", "")
+        self.out("typedef struct {", *self.chain().state_fields(), f"}} {self.p}state;", "")
 
     def init_function(self) -> None:
-        lit = self.real.lit
-        self.out(f"static inline void {self.p}init({self.p}state *s) {{")
-        for s in self.model.steps:
-            if s.op != Op.ASSIGN:
-                ident = c_identifier(s.name)
-                self.out(f"    s->memory_{ident} = {lit(0)};", f"    s->seen_{ident} = 0;")
-        if not any(s.op != Op.ASSIGN for s in self.model.steps) and not self.model.outputs:
-            self.out("    s->unused = 0;")      # the struct has only this field
-        for o in self.model.outputs:
-            init = 1.0 / o.init if o.kind == OutputKind.RECIPROCAL_INCREMENT else o.init
-            self.out(f"    s->out_{c_identifier(o.name)} = {lit(init)};")
-        self.out("}", "")
-
-    def step_statements(self, printer: ExprPrinter) -> list[str]:
-        t, lit = self.real.name, self.real.lit
-        code = []
-        for s in self.model.steps:
-            v, arg = self.symbol(s.name), printer(s.expr)
-            ident = c_identifier(s.name)
-            mem, seen = f"s->memory_{ident}", f"s->seen_{ident}"
-            if s.op == Op.ASSIGN:
-                code.append(f"const {t} {v} = {arg};")
-                continue
-            code += [f"{t} {v};", "{", f"    const {t} arg = {arg};"]
-            if s.op == Op.DELTA:
-                code.append(f"    {v} = {seen} ? arg - {mem} : (arg != arg ? arg : {lit(0)});")
-                keep = "arg"
-            elif s.op == Op.PREV:
-                code.append(f"    {v} = {seen} ? {mem} : arg;")
-                keep = "arg"
-            else:
-                a, b = s.coeffs
-                code.append(f"    {v} = {seen} ? {lit(a)} * {mem} + {lit(b)} * arg : arg;")
-                keep = v
-            code += [f"    if (isfinite({keep})) {{ {mem} = {keep}; {seen} = 1; }}", "}"]
-        return code
-
-    def output_statements(self, printer: ExprPrinter) -> list[str]:
-        lit, p = self.real.lit, self.p
-        code = []
-        for k, o in enumerate(self.model.outputs):
-            state, value = f"s->out_{c_identifier(o.name)}", printer(o.expr)
-            code += ["{", f"    const {self.real.name} value = {value};"]
-            if o.kind == OutputKind.DIRECT:
-                code += [f"    if (isfinite(value)) {state} = "
-                         f"{p}clamp(value, {lit(o.lo)}, {lit(o.hi)});",
-                         f"    out[{k}] = {state};"]
-            else:
-                lo, hi = o.lo, o.hi
-                if o.kind == OutputKind.RECIPROCAL_INCREMENT:
-                    lo, hi = (1.0 / o.hi if o.hi != 0 else np.inf,
-                              1.0 / o.lo if o.lo != 0 else np.inf)
-                code.append(f"    {state} = {p}clamp({state} + (isfinite(value) ? value : "
-                            f"{lit(0)}), {lit(lo)}, {lit(hi)});")
-                result = state if o.kind == OutputKind.INCREMENT else f"{lit(1)} / {state}"
-                code.append(f"    out[{k}] = {result};")
-            code += [f"    {self.symbol(o.name)} = out[{k}];", "}"]
-        return code
+        self.out(f"static inline void {self.p}init({self.p}state *s) {{",
+                 *self.chain().init_lines(), "}", "")
 
     def step_function(self) -> None:
         t, P, m = self.real.name, self.P, self.model
-        printer = ExprPrinter(self.real, self.symbol, self.p)
         body = [f"const {t} {self.symbol(sig.name)} = in[{k}];"
                 for k, sig in enumerate(m.signals)]
-        body += self.step_statements(printer)
-        body += [f"{t} x[{P}N_RB_INPUTS], y[{P}N_RB_OUTPUTS];"]
-        body += [f"{t} {self.symbol(o.name)};" for o in m.outputs]
-        body += [f"x[{i}] = {self.symbol(v.name)};" for i, v in enumerate(self.rb.inputs)]
-        body += [f"{self.p}rulebase(x, y);"]
-        body += [f"const {t} {self.symbol(v.name)} = y[{o}];"
-                 for o, v in enumerate(self.rb.outputs)]
-        body += self.output_statements(printer)
+        body += self.chain().statements()
         # A file may leave signals unused (or have no output at all): no warnings.
         body += [f"(void){self.symbol(name)};" for name in
                  [*(g.name for g in m.signals), *(g.name for g in m.steps),

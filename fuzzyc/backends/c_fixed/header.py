@@ -42,8 +42,10 @@ from ...language.limits import MAX_C_SLOT_COMBINATIONS, MAX_C_TABLE_CELLS
 from ...engine.membership import LocalPartition, memberships
 from ...errors import Diagnostic, FuzzycError
 from ...semantics.model import (ACTIVATION_FLOOR, Aggregation, Connective, Defuzzifier, Hedge, Model,
-                     OutputKind, RuleBase, TermKind, TNorm)
+                     RuleBase, TermKind, TNorm)
+from ...semantics.operators import AGGREGATIONS, DEFUZZIFIERS, T_NORMS, emitted_in_fixed, names
 from ...escape import c_comment, c_identifier
+from ...semantics.shapes import SHAPES
 from ..c.header import check_c_model_names, check_supported
 from ..c.cells import active_codes, cell_row_c, cell_table, cell_table_c
 from .chain import FixedChain, Fx, frac_for
@@ -94,6 +96,12 @@ MAX_GUARD = 16
 MAX_DERIVED_CELLS = 1 << 22
 
 
+# The operators these headers emit: those with a fixed-point text in the operator registry
+# (no s-norm and no hedge has one: the rules must be plain AND rules).
+FIXED_TNORMS = emitted_in_fixed(T_NORMS)
+FIXED_DEFUZZIFIERS = emitted_in_fixed(DEFUZZIFIERS)
+
+
 def _fail(message: str) -> FuzzycError:
     return FuzzycError([Diagnostic(None, message)])
 
@@ -129,15 +137,22 @@ class FixedTables:
         self.rb = rb
         if rb.n_rules == 0 or not rb.inputs:
             raise _fail(f"the {numeric} back end needs inputs and some rules")
-        if rb.inference.and_ not in (TNorm.MIN, TNorm.PRODUCT):
-            raise _fail(f"the {numeric} back end emits and = min | product, not "
-                        f"{rb.inference.and_.name.lower()}")
+        if rb.inference.and_ not in FIXED_TNORMS:
+            raise _fail(f"the {numeric} back end emits and = "
+                        + " | ".join(T_NORMS[t].word for t in FIXED_TNORMS)
+                        + f", not {T_NORMS[rb.inference.and_].word}")
         if not np.all(rb.connective == Connective.AND) or np.any(rb.negated) or \
                 np.any(rb.hedges != Hedge.NONE):
             raise _fail(f"the {numeric} back end needs plain AND rules (no `or`, `not` or "
                         f"hedges; `*` = any is fine)")
         self.partitions, self.moved = [], []
         for var in rb.inputs:
+            other = sorted({SHAPES[TermKind(int(k))].name for k in var.kinds
+                            if not SHAPES[TermKind(int(k))].c_fixed_input})
+            if other:       # the shape records say which shapes the partitions take
+                raise _fail(f"the {numeric} back end needs each input to be a partition of "
+                            f"trapezoids where at most two terms are positive at a time; "
+                            f"`{var.name}` has {', '.join(other)} terms")
             snapped, moved = _snapped(var)
             part = LocalPartition.build(snapped)
             if part is None:
@@ -397,10 +412,9 @@ class FixedPointWriter:
         rb = self.rb
         check_supported(rb)   # what the float back end cannot emit, fixed point cannot either
         method = rb.inference.defuzzifier
-        if method not in (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE,
-                          Defuzzifier.WEIGHTED_SUM):
-            raise _fail(f"the {numeric} back end emits center of area, weighted average and "
-                        f"weighted sum; `{method.name.lower()}` is not supported")
+        if method not in FIXED_DEFUZZIFIERS:
+            raise _fail(f"the {numeric} back end emits {names(DEFUZZIFIERS, FIXED_DEFUZZIFIERS)}"
+                        f"; `{DEFUZZIFIERS[method].word}` is not supported")
         for var in rb.outputs:
             if np.any(var.kinds == TermKind.LINEAR) or not np.all(np.isfinite(var.peaks())):
                 raise _fail(f"the {numeric} back end needs a fixed value per output term; "
@@ -572,16 +586,7 @@ class FixedPointWriter:
                               *(v.name for v in self.rb.outputs)]]
         if not m.outputs:
             body += ["(void)s;", "(void)out;"]
-        fields = [f"    int32_t memory_{i};\n    unsigned char seen_{i};" for i in chain.memories]
-        fields += [f"    {'int32_t' if o.kind == OutputKind.DIRECT else 'int64_t'} "
-                   f"out_{c_identifier(o.name)};   /* at 2^-{chain.state_frac(o)} */"
-                   for o in m.outputs] or ["    unsigned char unused;"]
-        init = [f"    s->memory_{i} = 0; s->seen_{i} = 0;" for i in chain.memories]
-        for o in m.outputs:
-            start = 1.0 / o.init if o.kind == OutputKind.RECIPROCAL_INCREMENT else o.init
-            lo, hi = chain.state_range(o)
-            init.append(f"    s->out_{c_identifier(o.name)} = "
-                        f"{chain.const(min(max(start, lo), hi), chain.state_frac(o))};")
+        fields, init = chain.state_fields(), chain.init_lines()
         scales = [f"#define {P}IN_{c_identifier(sig.name).upper()}_FRAC "
                   f"{io_frac(sig.lo, sig.hi, self.numeric)}" for sig in m.signals]
         scales += [f"#define {P}OUT_{c_identifier(o.name).upper()}_FRAC "
@@ -657,7 +662,7 @@ class FixedPointWriter:
                 "    }",
                 "    id[0] = active[k][0]; id[1] = active[k][1];",
                 "}"]
-        tnorm = "lesser" if rb.inference.and_ == TNorm.MIN else "product"
+        tnorm = T_NORMS[rb.inference.and_].fixed      # the helper below of that name
         tables = self.tables
         slots = tables.slots
         code += [f"static inline int64_t {p}lesser(int64_t a, int64_t b) "
@@ -707,10 +712,10 @@ class FixedPointWriter:
         sum_agg = rb.inference.defuzzifier in (Defuzzifier.WEIGHTED_AVERAGE,
                                                Defuzzifier.WEIGHTED_SUM) or \
             rb.inference.aggregation == Aggregation.SUM
+        accumulate = AGGREGATIONS[Aggregation.SUM if sum_agg else rb.inference.aggregation].fixed
         for o in range(len(rb.outputs)):
             slot = f"alpha{o}[{P}CONSEQUENTS[rule][{o}]]"
-            code.append(f"            {slot} " + ("+= a;" if sum_agg else
-                                                   f"= {slot} > a ? {slot} : a;"))
+            code.append("            " + accumulate.format(acc=slot, x="a"))
         code += ["        }", "    }"]
         for o, var in enumerate(rb.outputs):
             num = [f"alpha{o}[{j}] * {P}PEAKS_{o}[{j}]" for j in range(var.n_terms)]

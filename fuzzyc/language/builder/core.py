@@ -15,9 +15,10 @@ from .chain import RESERVED_PREFIX, ChainBuilder
 from .properties import PropertiesBuilder
 from .rules import BlockSpec, RulesBuilder
 from .terms import LinguisticVar, TermsBuilder
+from .tunables import TunablesBuilder
 
 
-class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder):
+class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, TunablesBuilder):
     """One rule file's statements -> a Model, with every mistake reported."""
 
     def __init__(self, reporter: Reporter):
@@ -45,11 +46,13 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder):
             handler = getattr(self, f"_stmt_{stmt.kind}")
             handler(stmt)
         blocks = self._rulebases()
+        tunables = self._tunables(tree["statements"], blocks)
         self.rep.raise_if_any()
         return Model(name=tree["name"].text, title=tree["title"], blocks=blocks,
                      period=self.period, params=self.params, signals=list(self.signals.values()),
                      steps=self.steps, outputs=self.outputs, properties=self.properties,
-                     source_path=path, source_text=text, notes=self.notes)
+                     source_path=path, source_text=text, notes=self.notes,
+                     tunables=tunables)
 
     def error(self, loc: SourceLoc, message: str) -> None:
         self.rep.error(loc, message)

@@ -12,32 +12,23 @@ import numpy as np
 from ..conditions import Cond, Program, premise, program_array
 from ...errors import suggest
 from ...engine.membership import monotonic
-from ...semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Implication, Inference,
-                     RuleBase, SNorm, SourceLoc, TermKind, TNorm, Variable)
+from ...semantics.model import (CondOp, Connective, Defuzzifier, Hedge, Inference,
+                     RuleBase, SourceLoc, TermKind, Variable)
+from ...semantics import operators
 from ..syntax import Clause, Condition, Name, Num, Stmt
 from .terms import LinguisticVar, to_variable
 
-INFERENCE_VALUES = {
-    "and": {"product": TNorm.PRODUCT, "prod": TNorm.PRODUCT,
-            **{t.name.lower(): t for t in TNorm}},
-    "or": {"probabilistic_sum": SNorm.PROBSUM, **{t.name.lower(): t for t in SNorm}},
-    "implication": {"prod": Implication.PRODUCT, **{i.name.lower(): i for i in Implication}},
-    "aggregation": {"probabilistic_sum": Aggregation.PROBSUM,
-                    **{a.name.lower(): a for a in Aggregation}},
-    "defuzzify": {"centroid": Defuzzifier.CENTROID, "bisector": Defuzzifier.BISECTOR,
-                  "mean_of_maximum": Defuzzifier.MEAN_OF_MAXIMUM, "mom": Defuzzifier.MEAN_OF_MAXIMUM,
-                  "center_of_area": Defuzzifier.CENTER_OF_AREA, "coa": Defuzzifier.CENTER_OF_AREA,
-                  "weighted_average": Defuzzifier.WEIGHTED_AVERAGE,
-                  "weighted_sum": Defuzzifier.WEIGHTED_SUM, "tsukamoto": Defuzzifier.TSUKAMOTO},
-}
+# the words of `inference` settings and of hedges: the operator registry's
+INFERENCE_VALUES = {key: operators.format_words(operators.REGISTRIES[key], "fz")
+                    for key in ("and", "or", "implication", "aggregation", "defuzzify")}
 
 INFERENCE_FIELD = {"and": "and_", "or": "or_", "implication": "implication",
                    "aggregation": "aggregation", "defuzzify": "defuzzifier"}
 
 LINEAR_DEFUZZIFIERS = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
 
-HEDGES = {None: Hedge.NONE, "very": Hedge.VERY, "somewhat": Hedge.SOMEWHAT,
-          "extremely": Hedge.EXTREMELY, "seldom": Hedge.SELDOM, "sharply": Hedge.SHARPLY}
+HEDGES = {None: Hedge.NONE, **{rec.word: h for h, rec in operators.HEDGES.items()
+                               if h != Hedge.NONE}}
 
 
 @dataclass

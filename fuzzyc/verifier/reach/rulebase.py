@@ -30,6 +30,7 @@ from ...engine.defuzz import OutputDefuzzifier, term_strengths
 from ...engine.inference import flat_activations
 from ...engine.norms import firing
 from ...semantics.model import Defuzzifier, RuleBase, TermKind
+from ...semantics.operators import AGGREGATIONS, HEDGES, S_NORMS, T_NORMS
 from ...semantics.shapes import SHAPES, enclosed_kinds, enclosures
 
 
@@ -37,6 +38,14 @@ def unsupported(rb: RuleBase) -> str | None:
     """Why this rule base has no set-valued evaluation here, by name (None if it has one)."""
     if rb.conditions:
         return f"nested conditions ({rb.nested_rules()})"
+    # bounds pass through the engine's own code: only operators monotone in every argument
+    inf = rb.inference
+    used = [T_NORMS[inf.and_], S_NORMS[inf.or_], T_NORMS[inf.implication],
+            *(AGGREGATIONS[rb.inference_of(o).aggregation] for o in range(len(rb.outputs))),
+            *(HEDGES[h] for h in HEDGES if np.any(rb.hedges == h))]
+    bent = [rec.word for rec in used if not rec.monotone]
+    if bent:
+        return f"the operator {bent[0]}, which is not monotone"
     if np.any(rb.weights < 0):
         return "negative rule weights (the activations would not be monotone)"
     for v in rb.outputs:
