@@ -22,7 +22,8 @@ PYTEST_ROOT = -c $(CURDIR)/pyproject.toml --rootdir $(CURDIR)
 # pyproject's testpaths apply only when pytest starts in the root: name them
 TESTPATHS = $(CURDIR)/tests $(CURDIR)/rulebases $(CURDIR)/docs
 
-.PHONY: demo test test-venv bench proofs c-proofs loop-proofs fuzz explore clean conformance
+.PHONY: demo test test-venv bench proofs c-proofs loop-proofs fuzz explore clean conformance \
+        differential
 
 $(STAMP): pyproject.toml setup.py
 	@test -x $(PY) || $(PYTHON) -m venv $(VENV) || { echo "python3 -m venv failed: on Debian install python3-venv (apt-get install python3-venv)"; exit 1; }
@@ -86,6 +87,11 @@ conformance: $(TSTAMP) $(PYFL_VENV)/.installed
 # 10,000 hostile inputs (docs/fuzzing.md); fails on any traceback or unlocated rejection
 fuzz: $(TSTAMP)
 	cd tests && $(WHEEL_ENV) $(TPY) -m fuzz --inputs 10000     # tests/ on the path, not the root
+
+# Random rule bases in each tool's format against the live tools (pyfuzzylite, the fuzzylite
+# CLI, Octave): a measurement, not yet a gate (issue 28: agreement is far below 95 %)
+differential: $(TSTAMP) $(PYFL_VENV)/.installed
+	cd tests && $(WHEEL_ENV) $(TPY) -m differential --per-tool 200 --seed 0
 
 # The property tests (fixed examples in `make test`) with fresh random seeds, 10 rounds:
 # a search for new counterexamples, not a gate (docs/fuzzing.md)
