@@ -269,7 +269,7 @@ def _modules(allow_import: Sequence[str] | str) -> list[str]:
 class Learning:
     """What `learn` gives: the model with the learned table, its .fz text (the first line says
     how it was learned), the performance index per cycle and each cycle's run
-    (`fuzzyc.learn.CycleResult`: pi, time, finished, trace)."""
+    (`fuzzyc.learning.CycleResult`: pi, time, finished, trace)."""
     model: Model
     text: str
     table: str
@@ -293,12 +293,12 @@ def learn(rulebase: PathLike, scenario: PathLike, *, cycles: int = 15, eta: floa
     """What `fuzzyc learn` does, without writing: the weights of the rule file's `learnable`
     table (output `table`) learned on line over `cycles` runs of the scenario's cutting cycle
     (a shipped name or a YAML path; `settings` overrides its keys as in `simulate`), with
-    learning rate `eta` and `rho` the weight of cf^2 in the performance index (fuzzyc/learn.py
+    learning rate `eta` and `rho` the weight of cf^2 in the performance index (fuzzyc/learning.py
     gives the rule). `Learning.write(path)` writes the learned file."""
     from fuzzyc.plants.scenario import load as load_scenario
     from .cli.learn import check_learnable
     from .formats import absolute_ref
-    from .learn import learn_scenario, provenance, trained_text
+    from .learning import learn_scenario, provenance, trained_text
     from .language.parser import parse as parse_fz
     if isinstance(cycles, bool) or not isinstance(cycles, (int, np.integer)) or cycles < 1:
         raise ValueError(f"cycles is a whole number of at least 1, not {cycles!r}")

@@ -177,7 +177,7 @@ WRITERS = [
     (["verify", "{base}", "--report", "OUT"], "fuzzyc.verifier.verify_model"),
     (["convert", "{base}", "OUT/x.fll"], "fuzzyc.formats.save"),
     (["learn", str(RULES / "milling_neurofuzzy.fz"), "--scenario", "milling_step", "-o",
-      "OUT/trained.fz"], "fuzzyc.learn.learn_scenario"),
+      "OUT/trained.fz"], "fuzzyc.learning.learn_scenario"),
     (["examples", "OUT"], "fuzzyc.api.copy_examples"),
 ]
 
@@ -206,7 +206,7 @@ def test_an_output_name_with_a_nul_is_refused(argv, work, base, tmp_path, monkey
 
 
 def test_learn_with_an_unwritable_plot_does_not_train(tmp_path, monkeypatch, capsys):
-    forbid(monkeypatch, "fuzzyc.learn.learn_scenario")
+    forbid(monkeypatch, "fuzzyc.learning.learn_scenario")
     assert main(["learn", str(RULES / "milling_neurofuzzy.fz"), "--scenario", "milling_step",
                  "-o", str(tmp_path / "trained.fz"), "--plot", "/proc/pi.png"]) == 2
     assert "cannot write to /proc/pi.png" in no_traceback(capsys.readouterr().err)

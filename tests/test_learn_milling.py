@@ -7,7 +7,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from fuzzyc.learn import Learner, learn_scenario, provenance, run_cycle, trained_text
+from fuzzyc.learning import Learner, learn_scenario, provenance, run_cycle, trained_text
 from fuzzyc.language.parser import load, parse
 from fuzzyc.plants import milling, scenario
 from fuzzyc.runtime.simulate import load_controller

@@ -5,7 +5,7 @@ import pytest
 from pathlib import Path
 
 from fuzzyc.formats import load_any
-from fuzzyc.learn import untrained_note
+from fuzzyc.learning import untrained_note
 from fuzzyc.plants import milling, scenario
 from fuzzyc.runtime.simulate import simulate, summarize
 

@@ -1,6 +1,6 @@
 """`fuzzyc learn FILE --scenario NAME -o OUT`: neuro-fuzzy learning of a rule base's weights.
 
-Runs the scenario's cutting cycle `--cycles` times with on-line learning (`fuzzyc.learn`),
+Runs the scenario's cutting cycle `--cycles` times with on-line learning (`fuzzyc.learning`),
 writes the rule file with the learned table (atomically; everything else in the file is kept)
 and a plot of the performance index per cycle.
 """
@@ -73,7 +73,7 @@ def run(args) -> int:
     from fuzzyc.plants import scenario as scenarios
 
     from ..formats import absolute_ref
-    from ..learn import learn_scenario, provenance, trained_text
+    from ..learning import learn_scenario, provenance, trained_text
 
     if args.cycles < 1:
         print("error: --cycles must be at least 1", file=sys.stderr)

@@ -140,7 +140,7 @@ def format_summary(title: str, controller: str, summary: dict, trace,
 def controller_notes(scenario, baseline: bool) -> list[str]:
     """The warning that the scenario's rule base is untrained, when it is (and it runs)."""
     from ..formats import load_any
-    from ..learn import untrained_note
+    from ..learning import untrained_note
     from fuzzyc.runtime.simulate import rulebase_ref
     if baseline:
         return []

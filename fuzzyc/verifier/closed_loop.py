@@ -222,10 +222,10 @@ class _Loop:
 
     def learn(self, cycles: float, eta: float = 0.25, rho: float = 6.0) -> str:
         """`set learn.cycles = N` (and learn.eta, learn.rho): train the file's learnable weights
-        on N cycles of the nominal scenario (fuzzyc.learn, batch 1) before the search, so the
+        on N cycles of the nominal scenario (fuzzyc.learning, batch 1) before the search, so the
         loops check the learned controller."""
         from fuzzyc.engine.chain import Controller
-        from fuzzyc.learn import learn
+        from fuzzyc.learning import learn
         controller = Controller(self._controller_model(), 1)
         result = learn(controller, self.module, self.scen.plant_params(), int(cycles),
                        self.scen.duration, self.scen.period, eta=float(eta), rho=float(rho))
