@@ -30,6 +30,7 @@ from .strength_grid import GridStrengths, lookup_rows, place_values
 from .membership import HEDGE_EXPONENT, LocalPartition, apply_hedges, memberships
 from ..semantics.model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
 from .norms import combine, firing
+from .workspace import Workspace, WorkspacePool
 from .held_outputs import EXACT, Held, Policy, finish_output, locked, reads_values, refuse_stateless
 
 MAX_LOOKUP_CELLS = 1 << 21     # a direct cell table up to here, sorted cell codes beyond
@@ -183,6 +184,7 @@ class CompiledRuleBase:
             work = max([d.work_per_sample(n_candidates) for d in self.defuzzifiers]
                        + [4 * n_candidates * max(1, len(rb.inputs))])
         self.chunk_limit = max(1, CHUNK_FLOATS // max(1, work))   # no rules: no work
+        self.pool = WorkspacePool()     # the grid path's buffers, per chunk size
 
     @staticmethod
     def sparse_partitions(rb: RuleBase) -> list[LocalPartition] | None:
@@ -256,14 +258,20 @@ class CompiledRuleBase:
         return firing(mu if self.unit_weights else mu * self.weights[rid]), rid
 
     def evaluate_chunk(self, x: np.ndarray, held: Held | None = None,
-                       policy: Policy = EXACT) -> np.ndarray:
+                       policy: Policy = EXACT, work: Workspace | None = None,
+                       out: np.ndarray | None = None) -> np.ndarray:
         """x (N, I) -> y (N, O); `held` and `policy` for outputs evaluated in order (see
-        fuzzyc.engine.held_outputs; a rule base with outputs that hold their value needs `held`)."""
+        fuzzyc.engine.held_outputs; a rule base with outputs that hold their value needs `held`).
+        `work`: the buffers the grid path reuses (one caller at a time, see `pool`); `out`: an
+        (N, O) array to write y into."""
+        y = out if out is not None else np.empty((x.shape[0], len(self.defuzzifiers)))
         if self.ordered:
-            return self._evaluate_ordered(x, held, policy)
-        y = np.empty((x.shape[0], len(self.defuzzifiers)))
+            y[...] = self._evaluate_ordered(x, held, policy)
+            return y
         if self.grid is not None:
-            alpha = self.grid(x)
+            alpha = self.grid.rows(x.T, work)
+            if self.peak_ratio:
+                return self._peak_ratios(alpha, work, y.T).T
             for o, defuzzify in enumerate(self.defuzzifiers):
                 y[:, o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T, x)
             return y
@@ -292,27 +300,33 @@ class CompiledRuleBase:
         their signals as rows (the controller), without transposing on the way in or out."""
         if self.grid is None:
             return self.evaluate_chunk(xt.T, held).T
-        alpha = self.grid.rows(xt)
-        if self.peak_ratio:
-            return self._peak_ratios(alpha)
-        # linear terms get x (N, I) laid out as evaluate_chunk's callers pass it (same BLAS path)
-        x = np.ascontiguousarray(xt.T) if self.linear_terms else None
-        y = np.empty((len(self.defuzzifiers), xt.shape[1]))
-        for o, defuzzify in enumerate(self.defuzzifiers):
-            y[o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T, x)
-        return y
+        with self.pool.checkout(xt.shape[1]) as work:
+            alpha = self.grid.rows(xt, work)
+            y = np.empty((len(self.defuzzifiers), xt.shape[1]))
+            if self.peak_ratio:
+                return self._peak_ratios(alpha, work, y)
+            # linear terms get x (N, I) laid out as evaluate_chunk's callers pass it (same BLAS)
+            x = np.ascontiguousarray(xt.T) if self.linear_terms else None
+            for o, defuzzify in enumerate(self.defuzzifiers):
+                y[o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T, x)
+            return y
 
-    def _peak_ratios(self, alpha: np.ndarray) -> np.ndarray:
+    def _peak_ratios(self, alpha: np.ndarray, work: Workspace | None,
+                     out: np.ndarray) -> np.ndarray:
         """Every output's sum(alpha z) / sum(alpha) (OutputDefuzzifier.from_strengths of a
         peak-based ratio, the same calls on the same arrays) with one check of the
-        denominators for all outputs."""
-        n = alpha.shape[1]
-        num, den = np.empty((len(self.defuzzifiers), n)), np.empty((len(self.defuzzifiers), n))
+        denominators for all outputs, into out (O, N)."""
+        n, n_out = alpha.shape[1], len(self.defuzzifiers)
+        work = work if work is not None else Workspace(n)
+        num, den = work.array("num", (n_out, n)), work.array("den", (n_out, n))
         for o, (d, rows) in enumerate(zip(self.defuzzifiers, self.grid.slices)):
             strengths = alpha[rows].T
             np.matmul(strengths, d.peaks, out=num[o])
             strengths.sum(axis=1, out=den[o])
-        return safe_ratio(num, den, self.defaults)
+        if den.size and den.min() > 0:      # safe_ratio without a temporary
+            return np.divide(num, den, out=out)
+        out[...] = safe_ratio(num, den, self.defaults)
+        return out
 
 
 # The most recently used rule bases' tables. An entry holds its rule base (so an id is never
@@ -344,12 +358,12 @@ def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536, held: Held | None 
         raise ValueError(f"expected {len(rb.inputs)} input columns "
                          f"({', '.join(v.name for v in rb.inputs)}), got {x.shape[1]}")
     engine = compiled(rb)
+    n = x.shape[0]
     step = max(1, min(chunk, engine.chunk_limit))
-    if x.shape[0] <= step:
-        return engine.evaluate_chunk(x, held, policy)
-    y = np.empty((x.shape[0], len(rb.outputs)))
-    for s in range(0, x.shape[0], step):
-        y[s:s + step] = engine.evaluate_chunk(x[s:s + step], held, policy)
+    y = np.empty((n, len(rb.outputs)))
+    with engine.pool.checkout(max(1, min(n, step))) as work:
+        for s in range(0, n, step):
+            engine.evaluate_chunk(x[s:s + step], held, policy, work, y[s:s + step])
     return y
 
 

@@ -33,3 +33,11 @@ def combine(values: list[np.ndarray], norm: TNorm | SNorm, conjunction: bool) ->
 def firing(act: np.ndarray) -> np.ndarray:
     """Rule activations with those below ACTIVATION_FLOOR set to 0 (they do not fire)."""
     return np.where(act < ACTIVATION_FLOOR, 0.0, act)
+
+
+def firing_in_place(act: np.ndarray, below: np.ndarray) -> np.ndarray:
+    """`firing` written into act itself, with `below` (bool, act's shape) as the mask buffer:
+    the same values without a temporary."""
+    np.less(act, ACTIVATION_FLOOR, out=below)
+    np.copyto(act, 0.0, where=below)
+    return act

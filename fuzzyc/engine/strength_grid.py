@@ -34,7 +34,8 @@ def place_values(radix: np.ndarray) -> np.ndarray:
     """Per digit, its place value in a mixed-radix code (digit 0 slowest): the code of a
     tuple of term ids (or segments, or slots) is the tuple @ place_values(radix)."""
     return np.concatenate([np.cumprod(radix[::-1])[::-1][1:], [1]])
-from .norms import firing
+from .norms import firing_in_place
+from .workspace import Workspace
 
 MAX_TABLE_ENTRIES = 1 << 22
 
@@ -127,81 +128,117 @@ class GridStrengths:
             self.padded_breaks = np.full((len(parts), width, 1), np.inf)
             for i, p in enumerate(parts):
                 self.padded_breaks[i, :len(p.breaks), 0] = p.breaks
-        self._tables: tuple = (-1,)
 
-    def _batch_tables(self, n: int) -> tuple:
-        """(n, the columns as flat positions in a batch of n, arange(n), the clip bounds at
-        full size (I, n))."""
-        shape = (len(self.lo), n)
-        self._tables = (n, None if self.columns is None else self.columns * n, np.arange(n),
-                        np.ascontiguousarray(np.broadcast_to(self.lo, shape)),
-                        np.ascontiguousarray(np.broadcast_to(self.hi, shape)))
-        return self._tables
+    def _bounds(self, work: Workspace, n: int) -> tuple[np.ndarray, np.ndarray]:
+        """The clip bounds at full size (I, n), kept in the workspace while n repeats."""
+        lo = work.array("lo", (len(self.lo), n))
+        hi = work.array("hi", (len(self.lo), n))
+        if work.tables.get("bounds") != n:
+            np.copyto(lo, self.lo)
+            np.copyto(hi, self.hi)
+            work.tables["bounds"] = n
+        return lo, hi
+
+    def _scaled(self, work: Workspace, n: int) -> np.ndarray:
+        """The per-cell columns as flat positions in a batch of n (O * K, cells)."""
+        scaled = work.array("scaled", self.columns.shape, np.intp)
+        if work.tables.get("scaled") != n:
+            np.multiply(self.columns, n, out=scaled)
+            work.tables["scaled"] = n
+        return scaled
+
+    def _arange(self, work: Workspace, n: int) -> np.ndarray:
+        """arange(n), the first n of arange(capacity) built once per workspace."""
+        arange = work.array("arange", (work.capacity,), np.intp)
+        if work.tables.get("arange") != work.capacity:
+            arange[:] = np.arange(work.capacity)
+            work.tables["arange"] = work.capacity
+        return arange[:n]
 
     def __call__(self, x: np.ndarray) -> np.ndarray:
         """x (N, I) -> alpha (width, N): strength of every output term, term-major."""
         return self.rows(np.asarray(x, dtype=float).T)
 
-    def rows(self, xt: np.ndarray) -> np.ndarray:
-        """xt (I, N), one row per input -> alpha (width, N) (see __call__)."""
-        n = xt.shape[1]
+    def rows(self, xt: np.ndarray, work: Workspace | None = None) -> np.ndarray:
+        """xt (I, N), one row per input -> alpha (width, N) (see __call__).  With a workspace
+        (n <= its capacity) every temporary is one of its buffers and so is alpha: read it
+        before the workspace goes back to its pool."""
+        n_in, n = xt.shape
+        work = work if work is not None else Workspace(n)
         # As LocalPartition.locate: clipping to the outermost break points changes no
         # membership and keeps infinities out; a NaN sits in segment 0 with memberships 0.
-        tables = self._tables             # one tuple: a concurrent call cannot mix two n
-        if tables[0] != n:                # tables for a batch of n (most calls repeat n)
-            tables = self._batch_tables(n)
-        _, scaled, arange, lo, hi = tables
-        xc = clip(xt, lo, hi, order="C")  # full-size bounds: clip's fast loop
+        lo, hi = self._bounds(work, n)    # full-size bounds: clip's fast loop
+        xc = clip(xt, lo, hi, out=work.array("xc", (n_in, n)))
         has_nan = np.isnan(xc.sum())      # one pass; an inf - inf false alarm only costs time
         if has_nan:
             nan = np.isnan(xc)
             xc[nan] = np.broadcast_to(self.lo, xc.shape)[nan]
         # the breaks at or below x (LocalPartition.locate: counting beats a binary search for
         # a few breaks, whose branches mispredict on data that changes every call)
+        seg = work.array("seg", (n_in, n), np.intp)
         if self.padded_breaks is not None:
-            seg = (xc[:, None, :] >= self.padded_breaks).sum(axis=1)       # (I, N)
+            seg.fill(0)
+            at_or_above = work.array("at_or_above", (n_in, n), bool)
+            for b in range(self.padded_breaks.shape[1]):
+                np.greater_equal(xc, self.padded_breaks[:, b], out=at_or_above)
+                np.add(seg, at_or_above, out=seg)
         else:
-            seg = np.empty(xc.shape, dtype=np.intp)
             for i, part in enumerate(self.partitions):
                 seg[i] = (xc[i] >= part.column_breaks).sum(axis=0) if part.count_breaks \
                     else np.searchsorted(part.breaks, xc[i], side="right")
         if has_nan:
             seg[nan] = 0
-        cell = self.stride @ seg if self.columns is not None else None     # exact (integers)
+        cell = None
+        if self.columns is not None:      # exact (integers)
+            cell = np.matmul(self.stride, seg, out=work.array("cell", (n,), np.intp))
         seg += self.segment_base
-        row = self.segment_table.take(seg, axis=1)                          # (6, I, N)
-        mu = (xc - row[0:2]) / row[2:4] + row[4:6]                          # (2, I, N)
+        # mode "clip" (the indices are in range): "raise" with out= copies through a buffer
+        row = np.take(self.segment_table, seg, axis=1, mode="clip",
+                      out=work.array("row", (6, n_in, n)))                  # (6, I, N)
+        mu = work.array("mu", (2, n_in, n))
+        np.subtract(xc, row[0:2], out=mu)                   # (x - anchor) / width + offset
+        np.divide(mu, row[2:4], out=mu)
+        np.add(mu, row[4:6], out=mu)                                        # (2, I, N)
         if has_nan:
             mu[:, nan] = 0.0
         # corner activations, first input's slot the most significant bit of the corner;
         # T(1, m) = m exactly for these memberships (0 <= m <= 1), so no row of ones
         act = mu[:, 0]
-        for i in range(1, len(seg)):
-            if self.product:
-                act = (act[:, None] * mu[None, :, i]).reshape(2 * len(act), n)
-            else:
-                act = np.minimum(act[:, None], mu[None, :, i]).reshape(2 * len(act), n)
-        if self.depth > 1:
-            act = np.repeat(act, self.depth, axis=0)
+        norm = np.multiply if self.product else np.minimum
+        for i in range(1, n_in):
+            out = work.array(f"act{i % 2}", (2 * len(act), n))
+            norm(act[:, None], mu[None, :, i], out=out.reshape(len(act), 2, n))
+            act = out
+        if self.depth > 1:                # np.repeat(act, depth, axis=0)
+            repeated = work.array("repeated", (len(act) * self.depth, n))
+            repeated.reshape(len(act), self.depth, n)[:] = act[:, None, :]
+            act = repeated
         if cell is not None:                # per-cell tables
-            index = scaled.take(cell, axis=1)                               # (O * K, N)
-            weights = None if self.unit_weights else self.weights.take(cell, axis=1)
+            index = np.take(self._scaled(work, n), cell, axis=1, mode="clip",
+                            out=work.array("index", (len(self.columns), n), np.intp))
+            weights = None if self.unit_weights else np.take(
+                self.weights, cell, axis=1, mode="clip",
+                out=work.array("weights", (len(self.weights), n)))
         else:                               # per-tuple tables
             key = self._corner_rows(seg, n)                                 # (K, N)
             index = self.tuple_columns.take(key, axis=1).reshape(-1, n).astype(np.intp)
             index *= n                                                      # (O * K, N)
             weights = None if self.unit_weights else self.tuple_weights.take(key)
         if weights is not None:
-            act = act * weights
-        act = firing(act)
-        index += arange
-        alpha = np.full(self.width * n, self.accumulate.start)
+            act = np.multiply(act, weights, out=work.array("weighted", act.shape))
+        act = firing_in_place(act, work.array("below", act.shape, bool))
+        index += self._arange(work, n)
+        alpha = work.array("alpha", (self.width * n,))
+        alpha.fill(self.accumulate.start)
         act = self.accumulate.values(act.reshape(-1))
         # one scatter per output: numpy 2.4's ufunc.at reads garbage when the values are
         # broadcast against a 2-D index, so the values are never broadcast
         for rows in index.reshape(len(self.slices), -1):
             self.accumulate.ufunc.at(alpha, rows, act)
-        return self.accumulate.finish(alpha.reshape(self.width, n))
+        alpha = alpha.reshape(self.width, n)
+        if self.accumulate.bounded and not self.accumulate.complement:   # Scatter.finish
+            return np.minimum(alpha, 1.0, out=alpha)
+        return self.accumulate.finish(alpha)
 
     def _corner_rows(self, seg: np.ndarray, n: int) -> np.ndarray:
         """seg (I, N) in the fused segment order -> the per-tuple table position (K, N) of
