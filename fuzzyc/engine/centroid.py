@@ -18,7 +18,9 @@ from itertools import combinations
 
 import numpy as np
 
+from .expressions import clip
 from .membership import LocalPartition, trapezoid
+from .workspace import Workspace
 from ..semantics.model import Aggregation, Implication, Inference, TermKind, Variable
 
 
@@ -75,15 +77,29 @@ class Segments:
     def __len__(self) -> int:
         return len(self.level)
 
-    def integrals(self, levels: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """levels (L, N) -> (area (N,), moment (N,)): sums over the pieces, fixed order."""
-        h = levels.take(self.level, axis=0)                              # (G, N)
-        b = np.minimum(h, self.ylo)
-        g = np.clip(h - self.ylo, 0.0, self.rise)
-        area = b * self.dx + g * (self.dx - g * self.h)
-        moment = b * self.c + g * (self.c - g * (self.e + g * self.q))
+    def integrals(self, levels: np.ndarray, work: Workspace | None = None
+                  ) -> tuple[np.ndarray, np.ndarray]:
+        """levels (L, N) -> (area (N,), moment (N,)): sums over the pieces, fixed order; with
+        a workspace, in its buffers (the same operations in the same order, so the same bits)."""
+        n = levels.shape[1]
+        work = work if work is not None else Workspace(n)
+        shape = (len(self.level), n)                                     # (G, N)
+        h = np.take(levels, self.level, axis=0, mode="clip", out=work.array("cf_h", shape))
+        b = np.minimum(h, self.ylo, out=work.array("cf_b", shape))
+        g = clip(np.subtract(h, self.ylo, out=h), 0.0, self.rise, out=h)
+        # area = b * dx + g * (dx - g * h)
+        area, t = work.array("cf_area", shape), work.array("cf_t", shape)
+        np.multiply(g, self.h, out=t)
+        np.multiply(g, np.subtract(self.dx, t, out=t), out=t)
+        np.add(np.multiply(b, self.dx, out=area), t, out=area)
+        # moment = b * c + g * (c - g * (e + g * q)), in b's buffer once b is read
+        np.multiply(g, self.q, out=t)
+        np.multiply(g, np.add(self.e, t, out=t), out=t)
+        np.multiply(g, np.subtract(self.c, t, out=t), out=t)
+        moment = np.add(np.multiply(b, self.c, out=b), t, out=b)
         # column sums in a fixed order (not BLAS), so a sample's result is independent of N
-        return area.sum(axis=0), moment.sum(axis=0)
+        return (area.sum(axis=0, out=work.array("cf_area_sum", (n,))),
+                moment.sum(axis=0, out=work.array("cf_moment_sum", (n,))))
 
 
 class ClosedFormCentroid:
@@ -126,16 +142,32 @@ class ClosedFormCentroid:
     def work_per_sample(self) -> int:
         return 16 * len(self.segments)
 
-    def __call__(self, alpha: np.ndarray) -> np.ndarray:
-        """alpha (N, T) -> the centroid (N,), the default where M has no area."""
+    def __call__(self, alpha: np.ndarray, work: Workspace | None = None,
+                 out: np.ndarray | None = None) -> np.ndarray:
+        """alpha (N, T) -> the centroid (N,), the default where M has no area; with a
+        workspace the temporaries are its buffers (see Segments.integrals), with out (N,) the
+        result is written there."""
         if not self.clip:
             area = (alpha * self.term_area).sum(axis=1)
             moment = (alpha * self.term_moment).sum(axis=1)
         else:
+            n = alpha.shape[0]
+            work = work if work is not None else Workspace(n)
             levels = alpha.T                                             # (T, N)
-            if len(self.pairs):
-                levels = np.concatenate([levels, np.minimum(levels[self.pairs[:, 0]],
-                                                            levels[self.pairs[:, 1]])])
-            area, moment = self.segments.integrals(levels)
-        ok = area > 0
-        return np.where(ok, moment / np.where(ok, area, 1.0), self.default)
+            if len(self.pairs):     # the terms' levels, then min of each overlapping pair's
+                rows = work.array("cf_levels", (len(levels) + len(self.pairs), n))
+                rows[:len(levels)] = levels
+                for p, (j, k) in enumerate(self.pairs):
+                    np.minimum(levels[j], levels[k], out=rows[len(levels) + p])
+                levels = rows
+            area, moment = self.segments.integrals(levels, work)
+        n = len(area)
+        work = work if work is not None else Workspace(n)
+        # where(area > 0, moment / where(area > 0, area, 1), default), without temporaries
+        ok = np.greater(area, 0.0, out=work.array("cf_ok", (n,), bool))
+        den = work.array("cf_den", (n,))
+        den.fill(1.0)
+        np.copyto(den, area, where=ok)
+        out = np.divide(moment, den, out=out)
+        np.copyto(out, self.default, where=np.logical_not(ok, out=ok))
+        return out

@@ -272,8 +272,8 @@ class CompiledRuleBase:
             alpha = self.grid.rows(x.T, work)
             if self.peak_ratio:
                 return self._peak_ratios(alpha, work, y.T).T
-            for o, defuzzify in enumerate(self.defuzzifiers):
-                y[:, o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T, x)
+            for o in range(len(self.defuzzifiers)):
+                self._from_strengths(o, alpha, x, work, y[:, o])
             return y
         act, rid = self.candidates(x)
         for o, defuzzify in enumerate(self.defuzzifiers):
@@ -307,9 +307,19 @@ class CompiledRuleBase:
                 return self._peak_ratios(alpha, work, y)
             # linear terms get x (N, I) laid out as evaluate_chunk's callers pass it (same BLAS)
             x = np.ascontiguousarray(xt.T) if self.linear_terms else None
-            for o, defuzzify in enumerate(self.defuzzifiers):
-                y[o] = defuzzify.from_strengths(alpha[self.grid.slices[o]].T, x)
+            for o in range(len(self.defuzzifiers)):
+                self._from_strengths(o, alpha, x, work, y[o])
             return y
+
+    def _from_strengths(self, o: int, alpha: np.ndarray, x: np.ndarray | None,
+                        work: Workspace | None, out: np.ndarray) -> None:
+        """Output o from the grid's strengths into out (N,): OutputDefuzzifier.from_strengths,
+        with the exact centroid's closed form working in the workspace's buffers."""
+        defuzzify, strengths = self.defuzzifiers[o], alpha[self.grid.slices[o]].T
+        if not defuzzify.use_peaks and defuzzify.closed_form is not None:
+            defuzzify.closed_form(strengths, work, out)
+        else:
+            out[...] = defuzzify.from_strengths(strengths, x)
 
     def _peak_ratios(self, alpha: np.ndarray, work: Workspace | None,
                      out: np.ndarray) -> np.ndarray:
