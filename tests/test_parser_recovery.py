@@ -149,18 +149,21 @@ def test_a_table_whose_body_cannot_end_yet_is_dropped_whole():
 
 
 def test_an_error_in_the_last_statement():
-    # line 10 "  output u in [-1, 1] =" ends the statement; the `}` of line 11 is unexpected
+    # line 10 "  output u in [-1, 1] =" ends unfinished (the `=` at 23): reported right after
+    # it on its own line, not at the `}` of line 11 (issue 30)
     text = replace(VALID, "[-1, 1] = du\n", "[-1, 1] =\n")
-    assert errors(text) == [(11, 1, "unexpected `}`; expected one of `(`, `-`, a name, "
-                                    "a number")]
+    assert errors(text) == [(10, 24, "`output u in [-1, 1] =` is unfinished: expected one of "
+                                     "`(`, `-`, a name, a number after `=`")]
     text = replace(replace(VALID, *BAD_INPUT), "[-1, 1] = du\n", "[-1, 1] =\n")
-    assert [(line, col) for line, col, _ in errors(text)] == [(2, 18), (11, 1)]
+    assert [(line, col) for line, col, _ in errors(text)] == [(2, 18), (10, 24)]
 
 
 def test_an_error_in_the_last_statement_of_an_unclosed_file():
     text = replace(replace(VALID, *BAD_INPUT), "= du\n}\n", "= du +\n")
-    assert errors(text) == [E_INPUT, (10, 1, "the file ends too early: a statement or the "
-                                            "closing `}` of the controller is missing")]
+    # line 10 "  output u in [-1, 1] = du +": the `+` at 28, the file ends after it
+    assert errors(text) == [E_INPUT, (10, 29, "`output u in [-1, 1] = du +` is unfinished: "
+                                              "expected one of `(`, `-`, a name, a number "
+                                              "after `+`; the file ends there")]
 
 
 def test_a_stray_closing_brace_in_a_statement_does_not_close_the_controller():
@@ -221,11 +224,11 @@ def test_a_block_with_a_broken_header_is_skipped_whole():
 
 
 def test_a_statement_after_an_unfinished_one_is_its_own():
-    # line 2 "  input e in": the range is missing; `input` of line 3 takes its place (col 3)
+    # line 2 "  input e in": the range is missing; reported after `in` (11-12) on line 2
     text = replace(VALID, "  input e in [-1, 1]\n", "  input e in\n")
     text = replace(text, "  input ce in [-1, 1]\n", "  input ce in [-1 1]\n")
     # line 3 "  input ce in [-1 1]": `[` 15, `-1` 16-17, `1` 19
-    assert errors(text) == [(3, 3, "unexpected `input`; expected `[`"),
+    assert errors(text) == [(2, 13, "`input e in` is unfinished: expected `[` after `in`"),
                             (3, 19, "unexpected `1`; expected `,`")]
 
 
@@ -238,8 +241,9 @@ def test_an_error_in_the_controller_header_and_one_in_the_body():
 
 def test_a_header_without_its_brace_and_an_error_in_the_body():
     text = replace(replace(VALID, "controller demo {", "controller demo"), *BAD_OUTPUT)
-    assert errors(text) == [(2, 3, "unexpected `input`; expected one of `{`, a quoted title"),
-                            E_OUTPUT]
+    # line 1 "controller demo": `demo` 12-15, reported after it
+    assert errors(text) == [(1, 16, "`controller demo` is unfinished: expected one of `{`, "
+                                    "a quoted title after `demo`"), E_OUTPUT]
 
 
 def test_the_shape_message_lists_every_shape_the_grammar_takes():
@@ -290,8 +294,9 @@ def test_ten_thousand_closing_braces_after_a_controller():
 
 def test_deep_nesting_ends_with_a_located_error():
     found = errors("controller c { let x in [0, 1] = " + "(" * 10_000)
-    assert found == [(1, 1, "the file ends too early: a statement or the closing `}` of the "
-                            "controller is missing")]
+    # the last `(` at 10,033: reported after it, the statement quoted by its last 40 characters
+    assert found == [(1, 10_034, "`..." + "(" * 40 + "` is unfinished: expected one of `(`, "
+                                 "`-`, a name, a number after `(`; the file ends there")]
     # "controller c { let x in [0, 1] = " is 33 characters; the `,` after 10,000 `(` at 10,034
     found = errors("controller c { let x in [0, 1] = " + "(" * 10_000 + ", }")
     assert found == [(1, 10_034, "unexpected `,`; expected one of `(`, `-`, a name, a number")]

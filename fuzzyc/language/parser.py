@@ -21,6 +21,7 @@ from .builder import Builder
 from ..errors import Reporter, shown_char, source_lines
 from .limits import MAX_NESTING, check_model, number_problem, read_rule_file
 from .recovery import Recovery
+from .syntax_hints import keyword_case, shape_suggestion, unclosed_brace, unfinished_statement
 from ..semantics.model import Model
 from ..semantics.shapes import shape_words as registry_words
 from .syntax import ToSyntax
@@ -156,12 +157,18 @@ def _report(exc: UnexpectedInput | None, reporter: Reporter) -> None:
         reporter.error(reporter.loc(exc.line, exc.column),
                        f"unexpected character {shown_char(exc.char)}")
         return
+    hint = _hint(exc, reporter.text) if isinstance(exc, UnexpectedToken) else None
+    if hint is not None:
+        line, col, message = hint
+        reporter.error(reporter.loc(line, col), message)
+        return
     if isinstance(exc, UnexpectedEOF) or (isinstance(exc, UnexpectedToken)
                                           and exc.token.type == "$END"):
         lines = source_lines(reporter.text)
         last = max(len(lines) - (lines[-1] == ""), 1)
-        reporter.error(reporter.loc(last, 1), "the file ends too early: a statement or the "
-                                              "closing `}` of the controller is missing")
+        message = isinstance(exc, UnexpectedToken) and unclosed_brace(exc)
+        reporter.error(reporter.loc(last, 1), message or "the file ends too early: a "
+                       "statement or the closing `}` of the controller is missing")
         return
     token: Token = exc.token
     if token.type == "KEYWORD_AS_NAME" and _expected(exc) & {"NAME", "DOTTED_NAME"}:
@@ -169,9 +176,27 @@ def _report(exc: UnexpectedInput | None, reporter: Reporter) -> None:
                        f"`{token}` is a keyword, not a name; a name spelled like a keyword is "
                        f"written in backticks (`{token}` with the backticks typed)")
         return
-    expected = sorted({_readable(t) for t in _expected(exc) if not t.startswith("__")})
     reporter.error(reporter.loc(token.line, token.column),
-                   f"unexpected `{token}`; expected {_one_of(expected)}")
+                   f"unexpected `{token}`; expected {_expected_text(exc)}")
+
+
+def _hint(exc: UnexpectedToken, text: str) -> tuple[int, int, str] | None:
+    """The error said with its fix, where `syntax_hints` recognises the mistake."""
+    found = unfinished_statement(_lark(), exc, text, _expected_text(exc)) \
+        or keyword_case(_lark(), exc, keywords(), text)
+    if found is not None:
+        return found
+    token = exc.token
+    if token.type == "NAME" and "SHAPE" in _expected(exc):
+        suggestion = shape_suggestion(str(token))
+        if suggestion is not None:
+            return (token.line, token.column,
+                    f"unknown term shape `{token}`: {suggestion}")
+    return None
+
+
+def _expected_text(exc: UnexpectedToken) -> str:
+    return _one_of(sorted({_readable(t) for t in _expected(exc) if not t.startswith("__")}))
 
 
 def _expected(exc: UnexpectedToken) -> set[str]:

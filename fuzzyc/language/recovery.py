@@ -39,7 +39,7 @@ class Recovery:
         self.report, self.limit, self.too_many = report, limit, too_many
         self.errors = 0
         self.starts = statement_starts(parser)
-        self.words = _statement_words(parser)
+        self.words = statement_words(parser)
         self.lexer = _skipping_lexer(parser)
         self.token_start = _token_start(parser)
 
@@ -248,7 +248,7 @@ def statement_starts(parser: Lark) -> frozenset[str]:
 
 
 @functools.cache
-def _statement_words(parser: Lark) -> dict[str, str]:
+def statement_words(parser: Lark) -> dict[str, str]:
     """Statement word -> its terminal's name (`input` -> INPUT)."""
     return {t.pattern.value: t.name for t in parser.terminals
             if isinstance(t.pattern, PatternStr) and t.name in statement_starts(parser)}
