@@ -27,19 +27,25 @@ def run(args) -> int:
               + ", ".join(f"{name}/" for name in folders))
         print(f"try: fuzzyc verify {args.folder}/rulebases/wedm_three_region.fz")
         return 0
-    import yaml
     folders: dict = {}
-    for path in api.examples():
+    paths = api.examples()
+    for path in paths:
         folders.setdefault(path.parent, []).append(path)
-    for folder, paths in folders.items():
+    width = max(len(path.name) for path in paths)      # one column of titles for all
+    for folder, in_folder in folders.items():
         print(f"{folder}:")
-        for path in paths:
-            if path.suffix == ".fz":
-                title = api.load(path).title
-            elif path.suffix == ".yaml":
-                title = (yaml.safe_load(path.read_text(encoding="utf-8")) or {}).get("title", "")
-            else:
-                title = ""
-            print(f"  {path.name:24s} {title}".rstrip())
+        for path in in_folder:
+            print(f"  {path.name:{width}s}  {_title(path)}".rstrip())
     print("copy them with: fuzzyc examples DIR")
     return 0
+
+
+def _title(path) -> str:
+    """A rule file's or scenario's title; nothing for other files."""
+    from .. import api
+    if path.suffix == ".fz":
+        return api.load(path).title
+    if path.suffix == ".yaml":
+        import yaml
+        return str((yaml.safe_load(path.read_text(encoding="utf-8")) or {}).get("title", ""))
+    return ""

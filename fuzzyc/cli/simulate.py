@@ -148,6 +148,24 @@ def controller_notes(scenario, baseline: bool) -> list[str]:
     return [note] if note else []
 
 
+def own_notes(scenario) -> list[str]:
+    """The scenario's notes when the rule base run is the scenario's own: they describe that
+    one ("the fuzzy PI ... does not overshoot" says nothing about the FILE a user gives)."""
+    from fuzzyc.plants.scenario import RULEBASE_SETTING, load
+    if RULEBASE_SETTING not in scenario.settings:
+        return scenario.notes
+    try:
+        own = load(scenario.path, allow_import=scenario.allow_import)
+        if own.rulebase_path() is None:
+            return []
+        same = (own.rulebase_path().resolve() == scenario.rulebase_path().resolve()
+                and own.rulebase_ref().rpartition("::")[2]
+                == scenario.rulebase_ref().rpartition("::")[2])
+    except (FuzzycError, OSError):
+        return []
+    return scenario.notes if same else []
+
+
 def run(args) -> int:
     from fuzzyc.runtime.plots import plot_runs
     from fuzzyc.runtime.simulate import references, rulebase_ref, signal_units
@@ -175,7 +193,8 @@ def run(args) -> int:
     trace.to_csv(out / "trace.csv", loops=args.csv_loops)
     controller = "baseline" if args.baseline else rulebase_ref(scenario)
     text = format_summary(scenario.title, controller, summary, trace,
-                          controller_notes(scenario, args.baseline) + scenario.notes, args.batch)
+                          controller_notes(scenario, args.baseline) + own_notes(scenario),
+                          args.batch)
     runs = {"baseline" if args.baseline else "fuzzy": trace}
     compared = None
     if args.compare:

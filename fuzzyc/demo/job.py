@@ -11,6 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..atomic import write_text
 from ..cli import main as fuzzyc
 from ..cli.check import summary
 from ..cli.eval import evaluate_batch
@@ -22,12 +23,15 @@ from . import simulate as demo_simulate
 
 OUT = Path("out")
 
-# One sample point per rule base (raw controller inputs), to show one evaluation.
+# One sample point per rule base (raw controller inputs), to show one evaluation; every
+# shipped rule base has one (tests/test_demo_names.py).
 SAMPLES = {
     "wedm_three_region": {"spark_freq": 26.0, "abnormal_ratio": 0.325},
     "wedm_corner": {"feed": 92.5, "thickness": 50.0, "angle": 82.5},
     "milling_neurofuzzy": {"force": 350.0},
+    "milling_neurofuzzy_learned": {"force": 350.0},
     "edm_sink_gap": {"gap_voltage": 62.0},
+    "fopdt_pi": {"y": 0.5},
 }
 
 
@@ -59,14 +63,8 @@ def main() -> int:
         print(summary(model))
 
     section("eval: one step of each controller from its initial state")
-    for model in models:
-        point = SAMPLES.get(model.name)
-        if point is None:
-            continue
-        outputs = evaluate_batch(model, {k: np.array([v]) for k, v in point.items()}, core=False)
-        ins = ", ".join(f"{k}={v:g}" for k, v in point.items())
-        outs = ", ".join(f"{k}={v[0]:.6g}" for k, v in outputs.items())
-        print(f"{model.name}: {ins} -> {outs}")
+    for line in eval_lines(models):
+        print(line)
 
     section("plot: membership functions and control surfaces")
     for model in models:
@@ -82,7 +80,21 @@ def main() -> int:
 
     section("verify: the properties in each rule file")
     for model in models:
-        for line in verify_lines(model):
-            print(line)
-    print(f"\nreports, traces and pictures are in {OUT.resolve()}")
+        lines = verify_lines(model)
+        print("\n".join(lines))
+        write_text(OUT / "verify" / f"{model.name}.txt", "\n".join(lines) + "\n")
+    print(f"\nverify reports in {OUT / 'verify'}; traces, pictures and headers in "
+          f"{OUT.resolve()}")
     return 0
+
+
+def eval_lines(models) -> list[str]:
+    """One evaluation per rule base, at its sample point, named by the model."""
+    lines = []
+    for model in models:
+        point = SAMPLES[model.name]
+        outputs = evaluate_batch(model, {k: np.array([v]) for k, v in point.items()}, core=False)
+        ins = ", ".join(f"{k}={v:g}" for k, v in point.items())
+        outs = ", ".join(f"{k}={v[0]:.6g}" for k, v in outputs.items())
+        lines.append(f"{model.name}: {ins} -> {outs}")
+    return lines
