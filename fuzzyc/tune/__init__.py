@@ -40,25 +40,39 @@ def __getattr__(name: str) -> Any:
 
 @dataclass
 class TuneResult:
-    fit: FitResult
+    fit: Any                   # a FitResult (data) or a fuzzyc.tune.loop.LoopFit (closed loop)
     text: str                  # the tuned .fz: the source with the tuned numbers replaced
     provenance: list[str]
 
 
-def tune(model: Model | str | os.PathLike, data: str | os.PathLike, *,
+def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None, *,
          validate: str | os.PathLike | None = None, folds: int | None = None, seed: int = 0,
-         passes: int = 20, max_nfev: int | None = None) -> TuneResult:
+         passes: int = 20, max_nfev: int | None = None, scenario: str | None = None,
+         minimize: str | None = None, sets: dict | None = None, limits: tuple = (),
+         batch: int = 1, randomize: bool = False, method: str = "powell",
+         max_evaluations: int | None = None, max_examples: int = 30) -> TuneResult:
     """Tune a .fz file (or a model parsed from .fz text) against the CSV `data`; `validate`
     (a CSV) or `folds` (K-fold cross-validation) measure the error on data it was not fitted
-    to.  The result's text differs from the source only in the tuned numbers and the
-    provenance comment block on top; the same files and seed give the same text, byte for
-    byte."""
+    to.  Or, with `scenario` instead of data, against a closed loop: minimize the metric
+    `minimize` of the scenario's loop (overrides `sets`, as simulate's --set; `limits`
+    'METRIC<=VALUE' kept; fuzzyc.tune.loop).  The result's text differs from the source only
+    in the tuned numbers and the provenance comment block on top; the same files and seed give
+    the same text, byte for byte."""
     if not isinstance(model, Model):
         from ..language.parser import load
         model = load(model)
     if not model.source_text or not str(model.source_path or "").endswith((".fz", "<string>")):
         raise ValueError("tune rewrites a .fz file: convert the model to .fz first "
                          "(fuzzyc convert), add a `tune` section, and tune that")
+    if (data is None) == (scenario is None):
+        raise ValueError("tune against data (a CSV) or a closed loop (--scenario), one of them")
+    if scenario is not None:
+        if not minimize:
+            raise ValueError("a closed-loop tune needs the metric to minimize (--minimize)")
+        from .scenario_tune import tune_scenario
+        return tune_scenario(model, scenario, minimize, sets=sets, limits=limits, seed=seed,
+                             batch=batch, randomize=randomize, method=method,
+                             max_evaluations=max_evaluations, max_examples=max_examples)
     from .data import read_csv
     from .rewrite import rewrite
     train = read_csv(data, model)
@@ -71,7 +85,7 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike, *,
     return TuneResult(fit, text, lines)
 
 
-def _check_reads_back(text: str, fit: FitResult) -> None:
+def _check_reads_back(text: str, fit: Any) -> None:
     """The tuned text parses to exactly the tuned numbers and bounds (a bug otherwise)."""
     from ..language.parser import parse
     again = parse(text, "<tuned>").tunables

@@ -1,0 +1,50 @@
+"""`fuzzyc tune FILE --scenario NAME --minimize METRIC`: the closed-loop tune of a .fz file,
+its tuned text and provenance (fuzzyc.tune.loop does the tuning)."""
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+
+from ..semantics.model import Model
+from .loop import LoopFit, parse_limit, tune_loop
+
+
+def tune_scenario(model: Model, scenario: str, minimize: str, *, sets: dict | None = None,
+                  limits=(), seed: int = 0, batch: int = 1, randomize: bool = False,
+                  method: str = "powell", max_evaluations: int | None = None,
+                  max_examples: int = 30):
+    """The TuneResult of tuning `model` (read from .fz) to minimize the metric `minimize` of
+    scenario `scenario` (a name or a YAML path) with the overrides `sets` (KEY -> value, as
+    `simulate --set`). limits: 'METRIC<=VALUE' texts kept as constraints."""
+    from fuzzyc.plants import scenario as scenarios
+    from . import TuneResult, _check_reads_back
+    from .rewrite import rewrite
+    loaded = scenarios.load(scenario, {k: str(v) for k, v in (sets or {}).items()})
+    parsed = tuple(parse_limit(text) for text in limits)
+    fit = tune_loop(model, loaded, minimize, seed=seed, batch=batch, randomize=randomize,
+                    method=method, max_evaluations=max_evaluations, limits=parsed,
+                    max_examples=max_examples)
+    lines = provenance(model, loaded, minimize, sets or {}, fit, batch, randomize,
+                       max_evaluations, max_examples)
+    text = rewrite(model.source_text, fit.numbers, fit.values, lines)
+    _check_reads_back(text, fit)
+    return TuneResult(fit, text, lines)
+
+
+def provenance(model: Model, scenario, minimize: str, sets: dict, fit: LoopFit, batch: int,
+               randomize: bool, max_evaluations, max_examples: int) -> list[str]:
+    """No time, path or machine: the same inputs give the same lines."""
+    name = Path(model.source_path or "model.fz").name
+    source = hashlib.sha256((model.source_text or "").encode()).hexdigest()
+    scenario_hash = hashlib.sha256(scenario.text.encode()).hexdigest()
+    settings = ", ".join(f"{k}={v}" for k, v in sorted(sets.items())) or "none"
+    lines = [f"tuned from {name} (sha256 {source})",
+             f"closed loop: scenario {scenario.name} (sha256 {scenario_hash}), --set {settings}, "
+             f"batch {batch}{', randomized plants' if randomize else ''}",
+             f"seed {fit.seed}, max evaluations {max_evaluations}, closed-loop checks "
+             f"{max_examples} loops; method: {fit.method}",
+             f"{len(fit.numbers)} numbers tuned; {minimize} before {fit.cost_before:.6g}, "
+             f"after {fit.cost_after:.6g}"]
+    lines += [f"property `{c.text}`: {c.before} before, {c.after} after" for c in fit.properties]
+    lines += [f"rejected: {why}" for why in fit.rejected]
+    return lines
