@@ -118,3 +118,17 @@ def test_a_broken_term_is_not_reported_again_where_a_rule_uses_it():
     # the rule on `lo` says nothing more
     found = messages(RULES.replace("SHAPE", "tri(5, 0, 10)"))
     assert [(line, col) for line, col, _ in found] == [(4, 22)]
+
+
+def test_a_range_is_suggested_only_where_one_is_missing():
+    # `terms a` lacks its `:` and terms, not a range (its range is optional): no range hint;
+    # "  terms a": `a` at 9, reported after it
+    text = RULES.replace("  terms a : lo = SHAPE, hi = tri(5, 10, 10)", "  terms a")
+    found = messages(text)
+    assert found[0] == (4, 10, "`terms a` is unfinished: expected one of `,`, `:`, `default`, "
+                               "`in` after `a`")
+    # `input a : kHz` has its unit: the range goes after it
+    text = RULES.replace("SHAPE", "tri(0, 0, 5)").replace("input a in [0, 10]", "input a : kHz")
+    # "  input a : kHz": `kHz` 13-15, reported after it
+    assert messages(text)[0] == (2, 16, "`input a : kHz` is unfinished: expected `in` after "
+                                        "`kHz`; write `input a : kHz in [low, high]`")

@@ -2,7 +2,9 @@
 
 Syntax errors are reported per statement: lark's error recovery (`.recovery`) skips the rest of
 a broken statement and parses on from the next, so one run reports every broken statement (up
-to MAX_SYNTAX_ERRORS), not just the first.
+to MAX_SYNTAX_ERRORS), not just the first.  Where `.syntax_hints` recognises the mistake (a
+statement unfinished on its line, an upper-case keyword, another format's shape name) the
+message says what to write, at the place to write it.
 """
 from __future__ import annotations
 

@@ -130,10 +130,11 @@ def unfinished_statement(parser: Lark, exc: UnexpectedToken, text: str,
     last = _last_token(state.value_stack)
     if last is None or (token.type != "$END" and last.end_line >= token.line):
         return None
-    written = _written(state.value_stack, last, text, starts)
+    keyword = _statement_keyword(state.value_stack, starts)
+    written = _written(last, text, keyword)
     message = f"`{written}` is unfinished: expected {expected} after `{last}`"
-    if "IN" in row and "EQUAL" not in row and last.type == "NAME":
-        message += f"; write `{written} in [low, high]`"
+    if keyword is not None and keyword.type in ("VAR", "INPUT") and "IN" in row:
+        message += f"; write `{written} in [low, high]`"       # the range they must have
     if token.type == "$END":
         message += "; the file ends there"
     return last.end_line, last.end_column, message
@@ -143,16 +144,23 @@ def unfinished_statement(parser: Lark, exc: UnexpectedToken, text: str,
 MAX_QUOTED = 40
 
 
-def _written(values: list, last: Token, text: str, starts: frozenset[str]) -> str:
+def _statement_keyword(values: list, starts: frozenset[str]) -> Token | None:
+    """The word that began the statement in progress (`var`), or the controller's header."""
+    for value in reversed(values):
+        if isinstance(value, Token) and (value.type in starts or value.type == "CONTROLLER"):
+            return value
+        if isinstance(value, Token) and value.type == "LBRACE":
+            return None
+    return None
+
+
+def _written(last: Token, text: str, keyword: Token | None) -> str:
     """The unfinished statement as written on its last line, from its keyword when that is
     on the line (`var u`, not the `controller c {` before it), shortened to its end."""
     line = source_lines(text)[last.end_line - 1]
     begin = len(line) - len(line.lstrip())
-    for value in reversed(values):
-        if isinstance(value, Token) and value.line == last.end_line \
-                and (value.type in starts or value.type == "CONTROLLER"):
-            begin = value.column - 1
-            break
+    if keyword is not None and keyword.line == last.end_line:
+        begin = keyword.column - 1
     written = line[begin:last.end_column - 1].strip()
     return written if len(written) <= MAX_QUOTED else "..." + written[-MAX_QUOTED:]
 
