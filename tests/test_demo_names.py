@@ -91,3 +91,19 @@ def test_simulate_prints_the_note_only_for_the_scenarios_rule_base(tmp_path, cap
     out = capsys.readouterr().out
     assert "controller:" in out and NOTE not in out
     assert NOTE not in (tmp_path / "mine" / "summary.txt").read_text()
+
+
+def test_fuzzyc_learn_names_the_learned_controller_apart():
+    """The learned file `fuzzyc learn` writes is a controller of its own (NAME_learned, title
+    ", learned weights"), once: learning a learned file again keeps the one suffix."""
+    import numpy as np
+    from fuzzyc.language.parser import parse
+    from fuzzyc.learning import trained_text
+    untrained = load(ROOT / "rulebases" / "milling_neurofuzzy.fz")
+    weights = np.zeros(49)
+    text = trained_text(untrained, weights, provenance="by hand, for the test")
+    learned = parse(text)
+    assert learned.name == "milling_neurofuzzy_learned"
+    assert learned.title == untrained.title + ", learned weights"
+    again = parse(trained_text(learned, weights, provenance="again"))
+    assert (again.name, again.title) == (learned.name, learned.title)
