@@ -22,6 +22,7 @@ from __future__ import annotations
 
 from collections import OrderedDict
 from dataclasses import dataclass, field, replace
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -30,6 +31,7 @@ from .strength_grid import GridStrengths, lookup_rows, place_values
 from .membership import HEDGE_EXPONENT, LocalPartition, apply_hedges, memberships
 from ..semantics.model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
 from .norms import combine, firing
+from .scalar import ScalarGrid
 from .workspace import Workspace, WorkspacePool
 from .held_outputs import EXACT, Held, Policy, finish_output, locked, reads_values, refuse_stateless
 
@@ -185,6 +187,15 @@ class CompiledRuleBase:
                        + [4 * n_candidates * max(1, len(rb.inputs))])
         self.chunk_limit = max(1, CHUNK_FLOATS // max(1, work))   # no rules: no work
         self.pool = WorkspacePool()     # the grid path's buffers, per chunk size
+        self._scalar: ScalarGrid | None | bool = False     # built on first use
+
+    @property
+    def scalar(self) -> ScalarGrid | None:
+        """The one-sample path on Python floats (fuzzyc.engine.scalar), None where it does
+        not apply."""
+        if self._scalar is False:
+            self._scalar = ScalarGrid.build(self)
+        return self._scalar
 
     @staticmethod
     def sparse_partitions(rb: RuleBase) -> list[LocalPartition] | None:
@@ -300,6 +311,10 @@ class CompiledRuleBase:
         their signals as rows (the controller), without transposing on the way in or out."""
         if self.grid is None:
             return self.evaluate_chunk(xt.T, held).T
+        if xt.shape[1] == 1 and self.scalar is not None:
+            y = self.scalar(xt[:, 0].tolist())
+            if y is not None:
+                return np.array(y)[:, None]
         with self.pool.checkout(xt.shape[1]) as work:
             alpha = self.grid.rows(xt, work)
             y = np.empty((len(self.defuzzifiers), xt.shape[1]))
@@ -323,16 +338,26 @@ class CompiledRuleBase:
 
     def _peak_ratios(self, alpha: np.ndarray, work: Workspace | None,
                      out: np.ndarray) -> np.ndarray:
-        """Every output's sum(alpha z) / sum(alpha) (OutputDefuzzifier.from_strengths of a
-        peak-based ratio, the same calls on the same arrays) with one check of the
-        denominators for all outputs, into out (O, N)."""
+        """Every output's sum(alpha z) / sum(alpha) (a peak-based ratio, as
+        OutputDefuzzifier.from_strengths) with one check of the denominators for all outputs,
+        into out (O, N).  The sums run term by term in a fixed order, not through BLAS, whose
+        kernels (FMA, blocking) gave a sample's last bit that depended on the batch size; so a
+        sample's result is the same alone or in any batch, and the scalar path
+        (fuzzyc.engine.scalar) repeats the same operations."""
         n, n_out = alpha.shape[1], len(self.defuzzifiers)
         work = work if work is not None else Workspace(n)
         num, den = work.array("num", (n_out, n)), work.array("den", (n_out, n))
+        term = work.array("num_term", (n,))
         for o, (d, rows) in enumerate(zip(self.defuzzifiers, self.grid.slices)):
-            strengths = alpha[rows].T
-            np.matmul(strengths, d.peaks, out=num[o])
-            strengths.sum(axis=1, out=den[o])
+            strengths = alpha[rows]                                      # (T, N)
+            if len(strengths) == 0:
+                num[o], den[o] = 0.0, 0.0
+                continue
+            np.multiply(strengths[0], d.peaks[0], out=num[o])
+            den[o] = strengths[0]
+            for j in range(1, len(strengths)):
+                np.add(num[o], np.multiply(strengths[j], d.peaks[j], out=term), out=num[o])
+                np.add(den[o], strengths[j], out=den[o])
         if den.size and den.min() > 0:      # safe_ratio without a temporary
             return np.divide(num, den, out=out)
         out[...] = safe_ratio(num, den, self.defaults)
@@ -369,6 +394,10 @@ def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536, held: Held | None 
                          f"({', '.join(v.name for v in rb.inputs)}), got {x.shape[1]}")
     engine = compiled(rb)
     n = x.shape[0]
+    if n == 1 and engine.scalar is not None:
+        row = engine.scalar(x[0].tolist())
+        if row is not None:
+            return np.array([row])
     step = max(1, min(chunk, engine.chunk_limit))
     y = np.empty((n, len(rb.outputs)))
     with engine.pool.checkout(max(1, min(n, step))) as work:
@@ -385,8 +414,29 @@ def _input_row(rb: RuleBase, values: dict[str, float]) -> np.ndarray:
 
 
 def evaluate_one(rb: RuleBase, values: dict[str, float]) -> dict[str, float]:
+    """The outputs at one point given by input name (the scalar path where it applies)."""
     y = evaluate(rb, _input_row(rb, values))[0]
-    return {v.name: float(y[o]) for o, v in enumerate(rb.outputs)}
+    return dict(zip([v.name for v in rb.outputs], y.tolist()))
+
+
+def scalar_evaluator(rb: RuleBase) -> Callable[[Sequence[float]], list[float]]:
+    """f(values) -> outputs: one point (a float per input, in order) at a time, with rb's
+    tables as they are now, so no per-call check that rb has changed (`compiled` costs about
+    8 us).  Take a new one after assigning new arrays to rb.  Off the scalar path's reach (see
+    fuzzyc.engine.scalar) and at NaN inputs it calls the batch engine."""
+    engine = compiled(rb)
+    scalar = engine.scalar
+
+    def batch(values: Sequence[float]) -> list[float]:
+        return evaluate(rb, np.array([values], dtype=float))[0].tolist()
+
+    if scalar is None:
+        return batch
+
+    def one(values: Sequence[float]) -> list[float]:
+        y = scalar(values)
+        return batch(values) if y is None else y
+    return one
 
 
 @dataclass
