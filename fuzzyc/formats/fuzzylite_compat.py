@@ -103,6 +103,8 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
                sampling: Sampling, first_plateau: bool) -> np.ndarray:
     var, inf = rb.outputs[o], rb.inference_of(o)
     rules = np.flatnonzero(rb.consequents[:, o] >= 0)
+    if not rules.size:          # no rule concludes the output: its fuzzy set is empty
+        return np.full(act.shape[0], var.default)
     u, w = _samples(var, resolution, sampling)                                       # (K,)
     mu = memberships(var, u)[:, rb.consequents[rules, o]].T                          # (R, K)
     a = act[:, rules, None]                                                          # (N, R, 1)
