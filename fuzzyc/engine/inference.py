@@ -21,6 +21,7 @@ processed in chunks so memory stays flat in the batch size.
 from __future__ import annotations
 
 from collections import OrderedDict
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass, field, replace
 from typing import Callable, Sequence
 
@@ -385,9 +386,12 @@ def compiled(rb: RuleBase) -> CompiledRuleBase:
 
 
 def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536, held: Held | None = None,
-             policy: Policy = EXACT) -> np.ndarray:
+             policy: Policy = EXACT, threads: int = 1) -> np.ndarray:
     """x (N, I) -> y (N, O), in chunks so memory is flat in N (`held`, `policy`: see
-    CompiledRuleBase.evaluate_chunk)."""
+    CompiledRuleBase.evaluate_chunk).  threads > 1 spreads the chunks over that many threads
+    (numpy releases the GIL inside its kernels), each with its own workspace; every chunk is
+    computed as with one thread, so the results are the same bits.  Outputs evaluated in
+    order (held values, function terms) stay on one thread."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     if x.shape[1] != len(rb.inputs):
         raise ValueError(f"expected {len(rb.inputs)} input columns "
@@ -400,9 +404,22 @@ def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536, held: Held | None 
             return np.array([row])
     step = max(1, min(chunk, engine.chunk_limit))
     y = np.empty((n, len(rb.outputs)))
-    with engine.pool.checkout(max(1, min(n, step))) as work:
-        for s in range(0, n, step):
-            engine.evaluate_chunk(x[s:s + step], held, policy, work, y[s:s + step])
+    starts = range(0, n, step)
+
+    def run(part: range) -> None:
+        with engine.pool.checkout(max(1, min(n, step))) as work:
+            for s in part:
+                engine.evaluate_chunk(x[s:s + step], held, policy, work, y[s:s + step])
+
+    workers = min(threads, len(starts)) if not engine.ordered else 1
+    if workers <= 1:
+        run(starts)
+        return y
+    # contiguous runs of chunks, one per thread
+    bounds = np.linspace(0, len(starts), workers + 1).astype(int)
+    with ThreadPoolExecutor(workers) as executor:
+        for done in [executor.submit(run, starts[a:b]) for a, b in zip(bounds, bounds[1:])]:
+            done.result()
     return y
 
 
