@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from fuzzyc.cli import main
 from tests.differential import tools
 from tests.differential.compare import ours
 
@@ -43,6 +44,16 @@ CASES = {
     "unconcluded": ("unconcluded.fll", ["a"], ["y", "z"], [[2.0], [5.0]],
                     {"pyfuzzylite": [[9.6 / 2.64, 3.0], [5.0, 3.0]],
                      "fuzzylite": [[9.6 / 2.64, 3.0], [5.0, 3.0]]}),
+    # The file's settings (issue 28, items 1-3): `lock-range: true` clamps a (15 -> 10,
+    # -5 -> 0), `Centroid 7` samples y at the 7 midpoints u_k = (k + 1/2) 10/7, z's numeric
+    # default 4.5 replaces "no rule fired".  a=15 -> 10: high 1, big unclipped; its samples
+    # 6.43, 7.86, 9.29 have membership 0.2143, 0.9286, 0.3571 (the others 0), so
+    # y = (6.43*0.2143 + 7.86*0.9286 + 9.29*0.3571) / 1.5 = 7.9932; z: low 0, default 4.5.
+    # a=-5 -> 0: y nothing fired (default nan); z the mirror image, 10 - 7.9932 = 2.0068.
+    # Unclamped, a=15 gives high 0.5 and y = 7.86 + ... another number.
+    "locked": ("locked.fll", ["a"], ["y", "z"], [[15.0], [-5.0]],
+               {"pyfuzzylite": [[7.993197278911565, 4.5], [NAN, 2.006802721088435]],
+                "fuzzylite": [[7.993197278911565, 4.5], [NAN, 2.006802721088435]]}),
 }
 
 PARAMS = [pytest.param(name, tool, id=f"{name}-{tool}")
@@ -66,3 +77,24 @@ def test_live_tool_gives_the_recorded_numbers(name, tool):
     (y,) = tools.run(tool, [(FILES / file, np.array(x), inputs, outputs)])
     assert not isinstance(y, Exception), y
     np.testing.assert_allclose(y, np.array(numbers[tool]), rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("name, tool", PARAMS)
+def test_fuzzyc_eval_applies_the_file_settings(name, tool, tmp_path, capsys):
+    """`fuzzyc eval FILE --csv --semantics TOOL` gives the numbers the conversion path gives
+    (lock-range, the file's resolution, numeric defaults; before, it ignored all three)."""
+    file, inputs, outputs, x, numbers = CASES[name]
+    csv = tmp_path / "x.csv"
+    csv.write_text(",".join(inputs) + "\n" + "".join(",".join(repr(v) for v in row) + "\n"
+                                                     for row in x))
+    assert main(["eval", str(FILES / file), "--csv", str(csv), "--semantics", tool]) == 0
+    rows = [line.split(",") for line in capsys.readouterr().out.strip().splitlines()]
+    y = [[float(row[rows[0].index(n)]) for n in outputs] for row in rows[1:]]
+    np.testing.assert_allclose(y, np.array(numbers[tool]), rtol=0, atol=1e-9)
+
+
+def test_eval_says_a_locked_input_is_clamped(tmp_path, capsys):
+    main(["eval", str(FILES / "locked.fll"), "a=15", "--semantics", "pyfuzzylite"])
+    assert "(clamped: the file's lock-range)" in capsys.readouterr().err
+    main(["eval", str(FILES / "locked.fll"), "a=15"])
+    assert "(not clamped)" in capsys.readouterr().err

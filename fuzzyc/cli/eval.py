@@ -79,15 +79,19 @@ def parse_assignments(model: Model, pairs: list[str], core: bool,
     return values
 
 
-def warn_out_of_range(model: Model, values: dict[str, np.ndarray], core: bool) -> None:
+def warn_out_of_range(model: Model, values: dict[str, np.ndarray], core: bool,
+                      semantics: str = "exact") -> None:
+    from ..formats.tool_semantics import clamped_inputs
     ranges = ({v.name: (v.lo, v.hi) for v in model.rulebase.inputs} if core
               else {s.name: (s.lo, s.hi) for s in model.signals})
+    clamped = clamped_inputs(model, semantics)
     for name, column in values.items():
         lo, hi = ranges[name]
         bad = np.count_nonzero((column < lo) | (column > hi))
         if bad:
+            what = "clamped: the file's lock-range" if name in clamped else "not clamped"
             print(f"warning: {bad} value{'s' if bad > 1 else ''} of `{name}` outside its range "
-                  f"[{lo:g}, {hi:g}] (not clamped)", file=sys.stderr)
+                  f"[{lo:g}, {hi:g}] ({what})", file=sys.stderr)
 
 
 def evaluate_batch(model: Model, columns: dict[str, np.ndarray], core: bool,
@@ -97,10 +101,10 @@ def evaluate_batch(model: Model, columns: dict[str, np.ndarray], core: bool,
     if core and semantics == "exact":
         return evaluate(model, columns)
     if core:
-        from ..formats.tool_semantics import ToolEngine
+        from ..formats.tool_semantics import ToolEngine, file_settings
         rb = model.rulebase
         x = np.column_stack([columns[v.name] for v in rb.inputs])
-        y = ToolEngine(rb, semantics).evaluate_rows(x.T).T
+        y = ToolEngine(rb, semantics, file_settings(model)).evaluate_rows(x.T).T
         return {v.name: y[:, o] for o, v in enumerate(rb.outputs)}
     controller = Controller(model, batch=len(next(iter(columns.values()))), semantics=semantics)
     return _step(controller, columns)
@@ -146,7 +150,7 @@ def run(args) -> int:
     if args.plot:
         check_output(args.plot)
     columns = {k: np.array([v]) for k, v in values.items()}
-    warn_out_of_range(model, columns, args.core)
+    warn_out_of_range(model, columns, args.core, args.semantics)
     outputs = {k: float(v[0]) for k, v in
                evaluate_batch(model, columns, args.core, args.semantics).items()}
     fired, rb_inputs = _explain(model, columns, args.core)
@@ -244,7 +248,7 @@ def _run_csv(model: Model, args) -> int:
                 raise _fail(f"{args.csv}:{line_no}:{col + 1}: {not_a_number(cell)} "
                             f"(column {name})")
             columns[name][line_no - 2] = value
-    warn_out_of_range(model, columns, args.core)
+    warn_out_of_range(model, columns, args.core, args.semantics)
     outputs = (evaluate_series(model, columns, args.semantics) if args.series
                else evaluate_batch(model, columns, args.core, args.semantics))
     out = io.StringIO()

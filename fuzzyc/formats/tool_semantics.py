@@ -107,14 +107,32 @@ def with_tool_semantics(model: Model, semantics: str, command: str) -> Model:
 
 
 class ToolEngine:
-    """The controller's engine under a tool's semantics (eval, simulate): rows in, rows out."""
+    """The controller's engine under a tool's semantics (eval, simulate): rows in, rows out.
+    Under fuzzylite's semantics the file's settings apply as in `Chain` (the rule base's
+    locked inputs clamped, the file's resolution unless the semantics names one, a NaN output
+    replaced by a numeric default, locked outputs clipped)."""
 
-    def __init__(self, rb: RuleBase, semantics: str):
+    def __init__(self, rb: RuleBase, semantics: str, settings: FileSettings | None = None):
         self.rb = rb
         self.name, self.resolution = parse_semantics(semantics)
+        fuzzylite = self.name in ("fuzzylite", "pyfuzzylite")
+        self.settings = settings if settings is not None and fuzzylite else FileSettings()
+        if self.resolution is None:
+            points = [self.settings.resolution[v.name] for v in rb.outputs
+                      if v.name in self.settings.resolution]
+            self.resolution = points[0] if points else None
+        self.locked = np.array([v.name in self.settings.locked for v in rb.inputs], dtype=bool)
+        self.lo = np.array([v.lo for v in rb.inputs], dtype=float)
+        self.hi = np.array([v.hi for v in rb.inputs], dtype=float)
 
     def evaluate_rows(self, xt: np.ndarray, held: Held | None = None) -> np.ndarray:
-        return evaluate_as(self.rb, np.asarray(xt).T, self.name, self.resolution, held).T
+        x = np.asarray(xt, dtype=float).T
+        if self.locked.any():
+            x = np.where(self.locked, np.clip(x, self.lo, self.hi), x)
+        y = evaluate_as(self.rb, x, self.name, self.resolution, held)
+        if self.settings.known or self.settings.locked:
+            y = _as_fuzzylite_outputs(self.rb.outputs, y, self.settings)
+        return y.T
 
 
 @dataclass
@@ -161,6 +179,14 @@ def file_settings(model: Model) -> FileSettings:
             if re.search(r"DEFAULT\s*:=\s*nan", body, re.I):
                 found.nan_default.add(name)
     return found
+
+
+def clamped_inputs(model: Model, semantics: str) -> set[str]:
+    """The inputs `semantics` clamps to their ranges: the file's `lock-range` ones under
+    fuzzylite's semantics, none otherwise."""
+    if parse_semantics(semantics)[0] not in ("fuzzylite", "pyfuzzylite"):
+        return set()
+    return file_settings(model).locked
 
 
 class Chain:
