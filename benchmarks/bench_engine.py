@@ -4,7 +4,9 @@ Evaluations per second at several batch sizes, for center of area (the paper's e
 the exact centroid (outputs switched to uniform triangles with the same peaks), against the
 plain dense numpy baseline (benchmarks/dense_numpy_wedm.py) and, if installed, pyfuzzylite 8
 (benchmarks/fuzzylite_wedm.py says exactly what is compared).
-Median of repeated runs; peak memory by tracemalloc.  Writes benchmarks/results/engine.md.
+Median of repeated runs in CPU time (time.process_time: other processes on a shared machine
+count less than in wall time); minor page faults per call (resource.getrusage) and peak memory
+by tracemalloc.  Writes benchmarks/results/engine.md.
 
     python3 benchmarks/bench_engine.py [--quick]
 """
@@ -14,6 +16,7 @@ import copy
 import os
 import pathlib
 import platform
+import resource
 import sys
 import time
 
@@ -48,16 +51,26 @@ def rate(fn, n, repeats):
 
 def interleaved_seconds(fns, repeats):
     """Per repeat, one timed call of every fn in turn (after one warm-up call each), so a
-    change in the machine's load hits the baseline and the engine alike.  (repeats, len(fns))"""
+    change in the machine's load hits the baseline and the engine alike; CPU seconds.
+    (repeats, len(fns))"""
     for fn in fns:
         fn()
     times = np.empty((repeats, len(fns)))
     for r in range(repeats):
         for k, fn in enumerate(fns):
-            start = time.perf_counter()
+            start = time.process_time()
             fn()
-            times[r, k] = time.perf_counter() - start
+            times[r, k] = time.process_time() - start
     return times
+
+
+def faults_per_call(fn, calls: int = 3) -> float:
+    """Minor page faults per call after a warm-up call (fresh pages the call touched)."""
+    fn()
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+    for _ in range(calls):
+        fn()
+    return (resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before) / calls
 
 
 def main(quick: bool = False) -> str:
@@ -80,15 +93,19 @@ def main(quick: bool = False) -> str:
         row = [f"{n:,}", f"{rates[0]:,.0f}", f"{rates[1]:,.0f}", f"{rates[2]:,.0f}",
                f"{loop_ratio:.1f}x", f"{matrix_ratio:.1f}x", f"{rates[3]:,.0f}",
                f"{centroid_ratio:.1f}x"]
+        row += [f"{faults_per_call(fn):,.0f}" for fn in fns[2:]]
         row += [f"{peak_bytes(fn) / 2**20:.1f}" for fn in fns]
         rows.append(row)
         print(" | ".join(row), flush=True)
     load_after = os.getloadavg()[0]
     header = ["batch", "dense loop COA /s", "dense matrix COA /s", "engine COA /s",
-              "vs loop", "vs matrix", "engine centroid /s", "vs loop", "loop MiB", "matrix MiB",
+              "vs loop", "vs matrix", "engine centroid /s", "vs loop", "COA faults/call",
+              "centroid faults/call", "loop MiB", "matrix MiB",
               "COA MiB", "centroid MiB"]
     text = ("# Engine benchmark: WEDM three-region rule base (75 rules, 3 inputs, 2 outputs)\n\n"
-            "Evaluations per second, median of repeats; one evaluation = both outputs. Two "
+            "Evaluations per second (CPU time), median of repeats; one evaluation = both outputs; "
+            "minor page faults per call after a warm-up call (an output array the allocator maps "
+            "fresh costs its pages: 391 at 1e5). Two "
             "plain dense numpy baselines, both evaluating all 75 rules for every sample "
             "(benchmarks/dense_numpy_wedm.py): *loop*, a Python loop over the 75 rules with each "
             "rule vectorized over the batch, and *matrix*, all activations as one (N, 75) matrix "
