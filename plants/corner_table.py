@@ -19,15 +19,19 @@ from . import scenario as scenarios
 from .wedm_corner import ANGLE_OUTPUTS, NORMAL_OUTPUTS, TABLE2_ANGLES, TABLE4_CONDITIONS
 
 
-def predict(conditions: np.ndarray = TABLE4_CONDITIONS, like: float = 1.0
+def predict(conditions: np.ndarray = TABLE4_CONDITIONS, like: float = 1.0, model=None
             ) -> dict[str, np.ndarray]:
     """Run the closed loop for rows (thickness mm, feed mm^2/min): normal and controlled error
-    per Table 2 angle, (N, 5) um, and machining times, (N,) s."""
+    per Table 2 angle, (N, 5) um, and machining times, (N,) s. model: another corner
+    controller than the scenario's file (a tuned one), run with its own `like`."""
     from fuzzyc.runtime.simulate import simulate
     corner = scenarios.load("corner_path")
     corner.data["plant"]["params"].update(thickness=conditions[:, 0], feed=conditions[:, 1])
     corner.data["controller"]["params"]["like"] = like
-    trace = simulate(corner, batch=len(conditions))
+    if model is None:
+        trace = simulate(corner, batch=len(conditions))
+    else:
+        trace = _run_model(corner, model, len(conditions))
     done = trace["done"] > 0.5
     if not done[-1].all():
         raise RuntimeError("a row did not finish the path within the scenario's duration")
@@ -35,6 +39,16 @@ def predict(conditions: np.ndarray = TABLE4_CONDITIONS, like: float = 1.0
             "controlled": np.stack([trace[n][-1] for n in ANGLE_OUTPUTS], axis=1),
             "normal_time": trace["normal_time"][-1],
             "time": trace.time[np.argmax(done, axis=0)]}
+
+
+def _run_model(corner, model, batch: int):
+    """The scenario's loop around `model` (its params as they are: the scenario's `like` is
+    not applied)."""
+    from fuzzyc.engine.chain import Controller
+    from fuzzyc.runtime.loop import run
+    from fuzzyc.runtime.simulate import build
+    blocks = build(corner, Controller(model, batch), batch)
+    return run(blocks, corner.period, corner.duration, batch, initial=corner.data.get("initial"))
 
 
 def markdown(conditions: np.ndarray, result: dict[str, np.ndarray]) -> str:

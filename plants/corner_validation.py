@@ -145,13 +145,15 @@ def _number(word: str) -> float | None:
     return value if math.isfinite(value) else None
 
 
-def commanded_reduction(conditions: np.ndarray, like: float = 1.0) -> np.ndarray:
+def commanded_reduction(conditions: np.ndarray, like: float = 1.0, model=None) -> np.ndarray:
     """The reduction y * like (%) that the corner_path loop's controller (the 27 rules) commands
     at each Table 2 angle of each row (thickness mm, feed mm^2/min), its inputs steady: (N, 5).
-    (Its low-pass starts at its input, so the first sample is already the steady value.)"""
+    (Its low-pass starts at its input, so the first sample is already the steady value.)
+    model: another corner controller (a tuned one), with its own `like` (`like` is ignored)."""
     import fuzzyc
-    model = fuzzyc.load(scenarios.load("corner_path").rulebase_path())
-    model.params["like"].value = float(like)
+    if model is None:
+        model = fuzzyc.load(scenarios.load("corner_path").rulebase_path())
+        model.params["like"].value = float(like)
     conditions = np.asarray(conditions, float)
     rows, cols = len(conditions), len(ANGLES)
     controller = fuzzyc.Controller(model, batch=rows * cols)

@@ -162,3 +162,32 @@ def test_fopdt_fuzzy_pi_tuned_iae_below_untuned_properties_kept():
     assert any(c.text.startswith("settles y to r") for c in fit.properties)
     again, _ = tune_fuzzy(seed=0, max_evaluations=25, max_examples=10)
     assert again.values.tobytes() == fit.values.tobytes()
+
+
+def test_table4_50mm_holds_the_issues_numbers():
+    from fuzzyc.plants.corner_validation import read_measured
+    from fuzzyc.tune.corner_identify import DATA
+    table = read_measured(DATA)
+    assert table.conditions.tolist() == [[50, 160], [50, 120], [50, 80], [50, 40]]
+    # issue 31's table, row by row: normal / controlled at 30 60 90 120 150 deg
+    assert table.normal.tolist() == [[218.2, 97.4, 75.3, 39.8, 22.0],
+                                     [183.0, 76.8, 60.5, 28.0, 16.1],
+                                     [155.2, 58.9, 44.9, 24.2, 15.8],
+                                     [137.7, 42.8, 28.6, 21.3, 14.2]]
+    assert table.controlled.tolist() == [[78.8, 42.7, 36.2, 16.3, 11.2],
+                                         [62.4, 35.8, 28.5, 13.7, 8.2],
+                                         [55.2, 27.4, 22.9, 12.6, 8.0],
+                                         [48.5, 21.6, 16.5, 10.5, 7.2]]
+
+
+def test_corner_commands_of_a_given_model_are_its_own():
+    # the identification's cost reads the controller it is given: like 1.2 on the model gives
+    # what like=1.2 gives the file's controller (1.2 x the rules' y, saturated at 90)
+    from fuzzyc.plants import corner_validation as validation
+    from fuzzyc.tune.corner_identify import DATA
+    rows = validation.read_measured(DATA).conditions
+    model = fuzzyc.load(scenarios.load("corner_path").rulebase_path())
+    model.params["like"].value = 1.2
+    given = validation.commanded_reduction(rows, model=model)
+    assert given.tolist() == validation.commanded_reduction(rows, like=1.2).tolist()
+    assert np.allclose(given, np.minimum(90, 1.2 * validation.commanded_reduction(rows)))

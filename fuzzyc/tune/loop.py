@@ -35,7 +35,7 @@ METRIC_CALL = re.compile(r"^\s*(\w+)\s*\(\s*(\w+)\s*(?:,\s*([\w.+-]+)\s*)?\)\s*$
 @dataclass
 class LoopFit:
     """The tuned numbers, the cost before and after, and the properties (and limits) before
-    and after. `evaluations`: closed-loop runs the search made."""
+    and after. `evaluations`: the cost's evaluations (closed-loop runs unless a cost is given)."""
     numbers: list[TunedNumber]
     values: np.ndarray
     model: Model
@@ -117,14 +117,12 @@ class ClosedLoop:
         self.batch, self.seed, self.randomize = batch, seed, randomize
         self.metric = metric_function(scenario, metric)
         self.limits = [(text, value, metric_function(scenario, text)) for text, value in limits]
-        self.evaluations = 0
         _apply_scenario(scenario, space)
 
     def trace(self, theta):
         from fuzzyc.engine.chain import Controller
         from fuzzyc.runtime.loop import run
         from fuzzyc.runtime.simulate import build
-        self.evaluations += 1
         controller = Controller(self.space.apply(theta), self.batch)
         blocks = build(self.scenario, controller, self.batch, self.seed, self.randomize)
         return run(blocks, self.scenario.period, self.scenario.duration, self.batch,
@@ -221,16 +219,21 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
     space = Space(model)
     loop = ClosedLoop(scenario, space, metric, batch=batch, seed=seed, randomize=randomize,
                       limits=limits)
-    cost = cost or loop
+    given = cost
+    calls = [0]
+
+    def counted(theta) -> float:
+        calls[0] += 1
+        return (given or loop)(theta)
     props = kept_properties(model)
     checks = [PropertyCheck(p.text, status(model, p, seed)[0].value) for p in props]
     loop_before = closed_loop_checks(model, seed, max_examples)
     checks += [PropertyCheck(text, verdict) for text, verdict, _ in loop_before]
-    limit_before = loop.measure(space.x0)[1]
+    limit_before = _limits(loop, space.x0)
     checks += [PropertyCheck(f"{text} <= {limit:g}", _limit_verdict(v, limit))
                for (text, limit, _), v in zip(loop.limits, limit_before)]
     kept = {c.text for c in checks if c.before in {s.value for s in KEPT}}
-    before = cost(space.x0)
+    before = counted(space.x0)
 
     def lost(theta) -> list[str]:
         candidate = space.apply(theta)
@@ -244,13 +247,14 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
                                                         max_examples):
             if text in kept and verdict not in {s.value for s in KEPT}:
                 why.append(f"loses `{text}` ({verdict}: {detail})")
-        for (text, limit, _), v in zip(loop.limits, loop.measure(theta)[1]):
+        for (text, limit, _), v in zip(loop.limits, _limits(loop, theta)):
             if f"{text} <= {limit:g}" in kept and _limit_verdict(v, limit) != "held":
                 why.append(f"loses `{text} <= {limit:g}` ({text} = {v:.6g})")
         return why
 
-    found = minimize_within(cost, space.x0, space.lo, space.hi, method, max_evaluations)
-    name = f"scipy {method} within the bounds, {loop.evaluations} closed-loop runs"
+    found = minimize_within(counted, space.x0, space.lo, space.hi, method, max_evaluations)
+    runs = "closed-loop runs" if given is None else "evaluations of the given cost"
+    name = f"scipy {method} within the bounds, {calls[0]} {runs}"
     rejected = []
     reasons = lost(found)
     if reasons:
@@ -264,7 +268,7 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
     after_props = {p.text: status(tuned, p, seed) for p in props}
     after_loop = {t: (v, d) for t, v, d in closed_loop_checks(copy.deepcopy(tuned), seed,
                                                                 max_examples)}
-    after_limits = loop.measure(found)[1]
+    after_limits = _limits(loop, found)
     for c in checks:
         if c.text in after_props:
             c.after, c.detail = after_props[c.text][0].value, after_props[c.text][1]
@@ -274,7 +278,12 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
         check = next(c for c in checks if c.text == f"{text} <= {limit:g}")
         check.after, check.detail = _limit_verdict(v, limit), f"{text} = {v:.6g}"
     return LoopFit(space.numbers, np.asarray(found, dtype=float), tuned, float(before),
-                   float(cost(found)), name, checks, rejected, seed, loop.evaluations)
+                   float(counted(found)), name, checks, rejected, seed, calls[0])
+
+
+def _limits(loop: ClosedLoop, theta) -> list[float]:
+    """The limited metrics at theta (no loop is run when there are none: a custom cost)."""
+    return loop.measure(theta)[1] if loop.limits else []
 
 
 def _limit_verdict(value: float, limit: float) -> str:
