@@ -54,10 +54,33 @@ CASES = {
     "locked": ("locked.fll", ["a"], ["y", "z"], [[15.0], [-5.0]],
                {"pyfuzzylite": [[7.993197278911565, 4.5], [NAN, 2.006802721088435]],
                 "fuzzylite": [[7.993197278911565, 4.5], [NAN, 2.006802721088435]]}),
+    # SmallestOfMaximum / LargestOfMaximum (FLL), LM / RM (FCL), som / lom (FIS): refused
+    # before.  small = Trapezoid 0 1 3 4, big = Triangle 6 8 10 on [0, 10], max-min.
+    # a=2: small clipped at 0.8 on [0.8, 3.2] (exact); fuzzylite's 100 midpoints 0.05 + 0.1 k
+    #   first reach 0.8 at 0.85 and last hold it at 3.15.  a=9: big clipped at 0.9 on
+    #   [7.8, 8.2]: 7.85 and 8.15.  a=5: both at 0.5, small on [0.5, 3.5], big on [7, 9]:
+    #   0.55 and 8.95.
+    "extremes": ("extremes.fll", ["a"], ["first", "last"], [[2.0], [9.0], [5.0]],
+                 {"pyfuzzylite": [[0.85, 3.15], [7.85, 8.15], [0.55, 8.95]],
+                  "fuzzylite": [[0.85, 3.15], [7.85, 8.15], [0.55, 8.95]],
+                  "exact": [[0.8, 3.2], [7.8, 8.2], [0.5, 9.0]]}),
+    "extremes_LM": ("extremes_LM.fcl", ["a"], ["y"], [[2.0], [9.0], [5.0]],
+                    {"fuzzylite": [[0.85], [7.85], [0.55]]}),
+    "extremes_RM": ("extremes_RM.fcl", ["a"], ["y"], [[2.0], [9.0], [5.0]],
+                    {"fuzzylite": [[3.15], [8.15], [8.95]]}),
+    # Octave samples linspace(0, 10, 101), step 0.1, and takes samples equal to the maximum:
+    # a=2: 0.8 (mu 0.8 exactly) and 3.1 (at 3.2, (4 - 3.2) / 1 = 0.7999999999999998 < 0.8);
+    # a=9: 7.9 (Octave's 7.8 is 10 - 22 * 0.1 = 7.7999999999999998, mu 0.8999999999999999 <
+    # 0.9) and 8.2; a=5: 0.5 and 9.  Both outputs use the system's DefuzzMethod.
+    "extremes_som": ("extremes_som.fis", ["a"], ["first", "second"], [[2.0], [9.0], [5.0]],
+                     {"octave": [[0.8, 0.8], [7.9, 7.9], [0.5, 0.5]]}),
+    "extremes_lom": ("extremes_lom.fis", ["a"], ["first", "second"], [[2.0], [9.0], [5.0]],
+                     {"octave": [[3.1, 3.1], [8.2, 8.2], [9.0, 9.0]]}),
 }
 
 PARAMS = [pytest.param(name, tool, id=f"{name}-{tool}")
           for name, (_, _, _, _, numbers) in CASES.items() for tool in numbers]
+TOOL_PARAMS = [p for p in PARAMS if p.values[1] != "exact"]
 
 
 @pytest.mark.parametrize("name, tool", PARAMS)
@@ -68,7 +91,7 @@ def test_fuzzyc_gives_the_tools_numbers(name, tool):
     np.testing.assert_allclose(got.y, np.array(numbers[tool]), rtol=0, atol=1e-9)
 
 
-@pytest.mark.parametrize("name, tool", PARAMS)
+@pytest.mark.parametrize("name, tool", TOOL_PARAMS)
 def test_live_tool_gives_the_recorded_numbers(name, tool):
     why = tools.available(tool)
     if why:
@@ -98,3 +121,43 @@ def test_eval_says_a_locked_input_is_clamped(tmp_path, capsys):
     assert "(clamped: the file's lock-range)" in capsys.readouterr().err
     main(["eval", str(FILES / "locked.fll"), "a=15"])
     assert "(not clamped)" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("file", ["extremes.fll", "extremes_LM.fcl", "extremes_som.fis"])
+def test_the_c_back_ends_refuse_the_extremes_of_maximum(file, tmp_path, capsys):
+    """No C emission for smallest/largest of maximum (their records have none): a refusal that
+    names the defuzzifier, not a header computing something else."""
+    for numeric in ("float", "q15"):
+        assert main(["compile", str(FILES / file), "--numeric", numeric, "-o",
+                     str(tmp_path)]) != 0
+        assert "does not emit the smallest_of_maximum defuzzifier" in capsys.readouterr().err
+    assert not list(tmp_path.glob("*.h"))
+
+
+@pytest.mark.parametrize("word", ["smallest_of_maximum", "som", "largest_of_maximum", "lom"])
+def test_fz_reads_the_extremes(word, tmp_path):
+    """.fz says them too (the converted files read back): a=2 gives 0.8 / 3.2 exactly."""
+    from fuzzyc.api import evaluate, load
+    text = (FILES / "extremes.fll").read_text()
+    fz = tmp_path / "extremes.fz"
+    assert main(["convert", str(FILES / "extremes.fll"), str(fz)]) == 0
+    fz.write_text(fz.read_text().replace("defuzzify = smallest_of_maximum", f"defuzzify = {word}")
+                  .replace("defuzzify = largest_of_maximum", f"defuzzify = {word}"))
+    y = evaluate(load(str(fz)), {"a": np.array([2.0])})
+    expected = 0.8 if word in ("smallest_of_maximum", "som") else 3.2
+    assert "LargestOfMaximum" in text
+    np.testing.assert_allclose([y["first"][0], y["last"][0]], [expected, expected], atol=1e-12)
+
+
+def test_extremes_under_probsum_are_exact():
+    """AlgebraicSum aggregation (a piecewise polynomial set, fuzzyc.engine.defuzz): a=5 fires
+    small and big at 0.5 each, apart (no overlap), so the set is small on [0.5, 3.5] and big on
+    [7, 9] at 0.5: the smallest of maximum 0.5, the largest 9 (before, the probsum path took
+    them for the bisector)."""
+    from fuzzyc.formats import read_fll
+    from fuzzyc.api import evaluate
+    text = (FILES / "extremes.fll").read_text().replace("aggregation: Maximum",
+                                                        "aggregation: AlgebraicSum")
+    y = evaluate(read_fll(text), {"a": np.array([5.0, 2.0])})
+    np.testing.assert_allclose(y["first"], [0.5, 0.8], atol=1e-12)
+    np.testing.assert_allclose(y["last"], [9.0, 3.2], atol=1e-12)

@@ -10,7 +10,7 @@ real grammar.  Mapping (exact unless said):
   for OR only).
   METHOD COG -> CENTROID, COGS -> CENTER_OF_AREA (the centre of gravity of singletons, which the
   model computes over the terms' peaks), COA -> BISECTOR (IEC's "centre of area" halves the
-  area), MM -> MEAN_OF_MAXIMUM.
+  area), MM -> MEAN_OF_MAXIMUM, LM / RM -> SMALLEST_ / LARGEST_OF_MAXIMUM.
 fuzzylite's FCL: terms written as in FLL (`TERM low := Triangle 0 0.25 0.5;`, see
   fll.fuzzylite_shape), `DEFAULT := nan` (as FLL's `default: nan`), the norms EPROD, DPROD,
   HPROD, NMIN, ESUM, DSUM, HSUM, NMAX, NSUM, as ACT and ACCU too; METHOD COGS without ACCU is
@@ -485,8 +485,8 @@ def _fcl_method(model: Model, problems: list[str], notes: list[str]):
         outputs, changed = peaks_instead(model, "FCL")
         notes.extend(changed)
         return outputs, "COGS"
-    return rb.outputs, {Defuzzifier.CENTROID: "COG", Defuzzifier.BISECTOR: "COA",
-                        Defuzzifier.MEAN_OF_MAXIMUM: "MM"}.get(method, "COG")
+    # the registry's METHOD word (LM, RM too); COG for what FCL has no word for
+    return rb.outputs, ops.DEFUZZIFIERS[method].fcl or "COG"
 
 
 def _fcl_terms(var, problems: list[str], notes: list[str]) -> list[str]:

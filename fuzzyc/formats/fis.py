@@ -16,7 +16,7 @@ The Octave toolkit's and fuzzylite's further norms (einstein_product, hamacher_s
 membership functions (rampmf, rectmf, concavemf, cosinemf, spikemf; dsigmf, psigmf, gauss2mf
 as fuzzylite's SigmoidDifference, SigmoidProduct, GaussianProduct) are read too.
 Comments: `%` to the end of the line, and lines starting with `#`.
-Not carried, reported: other MF types (discretemf, custom functions), som/lom, negated
+Not carried, reported: other MF types (discretemf, custom functions), negated
 consequents, a weight other than 1 on a row with a hedged consequent, type hybrid
 (fuzzylite: a defuzzifier per output); type tsukamoto (fuzzylite's: wtaver over monotonic terms) is the model's Tsukamoto defuzzifier.
 When no rule fires, MATLAB's evalfis sets an output to the middle of its range (with a
@@ -437,7 +437,7 @@ def read_fis(text: str, path: str = "<string>") -> Model:
 
 # ---------------------------------------------------------------------- export
 FIS_WORDS = {field: {v: k for k, v in table.items()} for field, table in SETTINGS.values()}
-AREA_METHODS = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
+AREA_METHODS = ops.members(ops.DEFUZZIFIERS, lambda rec: rec.family == "area")
 # assumption: MATLAB's documented default number of points evalfis samples a Mamdani output
 # range on (NumSamplePoints); not from a paper, used only to say so in a warning.
 MATLAB_POINTS = 101

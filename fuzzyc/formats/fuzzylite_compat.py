@@ -9,7 +9,10 @@ k = 0..n-1, n = the defuzzifier's resolution (C++ default 100, pyfuzzylite 8 def
     (normalised by the cumsum's last element, as fuzzylite: normalising by a pairwise sum M
     instead differs in the last bit and moved near-ties by one sample, 0.001-0.002 off on
     tests/format_corpus/ramp.fll at n = 1000 under Maximum and UnboundedSum aggregation);
-  MeanOfMaximum = the mean of the u_k where M is largest (and positive).
+  MeanOfMaximum = the mean of the u_k where M is largest (and positive);
+  SmallestOfMaximum / LargestOfMaximum = the smallest / largest such u_k (pyfuzzylite 8; fuzzylite
+    6 scans from the left with its 1e-6 tolerance: a larger sample for the smallest, a larger or
+    equal one for the largest; Octave: the samples equal to the maximum).
 The Bisector is pyfuzzylite 8's; C++ fuzzylite's (read in the 4.x source, 6 not checked) sweeps
 the midpoints from both ends, adding to the smaller side's area, and returns the two last
 midpoints' area-weighted average: a different answer, not reproduced here and not measured.
@@ -43,7 +46,9 @@ from ..engine.membership import memberships
 from ..semantics.model import Aggregation, Defuzzifier, RuleBase, SNorm, TermKind, aggregation_snorm
 from ..engine.norms import combine, implied
 
-SAMPLED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM)
+SAMPLED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM,
+           Defuzzifier.SMALLEST_OF_MAXIMUM, Defuzzifier.LARGEST_OF_MAXIMUM)
+EXTREMES = (Defuzzifier.SMALLEST_OF_MAXIMUM, Defuzzifier.LARGEST_OF_MAXIMUM)
 CHUNK_FLOATS = 1 << 22
 # fuzzylite folds AlgebraicSum (a + b - ab) and BoundedSum (min(1, a + b)) over the rules in
 # order; the same fold here, so sampled ties fall where fuzzylite's do
@@ -91,12 +96,25 @@ def _is_sampled(rb: RuleBase, o: int, methods) -> bool:
 def _samples(var, resolution: int, sampling: Sampling) -> tuple[np.ndarray, np.ndarray | None]:
     """(u (K,), trapz weights (K,) or None for plain sums)."""
     if sampling == Sampling.TRAPEZOID:
-        u = np.linspace(var.lo, var.hi, resolution)
+        u = octave_linspace(var.lo, var.hi, resolution)
         w = np.full(resolution, (var.hi - var.lo) / (resolution - 1))
         w[[0, -1]] *= 0.5
         return u, w
     # The midpoints computed with fuzzylite's own operation order, so that ties match bit for bit.
     return var.lo + (np.arange(resolution) + 0.5) * ((var.hi - var.lo) / resolution), None
+
+
+def octave_linspace(lo: float, hi: float, n: int) -> np.ndarray:
+    """Octave 7's linspace, bit for bit: built from both ends (lo + i d and hi - i d, d =
+    (hi - lo) / (n - 1)), the middle element of an odd count (lo + hi) / 2.  numpy's
+    lo + i d differs in the last bit in the upper half, which decides the ties of the
+    maximum-based defuzzifiers (som 7.8 for Octave's 7.9 on tests/tool_numbers/extremes_som.fis)."""
+    u, d = np.empty(n), (hi - lo) / (n - 1)
+    i = np.arange(1, n // 2)
+    u[0], u[-1], u[i], u[n - 1 - i] = lo, hi, lo + i * d, hi - i * d
+    if n % 2:
+        u[n // 2] = 0.0 if lo == -hi else (lo + hi) / 2
+    return u
 
 
 def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
@@ -125,6 +143,10 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
         last = np.where(fired, area[:, -1], 1.0)
         gap = np.abs(area / last[:, None] - 0.5)
         value = _mean_where(gap == gap.min(axis=1, keepdims=True), u)
+    elif inf.defuzzifier in EXTREMES:
+        last = inf.defuzzifier == Defuzzifier.LARGEST_OF_MAXIMUM
+        value = _scanned_extreme(m, u, last) if first_plateau else \
+            _extreme_where((m > 0) & (m == m.max(axis=1, keepdims=True)), u, last)
     elif first_plateau:
         value = _first_plateau_mean(m, u)
     else:
@@ -155,6 +177,27 @@ def _first_plateau_mean(m: np.ndarray, u: np.ndarray) -> np.ndarray:
         same = (same | above) & ~below
         ymax = np.where(above, y, ymax)
     return 0.5 * (first + last)
+
+
+def _scanned_extreme(m: np.ndarray, u: np.ndarray, last: bool) -> np.ndarray:
+    """fuzzylite 6's SmallestOfMaximum / LargestOfMaximum, scanning the samples from the
+    left: the smallest takes a sample above the maximum so far by more than FL_EPSILON
+    (Op::isGt), the largest one above or equal within FL_EPSILON (Op::isGE)."""
+    n = m.shape[0]
+    ymax, at = np.full(n, -1.0), np.full(n, u[0])
+    for k, uk in enumerate(u):
+        y = m[:, k]
+        equal = np.abs(y - ymax) < FL_EPSILON
+        take = (~equal & (y > ymax)) | (equal & last)
+        at = np.where(take, uk, at)
+        ymax = np.where(take, y, ymax)
+    return at
+
+
+def _extreme_where(mask: np.ndarray, u: np.ndarray, last: bool) -> np.ndarray:
+    """The smallest (largest) u where mask holds (pyfuzzylite 8, Octave: exact equality)."""
+    k = mask.shape[1] - 1 - np.argmax(mask[:, ::-1], axis=1) if last else np.argmax(mask, axis=1)
+    return u[k]
 
 
 def _mean_where(mask: np.ndarray, u: np.ndarray) -> np.ndarray:

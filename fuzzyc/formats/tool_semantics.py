@@ -52,6 +52,9 @@ from .fuzzylite_compat import FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
 SEMANTICS = ("exact", "fuzzylite", "pyfuzzylite", "matlab", "octave")
 RESOLUTION = {"fuzzylite": 100, "pyfuzzylite": 1000}
 OCTAVE_POINTS = 101
+# the Octave toolkit samples these (its bisector is not reproduced: exact instead)
+OCTAVE_SAMPLED = (Defuzzifier.CENTROID, Defuzzifier.MEAN_OF_MAXIMUM,
+                  Defuzzifier.SMALLEST_OF_MAXIMUM, Defuzzifier.LARGEST_OF_MAXIMUM)
 
 
 def parse_semantics(text: str) -> tuple[str, int | None]:
@@ -338,7 +341,7 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
                 and rb.inference.aggregation != Aggregation.SUM:
             return _grouped_average(rb, x)
         return evaluate_sampled(rb, x, resolution or OCTAVE_POINTS, Sampling.TRAPEZOID,
-                                methods=(Defuzzifier.CENTROID, Defuzzifier.MEAN_OF_MAXIMUM))
+                                methods=OCTAVE_SAMPLED)
     raise ValueError(f"unknown semantics `{semantics}`: one of {', '.join(SEMANTICS)}")
 
 
