@@ -76,6 +76,15 @@ CASES = {
                      {"octave": [[0.8, 0.8], [7.9, 7.9], [0.5, 0.5]]}),
     "extremes_lom": ("extremes_lom.fis", ["a"], ["first", "second"], [[2.0], [9.0], [5.0]],
                      {"octave": [[3.1, 3.1], [8.2, 8.2], [9.0, 9.0]]}),
+    # Aggregation NormalizedSum (refused before): both tools fold it to min(1, a + b), as
+    # BoundedSum.  a=0: low 1, both rules fire 1 on each output; small (Trapezoid 0 1 3 4) +
+    # big (Triangle 2 5 8) exceed 1 on [2, 3.5], so the bounded set is 1 on [1, 3.5] and
+    # below 1 elsewhere (0.983 at the samples 4.95 and 5.05 around big's peak): the mean of
+    # maximum is the mean of the midpoints 1.05 ... 3.45, 2.25 (UnboundedSum: 2.95, the
+    # peak of 1 + (x - 2) / 3 at x = 3).  The centroids are the tools' (recorded).
+    "normalized_sum": ("normalized_sum.fll", ["a"], ["first", "last"], [[0.0], [2.0]],
+                       {"pyfuzzylite": [[3.528985507246376, 2.25], [3.596448598130841, 3.05]],
+                        "fuzzylite": [[3.528985507246376, 2.25], [3.596448598130841, 3.05]]}),
 }
 
 PARAMS = [pytest.param(name, tool, id=f"{name}-{tool}")
