@@ -170,3 +170,12 @@ def test_extremes_under_probsum_are_exact():
     y = evaluate(read_fll(text), {"a": np.array([5.0, 2.0])})
     np.testing.assert_allclose(y["first"], [0.5, 0.8], atol=1e-12)
     np.testing.assert_allclose(y["last"], [9.0, 3.2], atol=1e-12)
+
+
+def test_a_resolution_in_the_semantics_overrides_the_file():
+    """`pyfuzzylite:1000` samples at 1000 midpoints 0.005 + 0.01 k whatever the file's 100:
+    a=2 gives 0.805 and 3.195 (the samples nearest inside [0.8, 3.2]).  Crashed before (the
+    differential harness's Chain took the name whole)."""
+    got = ours(FILES / "extremes.fll", np.array([[2.0]]), "pyfuzzylite:1000")
+    assert got.status == "imported", got.message
+    np.testing.assert_allclose(got.y, [[0.805, 3.195]], rtol=0, atol=1e-9)

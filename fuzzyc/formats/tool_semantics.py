@@ -210,9 +210,11 @@ class Chain:
         resolution (a block takes its first output's), else the file's, else the tool's
         default."""
         x = np.atleast_2d(np.asarray(x, dtype=float))
+        semantics, points = parse_semantics(semantics)      # NAME:N samples every output at N
         fuzzylite = semantics in ("fuzzylite", "pyfuzzylite")
         settings = self.settings if fuzzylite else FileSettings()
-        resolution = {**settings.resolution, **(resolution or {})}
+        every = {v.name: points for v in self.outputs} if points else {}
+        resolution = {**settings.resolution, **every, **(resolution or {})}
         env = {v.name: np.clip(x[:, i], v.lo, v.hi) if v.name in settings.locked
                else x[:, i] for i, v in enumerate(self.inputs)}
         written: set[str] = set()
