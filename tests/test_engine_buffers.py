@@ -180,3 +180,12 @@ def test_threads_leave_outputs_evaluated_in_order_on_one_thread():
     np.testing.assert_array_equal(one[3::3, 0], one[2:-1:3, 0])       # held: the row before
     np.testing.assert_array_equal(
         evaluate(rb, x, chunk=100, held=Held(sequence=True), threads=2), one)
+
+
+def test_the_memo_of_views_stays_bounded_over_many_batch_sizes():
+    from fuzzyc.engine.workspace import MAX_VIEWS
+    work = Workspace(1000)
+    for n in range(1, 1000):
+        view = work.array("a", (2, n))
+        assert view.shape == (2, n) and view.flags.c_contiguous
+    assert len(work._views) <= MAX_VIEWS

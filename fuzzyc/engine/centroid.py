@@ -20,6 +20,7 @@ import numpy as np
 
 from .expressions import clip
 from .membership import LocalPartition, trapezoid
+from .norms import row_sum
 from .workspace import Workspace
 from ..semantics.model import Aggregation, Implication, Inference, TermKind, Variable
 
@@ -97,22 +98,9 @@ class Segments:
         np.multiply(g, np.add(self.e, t, out=t), out=t)
         np.multiply(g, np.subtract(self.c, t, out=t), out=t)
         moment = np.add(np.multiply(b, self.c, out=b), t, out=b)
-        return (_row_sum(area, work.array("cf_area_sum", (n,))),
-                _row_sum(moment, work.array("cf_moment_sum", (n,))))
+        return (row_sum(area, work.array("cf_area_sum", (n,))),
+                row_sum(moment, work.array("cf_moment_sum", (n,))))
 
-
-def _row_sum(a: np.ndarray, out: np.ndarray) -> np.ndarray:
-    """a (G, N) summed over G row by row, ((a0 + a1) + a2) ..., into out (N,): a fixed order,
-    so a sample's result is independent of N.  (a.sum(axis=0) runs in this order only while
-    N > 1: at N = 1 the column is contiguous and numpy sums it pairwise, which gave a sample
-    evaluated alone a different last bit.)"""
-    if len(a) == 0:
-        out.fill(0.0)
-        return out
-    out[...] = a[0]
-    for row in a[1:]:
-        np.add(out, row, out=out)
-    return out
 
 
 class ClosedFormCentroid:

@@ -31,7 +31,7 @@ from .defuzz import SCATTERS, OutputDefuzzifier, safe_ratio
 from .strength_grid import GridStrengths, lookup_rows, place_values
 from .membership import HEDGE_EXPONENT, LocalPartition, apply_hedges, memberships
 from ..semantics.model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
-from .norms import combine, firing
+from .norms import combine, firing, row_sum
 from .scalar import ScalarGrid
 from .workspace import Workspace, WorkspacePool
 from .held_outputs import EXACT, Held, Policy, finish_output, locked, reads_values, refuse_stateless
@@ -348,17 +348,12 @@ class CompiledRuleBase:
         n, n_out = alpha.shape[1], len(self.defuzzifiers)
         work = work if work is not None else Workspace(n)
         num, den = work.array("num", (n_out, n)), work.array("den", (n_out, n))
-        term = work.array("num_term", (n,))
         for o, (d, rows) in enumerate(zip(self.defuzzifiers, self.grid.slices)):
             strengths = alpha[rows]                                      # (T, N)
-            if len(strengths) == 0:
-                num[o], den[o] = 0.0, 0.0
-                continue
-            np.multiply(strengths[0], d.peaks[0], out=num[o])
-            den[o] = strengths[0]
-            for j in range(1, len(strengths)):
-                np.add(num[o], np.multiply(strengths[j], d.peaks[j], out=term), out=num[o])
-                np.add(den[o], strengths[j], out=den[o])
+            terms = np.multiply(strengths, d.peaks[:, None],
+                                out=work.array("terms", strengths.shape))
+            row_sum(terms, num[o])
+            row_sum(strengths, den[o])
         if den.size and den.min() > 0:      # safe_ratio without a temporary
             return np.divide(num, den, out=out)
         out[...] = safe_ratio(num, den, self.defaults)

@@ -41,3 +41,19 @@ def firing_in_place(act: np.ndarray, below: np.ndarray) -> np.ndarray:
     np.less(act, ACTIVATION_FLOOR, out=below)
     np.copyto(act, 0.0, where=below)
     return act
+
+
+def row_sum(a: np.ndarray, out: np.ndarray) -> np.ndarray:
+    """a (G, N) summed over G row by row, ((a0 + a1) + a2) ..., into out (N,): a fixed order,
+    so a sample's result is independent of N.  numpy's a.sum(axis=0) runs in this order while
+    N > 1 (one pass over the rows); at N = 1 the column is contiguous and numpy sums it
+    pairwise, so that case adds row by row here."""
+    if len(a) == 0:
+        out.fill(0.0)
+    elif a.shape[1] > 1:
+        a.sum(axis=0, out=out)
+    else:
+        out[...] = a[0]
+        for row in a[1:]:
+            np.add(out, row, out=out)
+    return out

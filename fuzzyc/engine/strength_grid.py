@@ -177,11 +177,9 @@ class GridStrengths:
         # a few breaks, whose branches mispredict on data that changes every call)
         seg = work.array("seg", (n_in, n), np.intp)
         if self.padded_breaks is not None:
-            seg.fill(0)
-            at_or_above = work.array("at_or_above", (n_in, n), bool)
-            for b in range(self.padded_breaks.shape[1]):
-                np.greater_equal(xc, self.padded_breaks[:, b], out=at_or_above)
-                np.add(seg, at_or_above, out=seg)
+            at_or_above = np.greater_equal(xc[:, None, :], self.padded_breaks, out=work.array(
+                "at_or_above", (n_in, self.padded_breaks.shape[1], n), bool))
+            at_or_above.sum(axis=1, out=seg)                                 # (I, N)
         else:
             for i, part in enumerate(self.partitions):
                 seg[i] = (xc[i] >= part.column_breaks).sum(axis=0) if part.count_breaks \

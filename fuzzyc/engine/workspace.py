@@ -24,6 +24,7 @@ import numpy as np
 
 KEPT_CAPACITIES = 4      # batch sizes whose workspaces stay (alternating sizes reuse theirs)
 KEPT_PER_CAPACITY = 4    # free workspaces kept per size (one per concurrent caller)
+MAX_VIEWS = 256          # views memoised per workspace (a few dozen per batch size)
 
 
 class Workspace:
@@ -32,18 +33,26 @@ class Workspace:
     def __init__(self, capacity: int):
         self.capacity = capacity
         self._flat: dict[str, np.ndarray] = {}
+        self._views: dict[tuple, np.ndarray] = {}     # (name, shape, dtype) -> its view
         # what a buffer filled with per-size values (clip bounds, ...) was filled for
         self.tables: dict[str, int] = {}
 
     def array(self, name: str, shape: tuple[int, ...], dtype=float) -> np.ndarray:
         """A C-contiguous (shape) array of dtype, the same memory on every call (contents
         undefined); grows once if a larger shape is asked for under the same name."""
+        view = self._views.get((name, shape, dtype))
+        if view is not None:
+            return view
         size = math.prod(shape)
         flat = self._flat.get(name)
         if flat is None or flat.dtype != dtype or flat.size < size:
             flat = self._flat[name] = np.empty(size, dtype=dtype)
             self.tables.clear()         # whatever was filled may be in the old memory
-        return flat[:size].reshape(shape)
+            self._views = {k: v for k, v in self._views.items() if k[0] != name}
+        if len(self._views) >= MAX_VIEWS:    # many batch sizes: start the memo afresh
+            self._views.clear()
+        view = self._views[name, shape, dtype] = flat[:size].reshape(shape)
+        return view
 
 
 class WorkspacePool:
