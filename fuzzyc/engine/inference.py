@@ -48,6 +48,7 @@ MAX_CELL_CODE = float(1 << 62)  # cell codes are int64
 # its memory (no faults) the two sizes are within 5 % of each other.  1 << 20 gained a little
 # more cold but lost 24 % on the closed-form centroid warm (more chunks, each with fixed cost).
 CHUNK_FLOATS = 1 << 21
+DEFAULT_CHUNK = 65536          # samples per chunk at most, whatever the work per sample
 FAST_TNORMS = (TNorm.MIN, TNorm.PRODUCT)   # the t-norms the sparse and grid paths (and
                                           # the back ends built on them) know
 
@@ -316,16 +317,21 @@ class CompiledRuleBase:
             y = self.scalar(xt[:, 0].tolist())
             if y is not None:
                 return np.array(y)[:, None]
-        with self.pool.checkout(xt.shape[1]) as work:
-            alpha = self.grid.rows(xt, work)
-            y = np.empty((len(self.defuzzifiers), xt.shape[1]))
-            if self.peak_ratio:
-                return self._peak_ratios(alpha, work, y)
-            # linear terms get x (N, I) laid out as evaluate_chunk's callers pass it (same BLAS)
-            x = np.ascontiguousarray(xt.T) if self.linear_terms else None
-            for o in range(len(self.defuzzifiers)):
-                self._from_strengths(o, alpha, x, work, y[o])
-            return y
+        n = xt.shape[1]
+        step = max(1, min(DEFAULT_CHUNK, self.chunk_limit))   # as evaluate: bounded buffers
+        y = np.empty((len(self.defuzzifiers), n))
+        with self.pool.checkout(max(1, min(n, step))) as work:
+            for s in range(0, n, step):
+                part, out = xt[:, s:s + step], y[:, s:s + step]
+                alpha = self.grid.rows(part, work)
+                if self.peak_ratio:
+                    self._peak_ratios(alpha, work, out)
+                    continue
+                # linear terms get x (N, I) laid out as evaluate_chunk's callers pass it
+                x = np.ascontiguousarray(part.T) if self.linear_terms else None
+                for o in range(len(self.defuzzifiers)):
+                    self._from_strengths(o, alpha, x, work, out[o])
+        return y
 
     def _from_strengths(self, o: int, alpha: np.ndarray, x: np.ndarray | None,
                         work: Workspace | None, out: np.ndarray) -> None:
@@ -380,7 +386,7 @@ def compiled(rb: RuleBase) -> CompiledRuleBase:
     return entry
 
 
-def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = 65536, held: Held | None = None,
+def evaluate(rb: RuleBase, x: np.ndarray, chunk: int = DEFAULT_CHUNK, held: Held | None = None,
              policy: Policy = EXACT, threads: int = 1) -> np.ndarray:
     """x (N, I) -> y (N, O), in chunks so memory is flat in N (`held`, `policy`: see
     CompiledRuleBase.evaluate_chunk).  threads > 1 spreads the chunks over that many threads
