@@ -166,8 +166,8 @@ def test_fopdt_fuzzy_pi_tuned_iae_below_untuned_properties_kept():
 
 def test_table4_50mm_holds_the_issues_numbers():
     from fuzzyc.plants.corner_validation import read_measured
-    from fuzzyc.tune.corner_identify import DATA
-    table = read_measured(DATA)
+    from fuzzyc.tune.corner_identify import data_file
+    table = read_measured(data_file())
     assert table.conditions.tolist() == [[50, 160], [50, 120], [50, 80], [50, 40]]
     # issue 31's table, row by row: normal / controlled at 30 60 90 120 150 deg
     assert table.normal.tolist() == [[218.2, 97.4, 75.3, 39.8, 22.0],
@@ -184,10 +184,22 @@ def test_corner_commands_of_a_given_model_are_its_own():
     # the identification's cost reads the controller it is given: like 1.2 on the model gives
     # what like=1.2 gives the file's controller (1.2 x the rules' y, saturated at 90)
     from fuzzyc.plants import corner_validation as validation
-    from fuzzyc.tune.corner_identify import DATA
-    rows = validation.read_measured(DATA).conditions
+    from fuzzyc.tune.corner_identify import data_file
+    rows = validation.read_measured(data_file()).conditions
     model = fuzzyc.load(scenarios.load("corner_path").rulebase_path())
     model.params["like"].value = 1.2
     given = validation.commanded_reduction(rows, model=model)
     assert given.tolist() == validation.commanded_reduction(rows, like=1.2).tolist()
     assert np.allclose(given, np.minimum(90, 1.2 * validation.commanded_reduction(rows)))
+
+
+def test_cli_closed_loop_options_need_a_scenario(toy, tmp_path, capsys):
+    from fuzzyc.cli import main
+    data = tmp_path / "d.csv"
+    data.write_text("y,u\n0,1\n")
+    assert main(["tune", str(toy), "--data", str(data), "--minimize", "iae(y)",
+                 "-o", str(tmp_path / "o.fz")]) != 0
+    assert "go with --scenario" in capsys.readouterr().err
+    assert main(["tune", str(toy), "--scenario", "fopdt_step", "-o",
+                 str(tmp_path / "o.fz")]) != 0
+    assert "--minimize" in capsys.readouterr().err

@@ -63,6 +63,9 @@ def run(args) -> int:
     check_output(args.output)
     if args.scenario is not None:
         return _run_scenario(args)
+    if args.minimize or args.sets or args.limits:
+        raise FuzzycError([Diagnostic(None, "--minimize, --set and --limit go with --scenario "
+                                            "(a closed-loop tune), not with --data")])
     try:
         result = tune(args.file, args.data, validate=args.validate, folds=args.folds,
                       seed=args.seed, passes=args.passes, max_nfev=args.max_nfev)

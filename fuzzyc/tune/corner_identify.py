@@ -28,15 +28,22 @@ from pathlib import Path
 
 import numpy as np
 
-DATA = Path(__file__).resolve().parents[2] / "examples" / "tuning" / "table4_50mm.csv"
 HELD_OUT_ROWS = slice(4, 8)      # TABLE4_CONDITIONS: 21 mm at 175, 125, 75, 40 mm^2/min
+
+
+def data_file() -> Path:
+    """examples/tuning/table4_50mm.csv, in the source tree or as installed (examples/ sits
+    beside rulebases/ in both)."""
+    import fuzzyc.rulebases
+    return (Path(fuzzyc.rulebases.__file__).resolve().parent.parent / "examples" / "tuning"
+            / "table4_50mm.csv")
 
 
 def log_errors(model_errors: np.ndarray, measured: np.ndarray) -> np.ndarray:
     return np.log(np.asarray(model_errors, float) / np.asarray(measured, float))
 
 
-def identify(data: str | Path = DATA, seed: int = 0, max_examples: int = 10):
+def identify(data: str | Path | None = None, seed: int = 0, max_examples: int = 10):
     """(fit, measured, before, after): the LoopFit, the measured table, and the closed loop's
     predictions (plants.corner_table.predict) before tuning at the measured rows and after it
     at the measured rows followed by the held-out ones."""
@@ -49,7 +56,7 @@ def identify(data: str | Path = DATA, seed: int = 0, max_examples: int = 10):
     from .space import Space
     scenario = scenarios.load("corner_path")
     model = fuzzyc.load(scenario.rulebase_path())
-    measured = validation.read_measured(data)
+    measured = validation.read_measured(data or data_file())
     before = predict(measured.conditions, model=model)
     space = Space(model)
 
@@ -119,8 +126,9 @@ def report(fit, measured, before, after) -> str:
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(prog="python -m fuzzyc.tune.corner_identify",
                                      description=__doc__.split("\n\n")[0])
-    parser.add_argument("--against", default=str(DATA), metavar="CSV",
-                        help="the measured rows (plants/corner_validation.py's format)")
+    parser.add_argument("--against", default=None, metavar="CSV",
+                        help="the measured rows (plants/corner_validation.py's format; "
+                             "default: examples/tuning/table4_50mm.csv)")
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--max-examples", type=int, default=10,
                         help="loops of the closed-loop property's check (default 10)")
