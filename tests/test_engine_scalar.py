@@ -134,3 +134,14 @@ def test_known_points_of_the_wedm_table():
     f = scalar_evaluator(wedm())
     assert f([0.0, 0.0, 0.0]) == [0.0, -0.5]
     assert f([0.0, 0.25, 0.0]) == [0.25, -0.25]
+
+
+@pytest.mark.parametrize("case", ["wedm", "centroid"])
+def test_the_controllers_rows_give_evaluates_bits_over_several_chunks(case):
+    rb = triangle_centroid() if case == "centroid" else wedm()
+    engine = compiled(rb)
+    x = np.random.default_rng(4).uniform(-1.2, 1.2, (3 * engine.chunk_limit + 5, 3))
+    rows = engine.evaluate_rows(np.ascontiguousarray(x.T))
+    np.testing.assert_array_equal(rows.T, evaluate(rb, x))
+    # the pool kept no workspace larger than a chunk's
+    assert max(engine.pool._free) <= engine.chunk_limit
