@@ -145,3 +145,14 @@ def test_the_controllers_rows_give_evaluates_bits_over_several_chunks(case):
     np.testing.assert_array_equal(rows.T, evaluate(rb, x))
     # the pool kept no workspace larger than a chunk's
     assert max(engine.pool._free) <= engine.chunk_limit
+
+
+def test_the_scalar_path_reads_any_real_number_as_a_double():
+    """float32 and int inputs: the batch engine converts to float64 first, so does the scalar
+    path (NumPy 2 would otherwise compute float32 - float in float32)."""
+    rb = wedm()
+    f = scalar_evaluator(rb)
+    values = [np.float32(0.1), 0, np.float32(-0.3)]
+    expected = evaluate(rb, np.array([values], dtype=float))
+    assert f(values) == expected[0].tolist()
+    assert f([np.float32(0.1), 0, np.float32(-0.3)]) != f([0.1, 0.0, -0.3])   # float32 0.1

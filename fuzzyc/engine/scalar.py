@@ -78,7 +78,7 @@ class ScalarGrid:
         act: list[float] = []
         product, stride, segments = self.product, self.stride, self.segments
         for i, (lo, hi) in enumerate(self.bounds):
-            v = values[i]
+            v = float(values[i])         # as the batch engine's float64 (not float32 math)
             if v != v:
                 return None
             v = v if v > lo else lo                  # numpy's clip: max, then min
