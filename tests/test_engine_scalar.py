@@ -152,7 +152,9 @@ def test_the_scalar_path_reads_any_real_number_as_a_double():
     path (NumPy 2 would otherwise compute float32 - float in float32)."""
     rb = wedm()
     f = scalar_evaluator(rb)
-    values = [np.float32(0.1), 0, np.float32(-0.3)]
-    expected = evaluate(rb, np.array([values], dtype=float))
-    assert f(values) == expected[0].tolist()
-    assert f([np.float32(0.1), 0, np.float32(-0.3)]) != f([0.1, 0.0, -0.3])   # float32 0.1
+    x32 = np.random.default_rng(6).uniform(-1.2, 1.2, (300, 3)).astype(np.float32)
+    expected = evaluate(rb, x32.astype(float))
+    for row, y in zip(x32, expected.tolist()):
+        assert f([row[0], int(row[1] > 0), row[2]]) == evaluate(
+            rb, np.array([[row[0], int(row[1] > 0), row[2]]], dtype=float))[0].tolist()
+        assert f(list(row)) == y
