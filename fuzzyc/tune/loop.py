@@ -243,10 +243,10 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
                 verdict, detail = status(candidate, p, seed)
                 if verdict not in KEPT:
                     why.append(f"loses `{p.text}` ({verdict.value}: {detail})")
-        for text, verdict, detail in closed_loop_checks(copy.deepcopy(candidate), seed,
-                                                        max_examples):
-            if text in kept and verdict not in {s.value for s in KEPT}:
-                why.append(f"loses `{text}` ({verdict}: {detail})")
+        for text, said, detail in closed_loop_checks(copy.deepcopy(candidate), seed,
+                                                     max_examples):
+            if text in kept and said not in {s.value for s in KEPT}:
+                why.append(f"loses `{text}` ({said}: {detail})")
         for (text, limit, _), v in zip(loop.limits, _limits(loop, theta)):
             if f"{text} <= {limit:g}" in kept and _limit_verdict(v, limit) != "held":
                 why.append(f"loses `{text} <= {limit:g}` ({text} = {v:.6g})")

@@ -26,7 +26,7 @@ def tune_scenario(model: Model, scenario: str, minimize: str, *, sets: dict | No
                     max_examples=max_examples)
     lines = provenance(model, loaded, minimize, sets or {}, fit, batch, randomize,
                        max_evaluations, max_examples)
-    text = rewrite(model.source_text, fit.numbers, fit.values, lines)
+    text = rewrite(model.source_text or "", fit.numbers, fit.values, lines)
     _check_reads_back(text, fit)
     return TuneResult(fit, text, lines)
 
