@@ -85,6 +85,20 @@ CASES = {
     "normalized_sum": ("normalized_sum.fll", ["a"], ["first", "last"], [[0.0], [2.0]],
                        {"pyfuzzylite": [[3.528985507246376, 2.25], [3.596448598130841, 3.05]],
                         "fuzzylite": [[3.528985507246376, 2.25], [3.596448598130841, 3.05]]}),
+    # fuzzylite's FCL dialect (refused before): `LOCK : RANGE`, Binary terms written with
+    # `inf` / `-inf`, METHOD COGSS (its WeightedSum), COGS with ACCU over Linear terms
+    # (fuzzylite 6 weights every rule, as its WeightedAverage; before, fuzzyc grouped the
+    # rules of an output with its own defuzzifier).  lin = 2a + b + 3, c = 10.
+    # a=2, b=6: up (a >= 4) 0, down (b <= 5) 0: y nothing fired, nan; low 0.8, high 0.6:
+    #   s = 0.8*13 + 0.6*13 = 18.2; g = (0.8*13 + 0.6*13) / 1.4 = 13.
+    # a=5, b=5: up 1, down 1: y = big and small at 1, symmetric about 5: 5; low 0.5, high
+    #   0.5, rule 5 min(1, 0.5) = 0.5: s = 9 + 9 + 5 = 23, g = 23 / 1.5 = 15.333...
+    # a=6, b=2: up 1, down 1: y 5; low 0.4, high 0.2, rule 5 0.2; lin = 17:
+    #   s = 6.8 + 3.4 + 2 = 12.2, g = 12.2 / 0.8 = 15.25.
+    "fuzzylite_dialect": ("fuzzylite_dialect.fcl", ["a", "b"], ["y", "s", "g"],
+                          [[2.0, 6.0], [5.0, 5.0], [6.0, 2.0]],
+                          {"fuzzylite": [[NAN, 18.2, 13.0], [5.0, 23.0, 23 / 1.5],
+                                         [5.0, 12.2, 15.25]]}),
 }
 
 PARAMS = [pytest.param(name, tool, id=f"{name}-{tool}")

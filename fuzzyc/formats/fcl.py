@@ -21,6 +21,8 @@ fuzzylite's FCL: terms written as in FLL (`TERM low := Triangle 0 0.25 0.5;`, se
 fuzzylite's `TERM f := Function FORMULA;` and `DEFAULT := nan | NC` (lock-previous) as in FLL.
 Not carried, reported: other point lists, LM, RM,
   COGS over terms other than singletons (fuzzylite's Tsukamoto).
+fuzzylite's dialect also: METHOD COGSS (WeightedSum), `LOCK : PREVIOUS, RANGE` in DEFUZZIFY
+  (lock-previous; the range clip under fuzzylite's semantics), `inf` / `-inf` as numbers.
 Several RULEBLOCKs are merged when their operators agree.  Of several FUNCTION_BLOCKs one is
 read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_fcl`).
 """
@@ -180,6 +182,19 @@ class _FclReader:
             elif item.data == "accu":
                 self._choose(self.output_settings.setdefault(var.name, {}), "ACCU",
                              item.children[0])
+            elif item.data == "lock":
+                self._lock(var, item.children)
+
+    def _lock(self, var: VarSpec, words: list[Token]) -> None:
+        """fuzzylite's `LOCK : PREVIOUS, RANGE`: PREVIOUS keeps the last output where no rule
+        fires (lock-previous); RANGE clips the output to its range, which fuzzylite's
+        semantics read from the file (tool_semantics.FileSettings)."""
+        for word in words:
+            if word.value.upper() == "PREVIOUS":
+                var.lock_previous = True
+            elif word.value.upper() != "RANGE":
+                self.rep.error(self.loc(word), f"LOCK {word.value}: fuzzylite locks PREVIOUS "
+                                               "and RANGE")
 
     def _terms(self, tree: Tree, is_input: bool) -> VarSpec | None:
         name, *items = tree.children
@@ -328,11 +343,11 @@ class _FclReader:
                                     + ", ".join(OPERATORS["accu"][2]))
         elif accu is not None:
             inf.aggregation = OPERATORS["accu"][2][accu[0]]
-        elif method != "COGS":
+        elif method not in ("COGS", "COGSS"):    # weighted: the rules, not a fuzzy set
             self.got.notes.append(f"ACCU not given for `{var.name}`: MAX assumed")
         if method not in METHODS:
-            self.rep.error(loc, f"METHOD {method} is not supported: the model has COG, COGS, "
-                                "COA (bisector), MM (mean of maximum)")
+            self.rep.error(loc, f"METHOD {method} is not supported: the model has "
+                                + ", ".join(METHODS))
             return inf.aggregation, inf.defuzzifier
         defuzzifier = METHODS[method]
         if method == "COGS" and accu is None and tsukamoto_terms([var]):
@@ -340,18 +355,20 @@ class _FclReader:
         elif method == "COGS" and accu is None:
             defuzzifier = Defuzzifier.WEIGHTED_AVERAGE        # over the rules
             self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION)
-        elif method == "COGS":
-            self._require_singletons(var)
+        elif method == "COGS":        # grouped per term: linear and function terms too
+            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION)
+        elif method == "COGSS":       # fuzzylite's WeightedSum: over the rules, whatever ACCU
+            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION, method="COGSS")
         return inf.aggregation, defuzzifier
 
-    def _require_singletons(self, var: VarSpec, *also: TermKind) -> None:
+    def _require_singletons(self, var: VarSpec, *also: TermKind, method: str = "COGS") -> None:
         """COGS over anything but singletons (and Linear terms, where allowed) is Tsukamoto's
         method in fuzzylite, which the model does not carry."""
         for term in var.terms:
             if term.kind != TermKind.SINGLETON and term.kind not in also:
                 kinds = " or Linear/Function" if also else ""
-                self.rep.error(term.loc, f"COGS needs singleton{kinds} terms or monotonic ones "
-                                         "(Tsukamoto); "
+                self.rep.error(term.loc, f"{method} needs singleton{kinds} terms or monotonic "
+                                         "ones (Tsukamoto); "
                                          f"`{term.name}` is neither")
 
 

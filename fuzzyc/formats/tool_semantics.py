@@ -68,8 +68,18 @@ def parse_semantics(text: str) -> tuple[str, int | None]:
 
 
 def _over_rules(rb: RuleBase) -> RuleBase:
-    """fuzzylite 6's WeightedAverage: every rule's value weighted, whatever the aggregation."""
-    return replace(rb, inference=replace(rb.inference, defuzzifier=Defuzzifier.WEIGHTED_AVERAGE))
+    """fuzzylite 6's WeightedAverage: every rule's value weighted, whatever the aggregation
+    (the block's and each output's own center of area)."""
+    coa, wa = Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE
+    inference = rb.inference if rb.inference.defuzzifier != coa else \
+        replace(rb.inference, defuzzifier=wa)
+    choices = {name: (agg, wa if d == coa else d) for name, (agg, d) in rb.output_choices.items()}
+    return replace(rb, inference=inference, output_choices=choices)
+
+
+def _any_center_of_area(rb: RuleBase) -> bool:
+    return any(rb.inference_of(o).defuzzifier == Defuzzifier.CENTER_OF_AREA
+               for o in range(len(rb.outputs)))
 
 
 def exact_equivalent(rb: RuleBase, semantics: str) -> tuple[RuleBase, str | None]:
@@ -89,9 +99,7 @@ def exact_equivalent(rb: RuleBase, semantics: str) -> tuple[RuleBase, str | None
             return rb, ("the Octave toolkit merges the Sugeno rules of equal value with "
                         f"AggMethod {inf.aggregation.name.lower()} where fuzzyc sums over the "
                         "rules")
-    if name == "fuzzylite" and rb.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA:
-        if rb.output_choices:
-            return rb, "fuzzylite 6 sums over the rules of outputs with their own defuzzifier"
+    if name == "fuzzylite" and _any_center_of_area(rb):
         return _over_rules(rb), None
     return rb, None
 
@@ -331,7 +339,7 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
         if rb.inference.defuzzifier == Defuzzifier.TSUKAMOTO:
             return _tsukamoto(rb, np.atleast_2d(np.asarray(x, dtype=float)),
                               _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse)
-        if semantics == "fuzzylite" and rb.inference.defuzzifier == Defuzzifier.CENTER_OF_AREA:
+        if semantics == "fuzzylite" and _any_center_of_area(rb):
             rb = _over_rules(rb)
         if reads_values(rb):
             return _in_order(rb, x, semantics, resolution, held)
