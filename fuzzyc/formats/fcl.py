@@ -19,8 +19,8 @@ fuzzylite's FCL: terms written as in FLL (`TERM low := Triangle 0 0.25 0.5;`, se
   accumulation (CENTER_OF_AREA).
   Hedges in rules: fuzzylite's (very, somewhat, seldom, extremely; see fll.HEDGES).
 fuzzylite's `TERM f := Function FORMULA;` and `DEFAULT := nan | NC` (lock-previous) as in FLL.
-Not carried, reported: other point lists, LM, RM,
-  COGS over terms other than singletons (fuzzylite's Tsukamoto).
+Not carried, reported: other point lists,
+  COGS over terms other than singletons, Linear and Function ones (fuzzylite's Tsukamoto).
 fuzzylite's dialect also: METHOD COGSS (WeightedSum), `LOCK : PREVIOUS, RANGE` in DEFUZZIFY
   (lock-previous; the range clip under fuzzylite's semantics), `inf` / `-inf` as numbers.
 Several RULEBLOCKs are merged when their operators agree.  Of several FUNCTION_BLOCKs one is
