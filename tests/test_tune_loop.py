@@ -203,3 +203,23 @@ def test_cli_closed_loop_options_need_a_scenario(toy, tmp_path, capsys):
     assert main(["tune", str(toy), "--scenario", "fopdt_step", "-o",
                  str(tmp_path / "o.fz")]) != 0
     assert "--minimize" in capsys.readouterr().err
+
+
+def test_corner_finding_no_ordered_singletons_fit_the_low_feed_30_degree_cells():
+    # the finding of docs/tuning.md: with only the singletons' order kept (each in [5, 60]),
+    # the best fit still leaves the 30 deg corners at 80 and 40 mm^2/min over +25 %: rule 1
+    # and rule 4 conclude S there, and 150 deg at high feed concludes M >= S
+    from fuzzyc.plants import corner_validation as validation
+    from fuzzyc.plants.wedm_corner import FIT, TABLE2_ANGLES, corner_error
+    from fuzzyc.tune.corner_identify import data_file, order_only
+    measured = validation.read_measured(data_file())
+    rows = measured.conditions
+    normal = corner_error(FIT, rows[:, 1:2], rows[:, 0:1], TABLE2_ANGLES)
+    space, theta, cost, ratio = order_only(measured, normal)
+    singletons = theta[space.indices("term")]
+    assert np.all(np.diff(singletons) >= -1e-9) and singletons.min() >= 5 - 1e-12
+    assert singletons.max() <= 60 + 1e-12
+    missing = np.abs(ratio - 1.0) > validation.TOLERANCE
+    assert missing.tolist() == [[False] * 5, [False] * 5,
+                                [True] + [False] * 4, [True] + [False] * 4]
+    assert cost < 0.35

@@ -73,6 +73,33 @@ def identify(data: str | Path | None = None, seed: int = 0, max_examples: int = 
     return fit, measured, before, after
 
 
+def order_only(measured, normal: np.ndarray):
+    """A diagnosis, not a tune: the least-squares singletons when only their order is kept
+    (each anywhere in [5, 60], `bounded y`, like in its box), not the boxes, which must hold the
+    written numbers. (theta, cost, model / measured per cell), by the same search and cost.
+    `normal`: the loop's normal errors at the measured rows."""
+    import fuzzyc
+    from fuzzyc.plants import corner_validation as validation
+    from fuzzyc.plants import scenario as scenarios
+    from .loop import LIMIT_WEIGHT, minimize_within
+    from .space import Space
+    space = Space(fuzzyc.load(scenarios.load("corner_path").rulebase_path()))
+    singletons = space.indices("term")
+    lo, hi = space.lo.copy(), space.hi.copy()
+    lo[singletons], hi[singletons] = 5.0, 60.0
+
+    def ratio(theta) -> np.ndarray:
+        reduction = validation.commanded_reduction(measured.conditions,
+                                                   model=space.apply(theta))
+        return (1.0 - reduction / 100.0) * normal / measured.controlled
+
+    def cost(theta) -> float:
+        disorder = np.maximum(0.0, -np.diff(theta[singletons])).sum()
+        return float(np.sum(np.log(ratio(theta)) ** 2) + LIMIT_WEIGHT * disorder)
+    theta = minimize_within(cost, space.x0, lo, hi)
+    return space, theta, cost(theta), ratio(theta)
+
+
 def report(fit, measured, before, after) -> str:
     from fuzzyc.plants import corner_validation as validation
     from fuzzyc.plants.corner_table import markdown
@@ -115,6 +142,17 @@ def report(fit, measured, before, after) -> str:
     lines += [f"property `{c.text}`: {c.before} before, {c.after} after"
               for c in fit.properties]
     lines += [f"rejected: {why}" for why in fit.rejected]
+    space, theta, cost, ratio_free = order_only(measured, before["normal"])
+    misses = [f"{int(a)}° at {f:g} mm²/min ({r:.2f})" for (_, f), row in
+              zip(measured.conditions, ratio_free) for a, r in zip(TABLE2_ANGLES, row)
+              if abs(r - 1.0) > validation.TOLERANCE]
+    lines += ["", "Diagnosis (not a tune): the singletons when only their order is kept, each "
+              "anywhere in [5, 60] (the tune section's boxes must hold the written numbers): "
+              + ", ".join(f"{num.target} = {value:.4g}"
+                          for num, value in zip(space.numbers, theta)),
+              f"sum of log(model / measured)^2 {cost:.4f} (the loop's shortcut); cells within "
+              f"+-25 %: {ratio_free.size - len(misses)} of {ratio_free.size}; missing: "
+              + ("; ".join(misses) or "none")]
     held = {k: v[n:] for k, v in after.items()}
     from fuzzyc.plants.wedm_corner import TABLE4_CONDITIONS
     lines += ["", "Predictions for the held-out 21 mm rows of Table 4 (um, normal / controlled "
