@@ -51,7 +51,7 @@ def row_sum(a: np.ndarray, out: np.ndarray) -> np.ndarray:
     if len(a) == 0:
         out.fill(0.0)
     elif a.shape[1] > 1:
-        a.sum(axis=0, out=out)
+        np.add.reduce(a, axis=0, out=out)     # a.sum without its Python wrapper
     else:
         out[...] = a[0]
         for row in a[1:]:
