@@ -207,8 +207,9 @@ def test_cli_closed_loop_options_need_a_scenario(toy, tmp_path, capsys):
 
 def test_corner_finding_no_ordered_singletons_fit_the_low_feed_30_degree_cells():
     # the finding of docs/tuning.md: with only the singletons' order kept (each in [5, 60]),
-    # the best fit still leaves the 30 deg corners at 80 and 40 mm^2/min over +25 %: rule 1
-    # and rule 4 conclude S there, and 150 deg at high feed concludes M >= S
+    # the best fit still leaves the 30 deg corners at 80 and 40 mm^2/min over +25 %: rules 7
+    # (M) and 1 (S) conclude there, and the 150 deg corners at 160 conclude M >= S, where the
+    # measurements ask less reduction (ratio 0.51, not 0.35)
     from fuzzyc.plants import corner_validation as validation
     from fuzzyc.plants.wedm_corner import FIT, TABLE2_ANGLES, corner_error
     from fuzzyc.tune.corner_identify import data_file, order_only
