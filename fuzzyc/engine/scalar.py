@@ -57,6 +57,11 @@ class ScalarGrid:
         self.peaks = [d.peaks.tolist() for d in engine.defuzzifiers]
         self.defaults = [float(d[0]) for d in engine.defaults]
         self._cells: dict[int, list[tuple]] = {}
+        self.per_input = list(zip([lo for lo, _ in self.bounds], [hi for _, hi in self.bounds],
+                                  self.breaks, self.stride, self.segments))
+        # per output: (its strength-row column, its peak) per term, and its default
+        self.ratios = [(list(zip(range(first, stop), peaks)), default) for (first, stop), peaks,
+                       default in zip(self.slices, self.peaks, self.defaults)]
 
     def _candidates(self, cell: int) -> list[tuple]:
         """Per candidate k of the cell, in the batch path's order: (corner, weight or None,
@@ -76,16 +81,16 @@ class ScalarGrid:
         engine's business)."""
         cell = 0
         act: list[float] = []
-        product, stride, segments = self.product, self.stride, self.segments
-        for i, (lo, hi) in enumerate(self.bounds):
+        product = self.product
+        for i, (lo, hi, breaks, stride, segments) in enumerate(self.per_input):
             v = float(values[i])         # as the batch engine's float64 (not float32 math)
             if v != v:
                 return None
             v = v if v > lo else lo                  # numpy's clip: max, then min
             v = v if v < hi else hi
-            seg = bisect_right(self.breaks[i], v)    # the breaks at or below v
-            cell += stride[i] * seg
-            a0, w0, f0, a1, w1, f1 = segments[i][seg]
+            seg = bisect_right(breaks, v)            # the breaks at or below v
+            cell += stride * seg
+            a0, w0, f0, a1, w1, f1 = segments[seg]
             m0 = (v - a0) / w0 + f0
             m1 = (v - a1) / w1 + f1
             if i == 0:
@@ -96,25 +101,30 @@ class ScalarGrid:
                 act = [a if a <= m else m for a in act for m in (m0, m1)]
         alpha = [self.start] * self.width
         candidates = self._cells.get(cell) or self._candidates(cell)
-        maximum = self.maximum
-        for corner, weight, columns in candidates:
-            a = act[corner] if weight is None else act[corner] * weight
-            if a < ACTIVATION_FLOOR:
-                continue    # 0: adds nothing to a sum, and max(alpha >= 0, 0) is alpha
-            for col in columns:
-                if not maximum:
-                    alpha[col] = alpha[col] + a
-                elif a > alpha[col]:
-                    alpha[col] = a
+        # a level below the floor is 0: adds nothing to a sum, and max(alpha >= 0, 0) = alpha
+        if self.maximum:
+            for corner, weight, columns in candidates:
+                a = act[corner] if weight is None else act[corner] * weight
+                if a >= ACTIVATION_FLOOR:
+                    for col in columns:
+                        if a > alpha[col]:
+                            alpha[col] = a
+        else:
+            for corner, weight, columns in candidates:
+                a = act[corner] if weight is None else act[corner] * weight
+                if a >= ACTIVATION_FLOOR:
+                    for col in columns:
+                        alpha[col] = alpha[col] + a
         if self.bounded:
             alpha = [a if a < 1.0 else 1.0 for a in alpha]
         out = []
-        for (first, stop), peaks, default in zip(self.slices, self.peaks, self.defaults):
+        for terms, default in self.ratios:
             num = den = 0.0
-            if stop > first:
-                num, den = alpha[first] * peaks[0], alpha[first]
-                for j in range(1, stop - first):
-                    num = num + alpha[first + j] * peaks[j]
-                    den = den + alpha[first + j]
+            if terms:
+                (first, z), rest = terms[0], terms[1:]
+                num, den = alpha[first] * z, alpha[first]
+                for t, z in rest:
+                    num = num + alpha[t] * z
+                    den = den + alpha[t]
             out.append(num / den if den > 0 else default)
         return out
