@@ -470,11 +470,12 @@ def read_fll(text: str, path: str = "<string>") -> Model:
 FLL_HEDGES = {v: k for k, v in HEDGES.items()}
 FLL_NAMES = {
     "and_": {v: k for k, v in TNORMS.items()},
-    "or_": {v: k for k, v in SNORMS.items() if k != "NormalizedSum"},
+    "or_": {v: k for k, v in ops.format_words(ops.S_NORMS, "fll", read=False).items()},
     "implication": {v: k for k, v in IMPLICATIONS.items()},
 }
 FLL_INTEGRAL = {v: k for k, v in INTEGRAL.items()}
-FLL_AGGREGATIONS = {v: k for k, v in AGGREGATIONS.items()}
+# the written words only (NormalizedSum is read as BoundedSum, never written)
+FLL_AGGREGATIONS = {v: k for k, v in ops.format_words(ops.AGGREGATIONS, "fll", read=False).items()}
 
 
 def write_fll(model: Model, warnings: list[str] | None = None) -> str:
