@@ -88,7 +88,7 @@ class Controller:
                 later = {v.name for b in self.model.blocks[k + 1:] for v in b.inputs}
                 if later & {v.name for v in rb.outputs}:
                     gives_activations = functools.partial(tools.term_activations, rb)
-            engine = tools.ToolEngine(rb, self.semantics)
+            engine = tools.ToolEngine(rb, self.semantics, tools.file_settings(self.model))
         return ([v.name for v in rb.inputs], list(enumerate(v.name for v in rb.outputs)),
                 engine, gives_activations)
 

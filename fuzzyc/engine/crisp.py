@@ -68,6 +68,25 @@ def _bisector(x0, dx, f0, f1, piece_area, area) -> np.ndarray:
     return a0 + np.clip(t, 0.0, d)
 
 
+def smallest_of_maximum(x: np.ndarray, f: np.ndarray, default: float) -> np.ndarray:
+    """The smallest x where the piecewise-linear (x, f) is largest (as mean_of_maximum)."""
+    return _end_of_maximum(x, f, default, last=False)
+
+
+def largest_of_maximum(x: np.ndarray, f: np.ndarray, default: float) -> np.ndarray:
+    """The largest x where the piecewise-linear (x, f) is largest (as mean_of_maximum)."""
+    return _end_of_maximum(x, f, default, last=True)
+
+
+def _end_of_maximum(x: np.ndarray, f: np.ndarray, default: float, last: bool) -> np.ndarray:
+    top = f.max(axis=1)
+    is_top = f >= (top * (1.0 - FLAT_TOLERANCE))[:, None]
+    k = is_top.shape[1] - 1 - np.argmax(is_top[:, ::-1], axis=1) if last \
+        else np.argmax(is_top, axis=1)
+    at = np.take_along_axis(np.broadcast_to(x, f.shape), k[:, None], axis=1)[:, 0]
+    return np.where(top > 0, at, default)
+
+
 def mean_of_maximum(x: np.ndarray, f: np.ndarray, default: float) -> np.ndarray:
     """The mean of the set where the piecewise-linear (x, f) is largest."""
     top = f.max(axis=1)

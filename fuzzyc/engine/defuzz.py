@@ -44,7 +44,6 @@ import numpy as np
 from .centroid import ClosedFormCentroid
 from .crisp import AT_LEVEL_STEPS, safe_ratio
 from .crisp import FLAT_TOLERANCE  # noqa: F401  (the C back end reads it from here)
-from .crisp import mean_of_maximum as _mean_of_maximum
 from .membership import linear_coefficients, memberships, term_inverse, trapezoid
 from ..semantics.model import Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable
 from ..semantics.operators import AGGREGATIONS, DEFUZZIFIERS, IMPLICATIONS, members
@@ -61,6 +60,9 @@ BISECTION_STEPS = 60
 FIRING_GUESS = 16
 
 PEAK_BASED = members(DEFUZZIFIERS, lambda rec: rec.family == "peaks")
+# where the aggregated set is largest: its mean, smallest or largest point
+MAXIMUM_BASED = (Defuzzifier.MEAN_OF_MAXIMUM, Defuzzifier.SMALLEST_OF_MAXIMUM,
+                 Defuzzifier.LARGEST_OF_MAXIMUM)
 
 
 @dataclass(frozen=True)
@@ -149,9 +151,11 @@ class OutputDefuzzifier:
         method = inference.defuzzifier
         self.linear = None
         if np.any(kinds == TermKind.LINEAR):
-            if method not in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM):
-                raise ValueError(f"`{var.name}` has linear terms: they need defuzzify = "
-                                 f"weighted_average or weighted_sum, not {method.name.lower()}")
+            # any peak-based defuzzifier: center_of_area groups the rules per term first,
+            # as pyfuzzylite 8's WeightedAverage does with an aggregation
+            if method not in PEAK_BASED:
+                raise ValueError(f"`{var.name}` has linear terms: they need a peak-based "
+                                 f"defuzzifier, not {method.name.lower()}")
             self.linear = linear_coefficients(var, len(inputs))
             self.is_linear = kinds == TermKind.LINEAR
             self.reads = self.linear[:, 1:] != 0          # (T, I): the inputs each term weights
@@ -396,9 +400,10 @@ class OutputDefuzzifier:
     def _probsum_area(self, levels: np.ndarray, ids: np.ndarray) -> np.ndarray:
         method, default = self.inference.defuzzifier, self.var.default
         x = self._points(levels, ids)
-        if method == Defuzzifier.MEAN_OF_MAXIMUM:     # break points and midpoints suffice
+        if method in MAXIMUM_BASED:     # break points and midpoints suffice
             xs = _interleave(x[:, :-1], 0.5 * (x[:, :-1] + x[:, 1:]), x[:, -1:])
-            return _mean_of_maximum(xs, _probsum(self._items_at(xs, levels, ids)), default)
+            return DEFUZZIFIERS[method].numpy(xs, _probsum(self._items_at(xs, levels, ids)),
+                                              default)
         nodes, weights = _gauss_legendre(ids.shape[1])
         x0, dx = x[:, :-1], np.diff(x, axis=1)
         piece_area, moment = self._gauss(x0, dx, levels, ids, nodes, weights)

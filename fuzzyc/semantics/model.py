@@ -102,6 +102,7 @@ Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives 
   BISECTOR   the u splitting int M in two equal halves (exact on piecewise-linear terms).
   MEAN_OF_MAXIMUM  the mean of the set where M is largest (to rounding: where M >= top
              (1 - 1e-12), relative to the top; fuzzyc.engine.defuzz.FLAT_TOLERANCE).
+  SMALLEST_OF_MAXIMUM, LARGEST_OF_MAXIMUM  the smallest / largest u of that set.
   CENTER_OF_AREA   paper eq. 2: sum_j alpha_j peak_j / sum_j alpha_j, alpha_j = AGG of act_r over
              rules concluding term j; peak = (b+c)/2 of a trapezoid, the mean, centre, or value.
   WEIGHTED_AVERAGE  sum_r act_r z_r / sum_r act_r  (Takagi-Sugeno; z_r = peak of the consequent,
@@ -236,6 +237,10 @@ class Defuzzifier(IntEnum):
     # infinity); y = sum act_r z_r / sum act_r (fuzzylite's reading of a WeightedAverage over
     # Ramp, Sigmoid, SShape, ZShape, Concave terms).  Singletons: z_r = v.
     TSUKAMOTO = 6
+    # the smallest / largest u where M is largest (fuzzylite's SmallestOfMaximum and
+    # LargestOfMaximum, IEC 61131-7's LM and RM, MATLAB's som and lom)
+    SMALLEST_OF_MAXIMUM = 7
+    LARGEST_OF_MAXIMUM = 8
 
 
 PIECEWISE_LINEAR = (TermKind.TRAPEZOID, TermKind.SINGLETON)

@@ -199,7 +199,10 @@ AGGREGATIONS: dict[Aggregation, AggregationOp] = {
                                        snorm=SNorm.PROBSUM, exact=True),
     Aggregation.BOUNDED_SUM: AggregationOp("bounded_sum", _fold(SNorm.BOUNDED_SUM), True,
                                            "BoundedSum", "BSUM",
-                                           also=(("fcl", "NSUM"), ("fis", "bounded_sum")),
+                                           # NormalizedSum folds to min(1, sum) too (measured:
+                                           # pyfuzzylite 8 and the fuzzylite 6 CLI)
+                                           also=(("fll", "NormalizedSum"), ("fcl", "NSUM"),
+                                                 ("fis", "bounded_sum")),
                                            snorm=SNorm.BOUNDED_SUM, exact=True),
     Aggregation.DRASTIC_SUM: AggregationOp("drastic_sum", _fold(SNorm.DRASTIC_SUM), True,
                                            "DrasticSum", "DSUM", also=(("fis", "drastic_sum"),),
@@ -230,6 +233,13 @@ DEFUZZIFIERS: dict[Defuzzifier, DefuzzifierOp] = {
     Defuzzifier.MEAN_OF_MAXIMUM: DefuzzifierOp("mean_of_maximum", crisp.mean_of_maximum, False,
                                                "MeanOfMaximum", "MM", "mom", "area",
                                                also=(("fz", "mom"),), family="area"),
+    # sampled by the tools like the mean of maximum; the C back ends do not emit them (yet)
+    Defuzzifier.SMALLEST_OF_MAXIMUM: DefuzzifierOp(
+        "smallest_of_maximum", crisp.smallest_of_maximum, False, "SmallestOfMaximum", "LM",
+        "som", None, also=(("fz", "som"),), family="area"),
+    Defuzzifier.LARGEST_OF_MAXIMUM: DefuzzifierOp(
+        "largest_of_maximum", crisp.largest_of_maximum, False, "LargestOfMaximum", "RM", "lom",
+        None, also=(("fz", "lom"),), family="area"),
     Defuzzifier.CENTER_OF_AREA: DefuzzifierOp("center_of_area", crisp.safe_ratio, False,
                                               "WeightedAverage", "COGS", None, "num / den",
                                               "ratio", also=(("fz", "coa"),), family="peaks"),
@@ -237,7 +247,7 @@ DEFUZZIFIERS: dict[Defuzzifier, DefuzzifierOp] = {
                                                 "WeightedAverage", None, "wtaver", "num / den",
                                                 "ratio", family="peaks"),
     Defuzzifier.WEIGHTED_SUM: DefuzzifierOp("weighted_sum", crisp.weighted_sum, False,
-                                            "WeightedSum", None, "wtsum", "num", "sum",
+                                            "WeightedSum", "COGSS", "wtsum", "num", "sum",
                                             family="peaks"),
     Defuzzifier.TSUKAMOTO: DefuzzifierOp("tsukamoto", crisp.safe_ratio, False,
                                          "WeightedAverage", family="inverse"),
