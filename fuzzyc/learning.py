@@ -166,6 +166,19 @@ _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?")
 # The first line of a learned rule file: learned weights are a result, never hand-written.
 PROVENANCE = "# LEARNED WEIGHTS, written by"
 _SET_LEARN = re.compile(r"^([ \t]*)(set[ \t]+learn\.\w+[ \t]*=[^\n#]*?)[ \t]*$", re.MULTILINE)
+_HEADER = re.compile(r'^([ \t]*controller[ \t]+)(\w+)(?:([ \t]+)"([^"\\\n]*)")?', re.MULTILINE)
+LEARNED_NAME, LEARNED_TITLE = "_learned", ", learned weights"
+
+
+def _learned_header(match: re.Match) -> str:
+    """The learned file is a controller of its own: `NAME_learned`, its title says so (the
+    untrained and the learned one side by side get two C headers, plots and eval lines)."""
+    start, name, space, title = match.groups()
+    name = name if name.endswith(LEARNED_NAME) else name + LEARNED_NAME
+    if title is None:
+        return start + name
+    title = title if title.endswith(LEARNED_TITLE) else title + LEARNED_TITLE
+    return f'{start}{name}{space}"{title}"'
 
 
 def provenance(file_name: str, scenario: str, cycles: int, eta: float, rho: float,
@@ -209,6 +222,7 @@ def trained_text(model: Model, weights: np.ndarray, output: str = "du",
         # a closed-loop property's `set learn.cycles = N` trains an untrained file first; the
         # learned file is checked as it is
         new_text = _SET_LEARN.sub(r"\1# \2   (already learned: the table above)", new_text)
+        new_text = _HEADER.sub(_learned_header, new_text, count=1)
     check = parse(new_text, model.source_path or "<trained>")
     got = check.rulebase.outputs[check.rulebase.output_index(output)]
     if not np.array_equal(got.params[got.learnable, 0], np.array(written, float)):

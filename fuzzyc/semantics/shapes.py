@@ -35,6 +35,9 @@ class Word:
     at: int = 0                                # the number an error points at
     plain: bool = False                        # params are the numbers in the model's order
     usage: str = ""                                # how to write it, for the messages
+    # other formats' names for this word where its record's fll/fcl/fis name another word
+    # (MATLAB's trimf is `tri`): the parser's "did you mean" reads them
+    names: tuple[str, ...] = ()
 
 
 @dataclass(frozen=True)
@@ -96,16 +99,17 @@ TRAPEZOID_WORDS = (
     Word("tri", 3, lambda v: _ordered([v[0], v[1], v[1], v[2]]),
          lambda v, name: f"degenerate tri `{name}`({_numbers(v)}): break points must satisfy "
                          "a <= b <= c with a < c",
-         lambda v: (v[0], v[1], v[1], v[2])),
+         lambda v: (v[0], v[1], v[1], v[2]), names=("trimf", "Triangle", "TRIAN")),
     Word("trap", 4, lambda v: _ordered(list(v)),
          lambda v, name: f"degenerate trap `{name}`({_numbers(v)}): break points must satisfy "
                          "a <= b <= c <= d with a < d",
-         lambda v: tuple(v)),
+         lambda v: tuple(v), names=("trapmf", "Trapezoid", "TRAPE", "Rectangle", "rectmf")),
     Word("lshoulder", 2, lambda v: v[0] < v[1],
          _said("lshoulder `{name}` needs its top end before its foot: lshoulder(c, d) with "
-               "c < d"), lambda v: (-INF, -INF, *v)),
+               "c < d"), lambda v: (-INF, -INF, *v), names=("Ramp", "rampmf")),
     Word("rshoulder", 2, lambda v: v[0] < v[1],
-         _said("rshoulder `{name}` needs rshoulder(a, b) with a < b"), lambda v: (*v, INF, INF)),
+         _said("rshoulder `{name}` needs rshoulder(a, b) with a < b"), lambda v: (*v, INF, INF),
+         names=("Ramp", "rampmf")),
 )
 
 

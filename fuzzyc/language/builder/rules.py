@@ -25,7 +25,8 @@ INFERENCE_VALUES = {key: operators.format_words(operators.REGISTRIES[key], "fz")
 INFERENCE_FIELD = {"and": "and_", "or": "or_", "implication": "implication",
                    "aggregation": "aggregation", "defuzzify": "defuzzifier"}
 
-LINEAR_DEFUZZIFIERS = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)
+# the peak-based defuzzifiers (the registry's "peaks" family) read a linear term's value
+LINEAR_DEFUZZIFIERS = operators.members(operators.DEFUZZIFIERS, lambda rec: rec.family == "peaks")
 
 HEDGES = {None: Hedge.NONE, **{rec.word: h for h, rec in operators.HEDGES.items()
                                if h != Hedge.NONE}}
@@ -156,6 +157,12 @@ class RulesBuilder:
         var = self.vars.get(name.text)
         if var is None and name.text in self.broken:
             return None
+        if var is None and (name.text in self.signals or name.text in self.step_by_name):
+            kind = "input" if name.text in self.signals else "signal"
+            self.error(name.loc, f"{kind} `{name.text}` has no terms; declare them with "
+                                 f"`terms {name.text} : ...` (`terms {name.text} : uniform "
+                                 "N Z P`, or `N = tri(a, b, c), ...`)")
+            return None
         if var is None:
             known = [v for v, lv in self.vars.items() if lv.is_input]
             self.error(name.loc, f"unknown input `{name.text}` in a condition: "
@@ -185,9 +192,13 @@ class RulesBuilder:
 
     def _term(self, var: LinguisticVar, term: Name, context: str) -> int | None:
         names = var.term_names()
+        if term.text not in names and f"{var.name}.{term.text}" in self.broken:
+            return None     # its definition is reported
         if term.text not in names:
+            hint = suggest(term.text, names)
+            known = f" (known terms are {' '.join(names)})" if hint.startswith("did") else ""
             self.error(term.loc, f"unknown term `{term.text}` of `{var.name}` in {context}: "
-                                 f"{suggest(term.text, names)} (known terms are {' '.join(names)})")
+                                 f"{hint}{known}")
             return None
         return names.index(term.text)
 
@@ -422,8 +433,9 @@ class RulesBuilder:
             if kind != TermKind.LINEAR:
                 continue
             if inference.defuzzifier not in LINEAR_DEFUZZIFIERS:
-                self.error(loc, f"linear term `{name}` needs defuzzify = weighted_average or "
-                                "weighted_sum")
+                self.error(loc, f"linear term `{name}` needs defuzzify = " + " or ".join(
+                    operators.DEFUZZIFIERS[d].word for d in sorted(   # the usual one first
+                        LINEAR_DEFUZZIFIERS, key=lambda d: d != Defuzzifier.WEIGHTED_AVERAGE)))
             if any(params[n_inputs + 1:]):     # zeros are the (T, 4) padding
                 self.error(loc, f"linear `{name}` has more coefficients than c0 and one per "
                                 f"rule-base input ({n_inputs})")

@@ -126,6 +126,7 @@ class TermsBuilder:
             hint = (f"write `let {name.text} in [lo, hi] = ...`" if var.is_input
                     else f"write `terms {name.text} in [lo, hi] : ...` or `var {name.text} in [lo, hi]`")
             self.error(name.loc, f"`{name.text}` needs a range for its terms: {hint}")
+            self.broken.add(name.text)      # its rules say nothing more
             return None
         self.vars[name.text] = var
         return var
@@ -149,6 +150,10 @@ class TermsBuilder:
             self._append_term(var, name, TermKind.TRAPEZOID, params)
 
     def _add_term(self, var: LinguisticVar, term: TermDef) -> None:
+        self.broken.add(f"{var.name}.{term.name.text}")   # until it is added: rules on a
+        self._add_checked_term(var, term)                   # broken term say nothing more
+
+    def _add_checked_term(self, var: LinguisticVar, term: TermDef) -> None:
         shape, word = WORDS[term.shape]
         values = [n.value for n in term.args]
         arity = word.arity or len(values)
@@ -165,6 +170,7 @@ class TermsBuilder:
                                       f"`{var.name}` cannot have one")
             return
         self._append_term(var, term.name, shape.kind, word.params(values))
+        self.broken.discard(f"{var.name}.{term.name.text}")
 
     def _append_term(self, var: LinguisticVar, name: Name, kind: TermKind, params,
                      learnable: bool = False) -> int:
