@@ -157,16 +157,18 @@ def compile_lut(model: Model, resolution: int = 33) -> Header:
 
 # -- tuning -----------------------------------------------------------------------------------
 
-def tune(model: Model | PathLike, data: PathLike, *, validate: PathLike | None = None,
-         folds: int | None = None, seed: int = 0, passes: int = 20,
-         max_nfev: int | None = None) -> Any:
+def tune(model: Model | PathLike, data: PathLike | None = None, *,
+         validate: PathLike | None = None, folds: int | None = None, seed: int = 0,
+         passes: int = 20, max_nfev: int | None = None, **closed_loop: Any) -> Any:
     """Fit the numbers a .fz file's `tune` section frees to the CSV `data` (docs/tuning.md);
     `validate` (a CSV) or `folds` (K-fold cross-validation) measure the error elsewhere.
-    Returns a fuzzyc.tune.TuneResult: `.text` is the tuned file, `.fit` the numbers, errors
-    and properties before and after."""
+    Or against a closed loop: `scenario=NAME, minimize=METRIC` instead of data, with the
+    options of fuzzyc.tune.tune (sets, limits, batch, randomize, method, max_evaluations,
+    max_examples). Returns a fuzzyc.tune.TuneResult: `.text` is the tuned file, `.fit` the
+    numbers, errors (or costs) and properties before and after."""
     from .tune import tune as run
     return run(model, data, validate=validate, folds=folds, seed=seed, passes=passes,
-               max_nfev=max_nfev)
+               max_nfev=max_nfev, **closed_loop)
 
 
 # -- verification and simulation -------------------------------------------------------------

@@ -71,6 +71,14 @@ SUBSTITUTED = {
     "python -m fuzzyc.tune.mackey_glass --bounded -0.5 2.5 --max-nfev 300":
         ("python -m fuzzyc.tune.mackey_glass --bounded -0.5 2.5 --passes 1 --max-nfev 3",
          "the two fits take four minutes of CPU; 3 evaluations each take the same path"),
+    "fuzzyc tune rulebases/fopdt_pi.fz --scenario fopdt_step --minimize 'iae(y)' --limit 'overshoot(y)<=0.02' --seed 0 -o tuned.fz":
+        ("fuzzyc tune rulebases/fopdt_pi.fz --scenario fopdt_step --minimize 'iae(y)' --limit 'overshoot(y)<=0.02' --seed 0 -o tuned.fz --max-evaluations 5 --max-examples 5",
+         "the search takes 80 loops and the checks 30 each; 5 take the same path "
+         "(tests/test_tune_loop.py checks the tuned results)"),
+    "python -m fuzzyc.tune.fopdt_loop":
+        ("python -m fuzzyc.tune.fopdt_loop --max-evaluations 5",
+         "two searches of 80 loops; 5 take the same path (tests/test_tune_loop.py checks the "
+         "fuzzy PI's result)"),
     "python -m fuzzyc.conformance [--details] [--no-live]":
         ("python -m fuzzyc.conformance --details --no-live",
          "[...] marks optional flags; --no-live: no fuzzylite/octave runs (`make conformance`)"),
@@ -99,6 +107,10 @@ NOT_RUN = {
     "fuzzyc tune mg/mackey_glass_anfis.fz --data mg/train.csv --validate mg/check.csv --seed 0 -o mg/tuned.fz":
         "its files are the ones the line above writes, and each doc command runs in a fresh "
         "copy; tests/test_tune_cli.py runs fuzzyc tune on files it writes",
+    "python -m fuzzyc.tune.corner_identify":
+        "about four minutes of CPU (two closed loops of 12,600 periods and the closed-loop "
+        "property's checks); tests/test_tune_loop.py checks its data and how its cost reads "
+        "the controller",
     "python -m fuzzyc.plants.corner_table --against table4.csv":
         "table4.csv is the user's measurements (held out of the project); "
         "tests/test_corner_validation.py runs --against on files it writes",
@@ -243,7 +255,9 @@ def check_run(command: str, cwd: Path) -> subprocess.CompletedProcess:
     for option in ("-o", "--report"):
         if option in words:
             written = cwd / words[words.index(option) + 1]
-            assert written.is_dir() and any(written.iterdir()), (run_command, written)
+            # a folder of files, or the one file it names (`fuzzyc tune ... -o tuned.fz`)
+            assert written.is_file() or written.is_dir() and any(written.iterdir()), \
+                (run_command, written)
     return done
 
 
