@@ -21,6 +21,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 if str(ROOT) not in sys.path:
     sys.path.append(str(ROOT))
 
+# tests/bad_inputs/ holds rule files that must fail to load (test_error_messages.py reads them);
+# the plugin's `fuzzyc_verify = true` would otherwise collect each one as a broken test file
+collect_ignore = ["bad_inputs"]
+
 INSTALLED_FROM = pathlib.Path(fuzzyc.__file__).resolve().parent
 if os.environ.get("FUZZYC_WHEEL") and INSTALLED_FROM == ROOT / "fuzzyc":
     raise SystemExit(f"FUZZYC_WHEEL is set but fuzzyc was imported from the source tree "
