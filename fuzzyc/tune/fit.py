@@ -22,11 +22,12 @@ from scipy.optimize import least_squares, lsq_linear
 from ..engine import inference as engine
 from ..semantics.model import Model
 from ..semantics.tunable import TunedNumber
-from .constraints import KEPT, Penalties, PropertyCheck, kept_properties, status
+from .constraints import KEPT, Penalties, PropertyCheck, check, kept_properties, status
 from .space import Space
 from .sugeno import SugenoForm, sugeno_problem
 
-PENALTY_WEIGHTS = (1e2, 1e4)      # tried in turn until the verifier accepts one
+PENALTY_WEIGHTS = (1e2, 1e4, 1e6)   # rounds 1, 2, 3 and on (the last for every later round)
+COUNTEREXAMPLE_ROUNDS = 6         # searches the verifier may reject before the bisection
 
 
 @dataclass
@@ -84,23 +85,35 @@ def _fit(model: Model, X, Y, seed, passes, max_nfev, keep_properties) -> FitResu
     before = _rmse(_predict(model, X), Y)
     rejected: list[str] = []
     penalties = Penalties(model, [p for p, _ in held]) if held else None
-    tries = PENALTY_WEIGHTS if penalties else (0.0,)
-    theta = None
-    for weight in tries:
-        candidate, method = _search(space, form, X, Y, passes, max_nfev, penalties, weight)
-        lost = _lost(space, candidate, held, seed)
+    theta, candidate, start, weight, added = None, None, None, 0.0, 0
+    for rounds in range(1, (COUNTEREXAMPLE_ROUNDS if penalties else 1) + 1):
+        # the weight grows after the first rejection; each round starts from the last
+        # candidate, its penalty sets grown by the verifier's counterexamples
+        weight = PENALTY_WEIGHTS[min(rounds - 1, len(PENALTY_WEIGHTS) - 1)] if penalties \
+            else 0.0
+        candidate, name = _search(space, form, X, Y, passes, max_nfev, penalties, weight, start)
+        method = name if start is None else method
+        found: list = []
+        lost = _lost(space, candidate, held, seed, found)
         if not lost:
             theta = candidate
             break
-        rejected.append(f"penalty weight {weight:g}: " + "; ".join(lost))
+        new = sum(penalties.add(space.apply(candidate), p, e) for p, e in found)
+        added += new
+        rejected.append(f"round {rounds}, penalty weight {weight:g}: " + "; ".join(lost)
+                        + f"; {new} counterexample points added to the penalty")
+        if not new:
+            break
+        start = candidate
+    if penalties:
+        method += (f", penalty weight{'s' if rounds > 1 else ''} "
+                   f"{', '.join(f'{w:g}' for w in sorted({*PENALTY_WEIGHTS[:rounds]}))}, "
+                   f"{rounds} round{'s' if rounds > 1 else ''} of the verifier "
+                   f"({added} counterexample points added)")
     if theta is None:       # back along the way to the numbers as written, which keep them
         theta, share = _keeping(space, candidate, held, seed)
         method += f", then {share:.4g} of the way from the written numbers (the most that " \
                   "keeps the properties)"
-        if penalties:
-            method += f", penalty weights {', '.join(f'{w:g}' for w in tries)}"
-    elif penalties:
-        method += f", penalty weight {weight:g}"
     tuned = space.apply(theta)
     for p, c in zip(props, checks):
         verdict, c.detail = status(tuned, p, seed)
@@ -124,21 +137,26 @@ def _keeping(space: Space, candidate, held, seed, steps: int = 12):
     return space.x0 + good * (candidate - space.x0), good
 
 
-def _lost(space: Space, theta, held, seed) -> list[str]:
+def _lost(space: Space, theta, held, seed, found: list | None = None) -> list[str]:
+    """Why the verifier rejects theta (empty: it keeps every held property); `found` gets
+    (property, failing evidence) of each lost one."""
     if not held:
         return []
     model = space.apply(theta)
     lost = []
     for p, _ in held:
-        verdict, why = status(model, p, seed)
+        verdict, why, evidence = check(model, p, seed)
         if verdict not in KEPT:
             lost.append(f"loses `{p.text}` ({verdict.value}{': ' + why if why else ''})")
+            if found is not None:
+                found.append((p, evidence))
     return lost
 
 
 def _search(space: Space, form: SugenoForm | None, X, Y, passes, max_nfev, penalties,
-            weight) -> tuple[np.ndarray, str]:
-    """The least-squares search; returns the numbers and the method's name."""
+            weight, start=None) -> tuple[np.ndarray, str]:
+    """The least-squares search; returns the numbers and the method's name. `start`: a
+    candidate to go on from (a counterexample round), without the hybrid passes."""
     target = Y.ravel()
     scale = np.sqrt(weight)
 
@@ -158,11 +176,14 @@ def _search(space: Space, form: SugenoForm | None, X, Y, passes, max_nfev, penal
         J = form.jacobian(theta)
         if not weight:
             return J
-        return np.vstack([J, _forward_differences(penalty_residual, theta, space)])
+        return np.vstack([J, scale * penalties.jacobian(
+            space, theta, lambda fun, t: _forward_differences(fun, t, space))])
 
-    theta = space.x0.copy()
+    theta = space.x0.copy() if start is None else start.copy()
     analytic = form is not None and form.analytic
-    if form is not None and form.linear_part.any():     # the penalised search starts there too
+    if start is not None:
+        method = "counterexample round"      # the caller keeps the first round's name
+    elif form is not None and form.linear_part.any():     # the penalised search starts there too
         theta = _hybrid(form, theta, space, target, passes, max_nfev)
         method = "ANFIS hybrid (bounded linear least squares + trust-region least squares)"
     else:
