@@ -1,5 +1,6 @@
 """Properties kept: for each kind (bounded, monotone, covers) the unconstrained optimum of the
-data violates it, and the tuned result keeps it, as the verifier decides."""
+data violates it, and the tuned result keeps it, as the verifier decides; the verifier's
+counterexamples join the penalty sets."""
 from __future__ import annotations
 
 import numpy as np
@@ -8,6 +9,7 @@ import pytest
 from fuzzyc.engine.inference import evaluate
 from fuzzyc.language.parser import parse
 from fuzzyc.tune import fit_data
+from fuzzyc.tune.constraints import SEGMENT_PARTS, Penalties, check
 from fuzzyc.verifier.runner import Options, check_property
 from fuzzyc.verifier.result import Result, Status
 
@@ -114,3 +116,78 @@ def test_covers_is_kept():
     assert free.values.sum() < 0.8                                # the free fit went past it
     assert kept.rmse_after > free.rmse_after
     assert [(c.before, c.after) for c in kept.properties] == [("proved", "proved")]
+
+
+LINE = """controller line {
+  input x in [0, 1]
+  terms x : all = trap(-1, 0, 1, 2)
+  var y in [-5, 5] default 0
+  terms y : l = linear(0, 1)
+  inference and = product, defuzzify = weighted_average
+  rule if x is all then y is l
+  output u in [-5, 5] = y
+  verify {
+    bounded y in [0, 1.5]
+  }
+  tune {
+    y in +/- 5
+  }
+}
+"""
+
+
+def test_bounded_linear_consequent_is_kept():
+    # one rule firing 1 on [0, 1]: y = c0 + c1 x. The data y = 2 x at x = 0, 1/4, ..., 1 is
+    # fitted exactly by c0 = 0, c1 = 2, and y(1) = 2 leaves [0, 1.5]. Kept, the line's top
+    # end is at the bound: c1 = 1.5 - c0 and the error a (1 - x) - x / 2 is least at
+    # a = (1/2) sum x (1 - x) / sum (1 - x)^2 = (1/2) 0.625 / 1.875 = 1/6: c0 = 1/6, c1 = 4/3
+    model = parse(LINE)
+    xs = np.linspace(0, 1, 5)
+    assert verdict(model, "bounded") in KEPT            # y = x as written
+    free = fit_data(model, xs[:, None], 2 * xs, keep_properties=False)
+    assert free.values == pytest.approx([0, 2], abs=1e-9)
+    assert verdict(free.model, "bounded") == Status.VIOLATED
+    kept = fit_data(model, xs[:, None], 2 * xs)
+    assert kept.values == pytest.approx([1 / 6, 4 / 3], abs=1e-3)
+    assert verdict(kept.model, "bounded") in KEPT
+    dense = evaluate(kept.model.rulebase, np.linspace(0, 1, 10001)[:, None])[:, 0]
+    assert dense.min() >= 0 and dense.max() <= 1.5
+    assert [(c.before, c.after) for c in kept.properties] == [("held", "held")]
+
+
+def test_counterexample_joins_the_penalty():
+    # the free fit's y = 2 x breaks `bounded y in [0, 1.5]` at x = 1 (the verifier's grid
+    # says so); the penalty set grows by that point and its neighbours half a penalty-grid
+    # step away (x = 1 - 1 / 798: the grid has 400 points; x = 1 + 1 / 798 is clipped to 1)
+    model = parse(LINE)
+    xs = np.linspace(0, 1, 5)
+    free = fit_data(model, xs[:, None], 2 * xs, keep_properties=False).model
+    prop = free.properties[0]
+    found, why, evidence = check(free, prop, 0)
+    assert found == Status.VIOLATED and evidence.point == {"x": 1.0}
+    penalties = Penalties(free, [prop])
+    assert penalties.size(prop) == 400
+    assert penalties.add(free, prop, evidence) == 2
+    assert penalties.size(prop) == 402
+    added = penalties.items[0].points[-2:, 0]
+    assert added == pytest.approx([1 - 0.5 / 399, 1.0])
+    # y = 2 at x = 1: 0.5 over the bound, less the margin (1e-4 of the range 1.5)
+    assert penalties.residuals(free)[-1] == pytest.approx(0.5 + 1.5e-4)
+
+
+def test_monotone_counterexample_is_a_segment():
+    # a monotone counterexample (x, x') becomes SEGMENT_PARTS pairs along the segment
+    model = parse(MONOTONE)
+    xs = np.linspace(0, 1, 9)
+    free = fit_data(model, xs[:, None], np.sin(np.pi * xs * 0.8), keep_properties=False).model
+    prop = free.properties[0]
+    found, _, evidence = check(free, prop, 0)
+    assert found == Status.VIOLATED and evidence.to_point is not None
+    penalties = Penalties(free, [prop])
+    before = penalties.size(prop)
+    assert penalties.add(free, prop, evidence) == 2 * SEGMENT_PARTS
+    assert penalties.size(prop) == before + 2 * SEGMENT_PARTS
+    a, b = evidence.point["x"], evidence.to_point["x"]
+    pairs = penalties.items[0].pairs
+    assert pairs[0][0][0] == pytest.approx(a) and pairs[-1][1][0] == pytest.approx(b)
+    assert penalties.residuals(free).min() < 0      # the segment's slope goes the wrong way
