@@ -19,6 +19,7 @@ from .atomic import atomic_path, write_text
 from .engine.chain import Controller
 from .engine.inference import Explanation
 from .errors import FuzzycError
+from .language.model_builder import ModelBuilder
 from .semantics.model import Model
 from .language.numbers import real_array
 
@@ -30,8 +31,8 @@ if TYPE_CHECKING:
     from .verifier.report import VerifyReport
 
 __all__ = ["Controller", "Explanation", "FuzzycError", "Header", "Learning", "Model",
-           "Simulation", "compile_c", "compile_lut", "copy_examples", "evaluate", "example",
-           "examples", "explain", "learn", "load", "parse", "plot", "save", "simulate",
+           "ModelBuilder", "Simulation", "compile_c", "compile_lut", "copy_examples", "evaluate",
+           "example", "examples", "explain", "learn", "load", "parse", "plot", "save", "simulate",
            "tune", "verify"]
 
 PathLike = str | os.PathLike
