@@ -310,3 +310,22 @@ def test_a_refused_call_takes_no_number():
         b.build()
     assert [d.message.split(":")[0] for d in caught.value.diagnostics] == ["property 1"]
     assert repr(b) == "<ModelBuilder small: 2 variables, 1 rule, 0 tables>"
+
+
+def test_a_built_model_verifies_compiles_and_saves_like_a_parsed_one(tmp_path):
+    b = small()
+    b.rule("if x is lo then y is lo")
+    b.rule("if x is hi then y is hi")
+    b.verify("complete")
+    model = b.build()
+    report = fuzzyc.verify(model)
+    assert [(r.name, r.status.value) for r in report.results] == [
+        ("small.fz::complete", "proved")]
+    assert fuzzyc.compile_c(model).filename == "small.h"
+    fuzzyc.save(model, tmp_path / "small.fz")
+    again = fuzzyc.load(tmp_path / "small.fz")
+    x = np.linspace(0, 1, 11)
+    # lo = tri(0, 0, 1), hi = tri(0, 1, 1) sum to 1: y = hi's share = x
+    assert fuzzyc.evaluate(again, {"x": x})["y"].tolist() == pytest.approx(x.tolist())
+    assert np.array_equal(fuzzyc.evaluate(again, {"x": x})["y"],
+                          fuzzyc.evaluate(model, {"x": x})["y"])

@@ -171,7 +171,7 @@ def _term(name: str, spec: Any, var: str) -> str:
     return f"{_name(name, f'the name of a term of `{var}`')} = {shape}({values})"
 
 
-class Variable:
+class BuilderVariable:
     """A variable of a ModelBuilder (what `input` and `output` return): declare its terms
     with `terms`, `uniform` or `singletons`; each returns the variable, so calls chain."""
 
@@ -184,7 +184,7 @@ class Variable:
         return f"<{'output' if self.is_output else 'input'} {self.name} of {self._builder!r}>"
 
     def terms(self, terms: Mapping[str, Sequence[Any]] | None = None, /,
-              **more: Sequence[Any]) -> Variable:
+              **more: Sequence[Any]) -> BuilderVariable:
         """Terms by name, each (shape, number, ...) as .fz writes it: `terms(low=("tri", 0,
         5, 10), high=("rshoulder", 5, 10))`; a mapping first for names Python cannot take as
         keywords (`terms({"if": ("tri", 0, 1, 2)})`)."""
@@ -194,7 +194,8 @@ class Variable:
                            [f"terms {_name(self.name, 'the variable')} : {defs}".rstrip()])
         return self
 
-    def uniform(self, *names: str, over: tuple[float, float] | None = None) -> Variable:
+    def uniform(self, *names: str,
+                over: tuple[float, float] | None = None) -> BuilderVariable:
         """A uniform partition of the range (or of `over`): isosceles triangles with evenly
         spread peaks, shoulders at the ends."""
         words = " ".join(_name(n, f"the name of a term of `{self.name}`") for n in names)
@@ -206,7 +207,7 @@ class Variable:
         return self
 
     def singletons(self, values: Mapping[str, float] | None = None, /,
-                   **more: float) -> Variable:
+                   **more: float) -> BuilderVariable:
         """Singleton terms by name: `singletons(low=0, high=1)`."""
         given = {**dict(values or {}), **more}
         defs = " ".join(f"{_name(n, f'the name of a term of `{self.name}`')}="
@@ -216,7 +217,7 @@ class Variable:
                            [f"terms {_name(self.name, 'the variable')} : singletons {defs}"])
         return self
 
-    def inference(self, **settings: str) -> Variable:
+    def inference(self, **settings: str) -> BuilderVariable:
         """This output's own `aggregation` and `defuzzify` (the rule base's otherwise)."""
         if not self.is_output:
             raise ValueError(f"`{self.name}` is an input: an inference setting of its own "
@@ -244,7 +245,8 @@ class ModelBuilder:
     """A model declared by Python calls, checked as the same model written in .fz would be.
 
     `input(name, lo, hi)` and `output(name, lo, hi)` declare the rule base's variables and
-    return them (`Variable`: `terms`, `uniform`, `singletons`, an output's own `inference`);
+    return them (`BuilderVariable`: `terms`, `uniform`, `singletons`, an output's own
+    `inference`);
     `rule` adds a rule (its .fz text, or `when`/`then` mappings), `table` a rule table,
     `inference` the rule base's settings, `verify` properties, `note` a remark. `build()`
     returns the checked Model or raises FuzzycError, each diagnostic at the Python line that
@@ -262,7 +264,7 @@ class ModelBuilder:
             head += " " + _string(title, "the title")
         self._head = _Item(f"the model `{name}`", site, [head + " {"], -1)
         self._items: list[_Item] = []
-        self._variables: dict[str, Variable] = {}
+        self._variables: dict[str, BuilderVariable] = {}
         self._counts: dict[str, int] = {}
 
     def __repr__(self) -> str:
@@ -284,16 +286,17 @@ class ModelBuilder:
 
     # -- declarations -------------------------------------------------------------------------
 
-    def input(self, name: str, lo: float, hi: float, *, unit: str | None = None) -> Variable:
+    def input(self, name: str, lo: float, hi: float, *,
+              unit: str | None = None) -> BuilderVariable:
         """A rule-base input over [lo, hi] (`input NAME : UNIT in [lo, hi]`)."""
         line = (f"input {_name(name, 'the input name')}{_unit(unit, f'`{name}`')} "
                 f"in [{_number(lo, f'the low end of `{name}`')}, "
                 f"{_number(hi, f'the high end of `{name}`')}]")
         self._add(f"input `{name}`", _VARIABLE, [line])
-        return self._variables.setdefault(name, Variable(self, name, False))
+        return self._variables.setdefault(name, BuilderVariable(self, name, False))
 
     def output(self, name: str, lo: float, hi: float, *, unit: str | None = None,
-               default: float | None = None) -> Variable:
+               default: float | None = None) -> BuilderVariable:
         """A rule-base output over [lo, hi] (`var NAME : UNIT in [lo, hi] default d`);
         `default` is its value where no rule fires."""
         line = (f"var {_name(name, 'the output name')}{_unit(unit, f'`{name}`')} "
@@ -302,7 +305,7 @@ class ModelBuilder:
         if default is not None:
             line += f" default {_number(default, f'the default of `{name}`')}"
         self._add(f"output `{name}`", _VARIABLE, [line])
-        return self._variables.setdefault(name, Variable(self, name, True))
+        return self._variables.setdefault(name, BuilderVariable(self, name, True))
 
     def rule(self, text: str | None = None, *, when: Mapping[str, str] | None = None,
              then: Mapping[str, str | float] | None = None, weight: float | None = None,
@@ -483,4 +486,4 @@ def _one_statement(item: _Item) -> Diagnostic | None:
                       + f"; give each {item.kind} its own call", line)
 
 
-__all__ = ["CallSite", "ModelBuilder", "Variable"]
+__all__ = ["BuilderVariable", "CallSite", "ModelBuilder"]
