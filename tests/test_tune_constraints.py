@@ -9,7 +9,10 @@ import pytest
 from fuzzyc.engine.inference import evaluate
 from fuzzyc.language.parser import parse
 from fuzzyc.tune import fit_data
+from fuzzyc.tune.consequent_bounds import corner_bounds
 from fuzzyc.tune.constraints import SEGMENT_PARTS, Penalties, check
+from fuzzyc.tune.space import Space
+from fuzzyc.tune.sugeno import SugenoForm
 from fuzzyc.verifier.runner import Options, check_property
 from fuzzyc.verifier.result import Result, Status
 
@@ -77,6 +80,8 @@ def test_monotone_is_kept():
     grid = np.linspace(0, 1, 401)[:, None]
     assert np.all(np.diff(evaluate(kept.model.rulebase, grid)[:, 0]) >= -1e-9)
     assert kept.rmse_before > kept.rmse_after > free.rmse_after
+    # the first candidate loses it, its counterexample joins the penalty, the next keeps it
+    assert "counterexample points added" in kept.rejected[0]
 
 
 COVERS = """controller cover {
@@ -148,7 +153,10 @@ def test_bounded_linear_consequent_is_kept():
     assert free.values == pytest.approx([0, 2], abs=1e-9)
     assert verdict(free.model, "bounded") == Status.VIOLATED
     kept = fit_data(model, xs[:, None], 2 * xs)
-    assert kept.values == pytest.approx([1 / 6, 4 / 3], abs=1e-3)
+    # the consequent's values at the box's corners x = 0, 1 (c0, c0 + c1) within [0, 1.5]:
+    # linear constraints on the least squares, met by construction, no candidate rejected
+    assert kept.values == pytest.approx([1 / 6, 4 / 3], abs=1e-6)
+    assert "kept by construction" in kept.method and kept.rejected == []
     assert verdict(kept.model, "bounded") in KEPT
     dense = evaluate(kept.model.rulebase, np.linspace(0, 1, 10001)[:, None])[:, 0]
     assert dense.min() >= 0 and dense.max() <= 1.5
@@ -191,3 +199,15 @@ def test_monotone_counterexample_is_a_segment():
     pairs = penalties.items[0].pairs
     assert pairs[0][0][0] == pytest.approx(a) and pairs[-1][1][0] == pytest.approx(b)
     assert penalties.residuals(free).min() < 0      # the segment's slope goes the wrong way
+
+
+def test_corner_constraints_of_a_linear_consequent():
+    # y = c0 + c1 x on [0, 1] is within [0, 1.5] iff its corner values c0 (x = 0) and c0 + c1
+    # (x = 1) are: rows [1, 0] and [1, 1] on (c0, c1)
+    model = parse(LINE)
+    space = Space(model)
+    form = SugenoForm(space, np.zeros((1, 1)))
+    corner = corner_bounds(space, form, model.properties)
+    assert corner.corners == 2 and corner.C.tolist() == [[1, 0], [1, 1]]
+    assert corner.lo.tolist() == [0, 0] and corner.hi.tolist() == [1.5, 1.5]
+    assert corner.holds(np.array([0.0, 1.0])) and not corner.holds(np.array([0.0, 2.0]))

@@ -22,6 +22,7 @@ from scipy.optimize import least_squares, lsq_linear
 from ..engine import inference as engine
 from ..semantics.model import Model
 from ..semantics.tunable import TunedNumber
+from .consequent_bounds import CornerBounds, corner_bounds
 from .constraints import KEPT, Penalties, PropertyCheck, check, kept_properties, status
 from .space import Space
 from .sugeno import SugenoForm, sugeno_problem
@@ -84,14 +85,17 @@ def _fit(model: Model, X, Y, seed, passes, max_nfev, keep_properties) -> FitResu
     form = SugenoForm(space, X) if not sugeno_problem(model) else None
     before = _rmse(_predict(model, X), Y)
     rejected: list[str] = []
-    penalties = Penalties(model, [p for p, _ in held]) if held else None
+    corner = corner_bounds(space, form, [p for p, _ in held]) if held else None
+    rest = [p for p, _ in held if not corner or p not in corner.props]
+    penalties = Penalties(model, rest) if rest else None
     theta, candidate, start, weight, added = None, None, None, 0.0, 0
     for rounds in range(1, (COUNTEREXAMPLE_ROUNDS if penalties else 1) + 1):
         # the weight grows after the first rejection; each round starts from the last
         # candidate, its penalty sets grown by the verifier's counterexamples
         weight = PENALTY_WEIGHTS[min(rounds - 1, len(PENALTY_WEIGHTS) - 1)] if penalties \
             else 0.0
-        candidate, name = _search(space, form, X, Y, passes, max_nfev, penalties, weight, start)
+        candidate, name = _search(space, form, X, Y, passes, max_nfev, penalties, weight, start,
+                                  corner)
         method = name if start is None else method
         found: list = []
         lost = _lost(space, candidate, held, seed, found)
@@ -105,6 +109,10 @@ def _fit(model: Model, X, Y, seed, passes, max_nfev, keep_properties) -> FitResu
         if not new:
             break
         start = candidate
+    if corner:
+        method += "; " + ", ".join(f"`{p.text}`" for p in corner.props) + " kept by " \
+            f"construction: each consequent within the bounds at the input box's " \
+            f"{corner.corners} corners (linear constraints on the consequent least squares)"
     if penalties:
         method += (f", penalty weight{'s' if rounds > 1 else ''} "
                    f"{', '.join(f'{w:g}' for w in sorted({*PENALTY_WEIGHTS[:rounds]}))}, "
@@ -154,9 +162,11 @@ def _lost(space: Space, theta, held, seed, found: list | None = None) -> list[st
 
 
 def _search(space: Space, form: SugenoForm | None, X, Y, passes, max_nfev, penalties,
-            weight, start=None) -> tuple[np.ndarray, str]:
+            weight, start=None, corner: CornerBounds | None = None) -> tuple[np.ndarray, str]:
     """The least-squares search; returns the numbers and the method's name. `start`: a
-    candidate to go on from (a counterexample round), without the hybrid passes."""
+    candidate to go on from (a counterexample round), without the hybrid passes. `corner`:
+    linear constraints on the consequents, which the joint polish cannot take: it moves the
+    premises alone, and the constrained consequent solve follows."""
     target = Y.ravel()
     scale = np.sqrt(weight)
 
@@ -184,26 +194,60 @@ def _search(space: Space, form: SugenoForm | None, X, Y, passes, max_nfev, penal
     if start is not None:
         method = "counterexample round"      # the caller keeps the first round's name
     elif form is not None and form.linear_part.any():     # the penalised search starts there too
-        theta = _hybrid(form, theta, space, target, passes, max_nfev)
+        theta = _hybrid(form, theta, space, target, passes, max_nfev, corner)
         method = "ANFIS hybrid (bounded linear least squares + trust-region least squares)"
     else:
         method = "trust-region least squares" + (" (analytic Jacobian)" if analytic else
                                                   " (finite differences)")
     theta = np.clip(theta, space.lo, space.hi)     # bvls may end a rounding outside
+    if corner is not None:
+        return _premises_then_consequents(form, theta, space, target, residual, jacobian,
+                                          max_nfev, corner), method
     result = least_squares(residual, theta, jac=jacobian if analytic else "2-point",
                            bounds=(space.lo, space.hi), x_scale="jac", max_nfev=max_nfev,
                            method="trf")
     return np.clip(result.x, space.lo, space.hi), method
 
 
-def _hybrid(form: SugenoForm, theta, space: Space, target, passes, max_nfev) -> np.ndarray:
+def _premises_then_consequents(form, theta, space, target, residual, jacobian, max_nfev,
+                               corner, rounds: int = 3) -> np.ndarray:
+    """The polish under corner constraints: the premises by least squares (the consequents
+    held), then the consequents by the constrained solve; again while the error drops."""
+    lin, premises = form.linear_part, ~form.linear_part
+    cost = np.inf
+    for _ in range(rounds):
+        if premises.any():
+            def part(p, fun):
+                full = theta.copy()
+                full[premises] = p
+                return fun(full)
+            step = least_squares(lambda p: part(p, residual), theta[premises],
+                                 jac=(lambda p: part(p, jacobian)[:, premises])
+                                 if form.analytic else "2-point",
+                                 bounds=(space.lo[premises], space.hi[premises]),
+                                 x_scale="jac", max_nfev=max_nfev, method="trf")
+            theta[premises] = np.clip(step.x, space.lo[premises], space.hi[premises])
+        A, b = form.design(theta)
+        theta[lin] = corner.solve(A, target - b, space.lo[lin], space.hi[lin], theta[lin])
+        new = float(np.sum(residual(theta) ** 2))
+        if not new < cost * (1 - 1e-6):
+            break
+        cost = new
+    return theta
+
+
+def _hybrid(form: SugenoForm, theta, space: Space, target, passes, max_nfev,
+            corner: CornerBounds | None = None) -> np.ndarray:
     lin = form.linear_part
     premises = ~lin
     cost = np.inf
     for _ in range(passes):
         A, b = form.design(theta)
-        theta[lin] = lsq_linear(A, target - b, bounds=(space.lo[lin], space.hi[lin]),
-                                method="bvls").x
+        if corner is not None:
+            theta[lin] = corner.solve(A, target - b, space.lo[lin], space.hi[lin], theta[lin])
+        else:
+            theta[lin] = lsq_linear(A, target - b, bounds=(space.lo[lin], space.hi[lin]),
+                                    method="bvls").x
         if premises.any() and form.analytic:
             def residual(p):
                 full = theta.copy()
