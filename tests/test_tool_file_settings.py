@@ -133,3 +133,84 @@ END_FUNCTION_BLOCK
     # (fuzzylite's `LOCK : RANGE` is refused by fuzzyc's FCL grammar so far: not tested here)
     assert settings.known and settings.nan_default == {"y"}
     assert np.allclose(Chain(load_any(path)).evaluate([[0.5]], "fuzzylite"), [[2.0, 1.0]])
+
+
+TWO_RESOLUTIONS = """Engine: two
+InputVariable: x
+  enabled: true
+  range: 0 1
+  lock-range: false
+  term: all Rectangle -1 2
+OutputVariable: y
+  enabled: true
+  range: 0 4
+  lock-range: false
+  aggregation: Maximum
+  defuzzifier: Centroid 2
+  default: nan
+  lock-previous: false
+  term: up Ramp 0 4
+OutputVariable: z
+  enabled: true
+  range: 0 4
+  lock-range: false
+  aggregation: Maximum
+  defuzzifier: Centroid 4
+  default: nan
+  lock-previous: false
+  term: up Ramp 0 4
+RuleBlock: rules
+  enabled: true
+  conjunction: Minimum
+  disjunction: Maximum
+  implication: Minimum
+  activation: General
+  rule: if x is all then y is up and z is up
+"""
+
+
+@pytest.mark.parametrize("semantics", ["fuzzylite", "pyfuzzylite"])
+def test_each_output_samples_at_its_own_resolution(tmp_path, semantics):
+    # up = u/4, activation 1.  y, Centroid 2: midpoints 1, 3 (mu 1/4, 3/4):
+    # (1/4 + 9/4) / 1 = 2.5.  z, Centroid 4: midpoints 0.5 .. 3.5 (mu 1/8, 3/8, 5/8, 7/8):
+    # (1/16 + 9/16 + 25/16 + 49/16) / 2 = 2.625 (was 2.5: the block's first output's 2)
+    # (differential case pyfuzzylite-fll/the-file-s-defuzzifier-resolution)
+    y = _chain(tmp_path, TWO_RESOLUTIONS).evaluate([[0.5]], semantics)[0]
+    np.testing.assert_allclose(y, [2.5, 2.625], rtol=0, atol=1e-12)
+
+
+LINEAR = """Engine: linear
+InputVariable: x
+  enabled: true
+  range: 0 10
+  lock-range: {lock}
+  term: all Rectangle -100 100
+OutputVariable: y
+  enabled: true
+  range: 0 10
+  lock-range: false
+  aggregation: none
+  defuzzifier: WeightedAverage TakagiSugeno
+  default: nan
+  lock-previous: false
+  term: line Linear 2 1
+RuleBlock: rules
+  enabled: true
+  conjunction: Minimum
+  disjunction: Maximum
+  implication: none
+  activation: General
+  rule: if x is all then y is line
+"""
+
+
+@pytest.mark.parametrize("semantics", ["fuzzylite", "pyfuzzylite"])
+def test_a_linear_term_reads_the_input_unclamped(tmp_path, semantics):
+    # x = -5 outside [0, 10]: the tools' Linear reads the value as it is, 2 * -5 + 1 = -9
+    # (differential cases */a-linear-term); lock-range clamps it to 0 first: 1; fuzzyc's
+    # exact semantics clamp a Linear term's inputs to their range: 1
+    free = _chain(tmp_path, LINEAR.format(lock="false"))
+    locked = _chain(tmp_path, LINEAR.format(lock="true"))
+    assert free.evaluate([[-5.0], [12.0]], semantics)[:, 0].tolist() == [-9.0, 25.0]
+    assert locked.evaluate([[-5.0], [12.0]], semantics)[:, 0].tolist() == [1.0, 21.0]
+    assert free.evaluate([[-5.0], [12.0]], "exact")[:, 0].tolist() == [1.0, 21.0]

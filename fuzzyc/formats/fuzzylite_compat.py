@@ -38,6 +38,7 @@ tools and are taken from the engine unchanged.
 from __future__ import annotations
 
 from enum import Enum
+from typing import Sequence
 
 import numpy as np
 
@@ -66,24 +67,28 @@ class Sampling(Enum):
     TRAPEZOID = "trapezoid"   # Octave/MATLAB: linspace(lo, hi, n), trapz (end samples halved)
 
 
-def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int = 100,
+def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int | Sequence[int] = 100,
                      sampling: Sampling = Sampling.MIDPOINT,
                      methods: tuple[Defuzzifier, ...] = SAMPLED,
                      first_plateau: bool = False) -> np.ndarray:
     """x (N, I) -> y (N, O) as fuzzylite computes it with integral defuzzifiers sampled at
-    `resolution` midpoints (or as Octave does, `sampling`); `methods` are the defuzzifiers
-    sampled, the others as the engine (every tool is exact there).  `first_plateau`: the
-    mean of maximum over the first run of maximal samples only (fuzzylite 6)."""
+    `resolution` midpoints (or as Octave does, `sampling`); `resolution` is one for every
+    output or one per output (each fuzzylite OutputVariable has its own defuzzifier and
+    resolution: `defuzzifier: Centroid 300`); `methods` are the defuzzifiers sampled, the
+    others as the engine (every tool is exact there).  `first_plateau`: the mean of maximum
+    over the first run of maximal samples only (fuzzylite 6)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     y = evaluate(rb, x)
     sampled = [o for o in range(len(rb.outputs)) if _is_sampled(rb, o, methods)]
     if not sampled:
         return y
-    rows = max(1, CHUNK_FLOATS // max(1, rb.n_rules * resolution))
+    per_output = [resolution] * len(rb.outputs) if isinstance(resolution, (int, np.integer)) \
+        else [int(r) for r in resolution]
+    rows = max(1, CHUNK_FLOATS // max(1, rb.n_rules * max(per_output)))
     for start in range(0, x.shape[0], rows):
         act = activations(rb, x[start:start + rows])
         for o in sampled:
-            y[start:start + rows, o] = _defuzzify(rb, o, act, resolution, sampling,
+            y[start:start + rows, o] = _defuzzify(rb, o, act, per_output[o], sampling,
                                                   first_plateau)
     return y
 

@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import re
 from dataclasses import dataclass, field, replace
+from typing import Sequence
 
 import numpy as np
 
@@ -128,10 +129,8 @@ class ToolEngine:
         self.name, self.resolution = parse_semantics(semantics)
         fuzzylite = self.name in ("fuzzylite", "pyfuzzylite")
         self.settings = settings if settings is not None and fuzzylite else FileSettings()
-        if self.resolution is None:
-            points = [self.settings.resolution[v.name] for v in rb.outputs
-                      if v.name in self.settings.resolution]
-            self.resolution = points[0] if points else None
+        if self.resolution is None:        # each output its own (the file's, or the tool's)
+            self.resolution = [self.settings.resolution.get(v.name) for v in rb.outputs]
         self.locked = np.array([v.name in self.settings.locked for v in rb.inputs], dtype=bool)
         self.lo = np.array([v.lo for v in rb.inputs], dtype=float)
         self.hi = np.array([v.hi for v in rb.inputs], dtype=float)
@@ -215,8 +214,7 @@ class Chain:
     def evaluate(self, x: np.ndarray, semantics: str = "exact",
                  resolution: dict[str, int] | None = None) -> np.ndarray:
         """x (N, I) -> (N, O) under `semantics`; `resolution`: an output's own sampling
-        resolution (a block takes its first output's), else the file's, else the tool's
-        default."""
+        resolution, else the file's, else the tool's default (each output its own)."""
         x = np.atleast_2d(np.asarray(x, dtype=float))
         semantics, points = parse_semantics(semantics)      # NAME:N samples every output at N
         fuzzylite = semantics in ("fuzzylite", "pyfuzzylite")
@@ -230,9 +228,8 @@ class Chain:
             if fuzzylite:
                 rb = reading_activations(rb, written)
             xb = np.column_stack([env[v.name] for v in rb.inputs])
-            points = [resolution[v.name] for v in rb.outputs if v.name in resolution]
             # the rows are one controller's successive samples (fuzzylite's -d inputs.fld)
-            y = evaluate_as(rb, xb, semantics, points[0] if points else None,
+            y = evaluate_as(rb, xb, semantics, [resolution.get(v.name) for v in rb.outputs],
                             Held(sequence=True))
             if fuzzylite:
                 y = _as_fuzzylite_outputs(rb.outputs, y, settings)
@@ -328,14 +325,38 @@ def fuzzylite_hedges(rb: RuleBase) -> RuleBase:
                    conditions=programs)
 
 
+def resolutions(rb: RuleBase, resolution: int | Sequence[int | None] | None,
+                default: int) -> list[int]:
+    """Per output of rb its sampling resolution: `resolution` for all, or per output (None:
+    `default`, the tool's own)."""
+    if resolution is None or isinstance(resolution, (int, np.integer)):
+        return [int(resolution or default)] * len(rb.outputs)
+    return [int(r or default) for r in resolution]
+
+
+def linear_unclamped(rb: RuleBase) -> RuleBase:
+    """The rule base as fuzzylite reads a Linear term: c0 + c.x at the inputs' values as they
+    are (fuzzylite 6 Linear::membership, pyfuzzylite 8 Linear.membership: the variables'
+    values; only an input's own `lock-range` clamps, which Chain and ToolEngine do first).
+    fuzzyc's engine reads a Linear term's inputs clamped to their ranges (exact semantics; the
+    Octave toolkit refuses inputs outside the range): here the inputs' ranges are opened, which
+    only that clamp reads."""
+    if not any(np.any(v.kinds == TermKind.LINEAR) for v in rb.outputs):
+        return rb
+    return replace(rb, inputs=[replace(v, lo=-np.inf, hi=np.inf) for v in rb.inputs])
+
+
 def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
-                resolution: int | None = None, held: Held | None = None) -> np.ndarray:
+                resolution: int | Sequence[int | None] | None = None,
+                held: Held | None = None) -> np.ndarray:
     """x (N, I) -> y (N, O) as `semantics` computes it; `resolution` is fuzzylite's (the file's
-    `Centroid 200`), by default the tool's own; `held`: the held outputs (fuzzyc.engine.held_outputs)."""
+    `Centroid 200`), one for all outputs or one per output (None: the tool's own);
+    `held`: the held outputs (fuzzyc.engine.held_outputs)."""
     if semantics == "exact":
         return evaluate(rb, x, held=held)
     if semantics in ("fuzzylite", "pyfuzzylite"):
-        rb = fuzzylite_hedges(rb)
+        resolution = resolutions(rb, resolution, RESOLUTION[semantics])
+        rb = linear_unclamped(fuzzylite_hedges(rb))
         if rb.inference.defuzzifier == Defuzzifier.TSUKAMOTO:
             return _tsukamoto(rb, np.atleast_2d(np.asarray(x, dtype=float)),
                               _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse)
@@ -343,19 +364,18 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
             rb = _over_rules(rb)
         if reads_values(rb):
             return _in_order(rb, x, semantics, resolution, held)
-        y = evaluate_sampled(rb, x, resolution or RESOLUTION[semantics],
-                             first_plateau=semantics == "fuzzylite")
+        y = evaluate_sampled(rb, x, resolution, first_plateau=semantics == "fuzzylite")
         return np.where(fired(rb, x), y, np.nan)
     if semantics in ("octave", "matlab"):
         if semantics == "octave" and rb.inference.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE \
                 and rb.inference.aggregation != Aggregation.SUM:
             return _grouped_average(rb, x)
-        return evaluate_sampled(rb, x, resolution or OCTAVE_POINTS, Sampling.TRAPEZOID,
-                                methods=OCTAVE_SAMPLED)
+        return evaluate_sampled(rb, x, resolutions(rb, resolution, OCTAVE_POINTS),
+                                Sampling.TRAPEZOID, methods=OCTAVE_SAMPLED)
     raise ValueError(f"unknown semantics `{semantics}`: one of {', '.join(SEMANTICS)}")
 
 
-def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: int | None,
+def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: list[int],
               held: Held | None) -> np.ndarray:
     """A rule base whose outputs are evaluated in order (fuzzyc.engine.held_outputs) under fuzzylite's
     policy; its sampled outputs (which no formula reads and which hold nothing) resampled."""
@@ -371,7 +391,7 @@ def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: int | Non
                                                    "Function term: not reproduced yet")])
     if sampled:
         stateless = replace(rb, outputs=[replace(v, lock_previous=False) for v in rb.outputs])
-        again = evaluate_sampled(stateless, x, resolution or RESOLUTION[semantics],
+        again = evaluate_sampled(stateless, x, resolution,
                                  first_plateau=semantics == "fuzzylite")
         y[:, sampled] = np.where(fired(rb, x)[:, sampled], again[:, sampled], np.nan)
     return y
