@@ -284,6 +284,13 @@ def test_a_rule_text_holding_two_rules_or_closing_the_model_is_refused_at_its_li
     with pytest.raises(fuzzyc.FuzzycError, match=rf"{line}: error: property 1: the text is "
                                                  "not one property but 2"):
         b.build()
+    b = small()
+    b.rule("if x is lo then y is lo")
+    line = line_of_next_call()
+    b.tune("y.hi in [0.6, 1] y.lo in [0, 0.4]")
+    with pytest.raises(fuzzyc.FuzzycError, match=rf"{line}: error: tune line 1: the text is "
+                                                 "not one tune line but 2"):
+        b.build()
 
 
 def test_a_bad_inference_word_is_reported_at_its_call():
@@ -329,3 +336,89 @@ def test_a_built_model_verifies_compiles_and_saves_like_a_parsed_one(tmp_path):
     assert fuzzyc.evaluate(again, {"x": x})["y"].tolist() == pytest.approx(x.tolist())
     assert np.array_equal(fuzzyc.evaluate(again, {"x": x})["y"],
                           fuzzyc.evaluate(model, {"x": x})["y"])
+
+
+CHAIN_FZ = '''
+controller chain {
+  input a in [0, 1]
+  input b in [0, 1]
+  var m in [0, 1]
+  terms a, b, m : L = tri(-1, 0, 1), H = tri(0, 1, 2)
+  var y in [0, 10]
+  terms y : singletons lo=0 hi=10
+  block first {
+    inference and = product, defuzzify = centroid
+    rule if a is H and b is H then m is H
+    rule if a is L or b is L then m is L
+  }
+  block second {
+    inference defuzzify = weighted_average
+    rule if m is H then y is hi
+    rule if m is L then y is lo
+  }
+}
+'''
+
+
+def test_rule_blocks_chain_as_the_same_blocks_written_in_text():
+    b = fuzzyc.ModelBuilder("chain")
+    for name in ("a", "b"):
+        b.input(name, 0, 1).terms(L=("tri", -1, 0, 1), H=("tri", 0, 1, 2))
+    b.output("m", 0, 1).terms(L=("tri", -1, 0, 1), H=("tri", 0, 1, 2))
+    b.output("y", 0, 10).singletons(lo=0, hi=10)
+    first = b.block("first")
+    second = b.block("second")
+    second.rule("if m is H then y is hi")        # blocks take their declarations any time
+    first.inference(and_="product", defuzzify="centroid")
+    first.rule("if a is H and b is H then m is H")
+    first.rule(when={"a": "L"}, then={"m": "L"})
+    second.rule("if m is L then y is lo")
+    second.inference(defuzzify="weighted_average")
+    text = b.text()
+    assert "block first {\n    inference and = product" in text
+    assert text.index("block first") < text.index("block second")
+    built = b.build()
+    parsed = fuzzyc.parse(CHAIN_FZ.replace("a is L or b is L", "a is L"))
+    assert [rb.name for rb in built.blocks] == ["first", "second"]
+    a, bb = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0, 1, 11))
+    runs = []
+    for model in (built, parsed):
+        controller = fuzzyc.Controller(model, batch=a.size)
+        controller.step({"a": a.ravel(), "b": bb.ravel()})
+        runs.append(controller.signals["y"])
+    assert np.array_equal(*runs)
+    # a = b = 1: m's H fires at 1 * 1 and L at 0, so m is the centroid of H = tri(0, 1, 2)
+    # on m's range [0, 1], the rising ramp: 2/3; then H(2/3) = 2/3, L = 1/3: y = 10 * 2/3
+    assert runs[0][-1] == pytest.approx(20 / 3)
+
+
+def test_a_rule_outside_the_blocks_of_a_model_with_blocks_is_at_its_line():
+    b = small()
+    b.block("only").rule("if x is lo then y is lo")
+    line = line_of_next_call()
+    b.rule("if x is hi then y is hi")
+    with pytest.raises(fuzzyc.FuzzycError) as caught:
+        b.build()
+    (d,) = caught.value.diagnostics
+    assert d.loc.line == line and d.message.startswith("rule 2: a rule outside the blocks")
+
+
+def test_a_tune_section_makes_a_model_fuzzyc_tune_fits(tmp_path):
+    b = small()
+    b.inference(defuzzify="weighted_average")
+    b.rule("if x is lo then y is lo")
+    b.rule("if x is hi then y is hi")
+    b.tune("y.hi in [0.25, 1]")
+    model = b.build()
+    assert [n.target for n in model.tunables] == ["y.hi.value"]
+    # lo + hi = 1 everywhere: y = 0 * (1 - x) + hi * x, so data y = x / 2 fits hi = 0.5
+    data = tmp_path / "data.csv"
+    data.write_text("x,y\n" + "".join(f"{x / 10},{x / 20}\n" for x in range(11)))
+    fit = fuzzyc.tune(model, data).fit
+    assert fit.values.tolist() == pytest.approx([0.5])
+    line = line_of_next_call()
+    b.tune("y.lo in [0.25, 1]")          # lo is 0, outside its bounds
+    with pytest.raises(fuzzyc.FuzzycError) as caught:
+        b.build()
+    assert [(d.loc.line, d.message.split(":")[0]) for d in caught.value.diagnostics] == [
+        (line, "tune line 2")]

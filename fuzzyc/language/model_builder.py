@@ -45,7 +45,11 @@ _HERE = os.path.normcase(os.path.abspath(__file__))
 
 # the order the declarations are written in, whatever order they were made in: a variable
 # is declared before its terms, the terms before the rules that read them
-_NOTE, _VARIABLE, _TERMS, _INFERENCE, _RULES, _VERIFY = range(6)
+_NOTE, _VARIABLE, _TERMS, _INFERENCE, _RULES, _BLOCK, _VERIFY, _TUNE = range(8)
+# the sections whose lines stand inside `WORD { ... }`, and what a free text of each must be
+_SECTIONS = {_VERIFY: "verify", _TUNE: "tune"}
+_KINDS = {"rule": (None, "rule"), "property": ("verify", "property"),
+          "tune": ("tune", "tune line")}
 
 
 @dataclass(frozen=True)
@@ -59,14 +63,15 @@ class CallSite(SourceLoc):
 
 @dataclass
 class _Item:
-    """One declaration: what it is called in a message, the call that made it, its .fz lines
-    and (for a rule's or a property's text) the statement kind the text must be."""
+    """One declaration: what it is called in a message, the call that made it, its .fz lines,
+    (for a free text) the statement kind the text must be, and the rule block it is in."""
     what: str
     site: tuple[str, int]
     lines: list[str]
     rank: int
-    kind: str | None = None       # "rule" or "property": free text parsed as one statement
+    kind: str | None = None       # a key of _KINDS: free text parsed as one statement
     order: int = 0
+    block: _Item | None = None
 
 
 def _call_site() -> tuple[str, int]:
@@ -241,14 +246,106 @@ def _settings(settings: Mapping[str, Any]) -> str:
     return ", ".join(out)
 
 
-class ModelBuilder:
+class _Rules:
+    """Rules, tables and inference settings, of the model's top level (ModelBuilder) or of
+    one of its rule blocks (RuleBlock)."""
+    _builder: ModelBuilder
+    _block: _Item | None
+
+    def rule(self, text: str | None = None, *, when: Mapping[str, str] | None = None,
+             then: Mapping[str, str | float] | None = None, weight: float | None = None,
+             name: str | None = None) -> None:
+        """A rule: its .fz text (`"if food is bad then tip is low"`, parsed by the grammar),
+        or `when` (variable -> "[not] [hedge] term", joined by `and`) and `then` (output ->
+        term, or a number: a singleton of its own); `weight` in [0, 1]; `name` labels it."""
+        what = f"rule {self._builder._next('rule')}"
+        label = "" if name is None else f"{_name(name, f'{what}: the name')}: "
+        if text is not None:
+            if when is not None or then is not None:
+                raise ValueError(f"{what}: give its text or when/then, not both")
+            body = _one_line(text, f"{what}: the text")
+            if body.startswith("rule "):
+                body = body[5:]
+            kind: str | None = "rule"
+        else:
+            if not when or not then:
+                raise ValueError(f"{what}: give its text, or both `when` (variable -> term) "
+                                 "and `then` (output -> term)")
+            conclusions = []
+            for var, term in dict(then).items():
+                value = (_number(term, f"{what}: the conclusion on `{var}`")
+                         if isinstance(term, numbers.Real) and not isinstance(term, bool)
+                         else _name(term, f"{what}: the term of `{var}`"))
+                conclusions.append(f"{_name(var, f'{what}: the output')} is {value}")
+            body = (f"if {' and '.join(_clause(v, t, what) for v, t in dict(when).items())} "
+                    f"then {', '.join(conclusions)}")
+            kind = None
+        if weight is not None:
+            body += f" with {_number(weight, f'{what}: the weight')}"
+        self._builder._add(what, _RULES, [f"rule {label}{body}"], kind, self._block)
+        self._builder._counted("rule")
+
+    def table(self, output: str, rows: tuple[str, Sequence[str]],
+              cols: tuple[str, Sequence[str]], cells: Sequence[Sequence[Any]], *,
+              when: Mapping[str, str] | None = None, learnable: bool = False) -> None:
+        """A rule table as the papers print it (the language's `table` statement): `rows` and
+        `cols` are (variable, [term, ...]); `cells[i][j]` the term of `output` where the row
+        variable is rows' i-th term and the column variable cols' j-th (a number: a singleton
+        of its own; None: no rule); `when` guards every cell ("variable -> term")."""
+        what = f"table {self._builder._next('table')} (`{output}`)"
+        guard = "" if not when else " when " + " and ".join(
+            _clause(v, t, what) for v, t in dict(when).items())
+        axes = []
+        for word, (var, terms) in (("rows", rows), ("cols", cols)):
+            if isinstance(terms, str):
+                raise TypeError(f"{what}: the {word}' terms are a list of names, not a str")
+            axes.append(f"{word} {_name(var, f'{what}: the {word} variable')}: "
+                        + " ".join(_name(t, f"{what}: a term of `{var}`") for t in terms))
+        lines = [f"table {_name(output, f'{what}: the output')}{guard} ({'; '.join(axes)})"
+                 f"{' learnable' if learnable else ''} {{"]
+        for row in cells:
+            if isinstance(row, str):
+                raise TypeError(f"{what}: each row of cells is a list of cells, not a str")
+            lines.append("  " + " ".join(
+                "-" if c is None else
+                _number(c, f"{what}: a cell") if isinstance(c, numbers.Real)
+                and not isinstance(c, bool) else _name(c, f"{what}: a cell") for c in row))
+        lines.append("}")
+        self._builder._add(what, _RULES, lines, block=self._block)
+        self._builder._counted("table")
+
+    def inference(self, **settings: str) -> None:
+        """The rule base's (or block's) inference: `and_`, `or_`, `implication`,
+        `aggregation`, `defuzzify` (the .fz words: `inference(and_="product",
+        defuzzify="centroid")`)."""
+        what = "inference" if self._block is None else f"inference of {self._block.what}"
+        self._builder._add(what, _INFERENCE, ["inference " + _settings(settings)],
+                           block=self._block)
+
+
+class RuleBlock(_Rules):
+    """A rule block of a ModelBuilder (what `block` returns): its own `rule`, `table` and
+    `inference`, evaluated after the blocks declared before it, whose outputs it may read."""
+
+    def __init__(self, builder: ModelBuilder, item: _Item, name: str):
+        self._builder = builder
+        self._block = item
+        self.name = name
+
+    def __repr__(self) -> str:
+        return f"<block {self.name} of {self._builder!r}>"
+
+
+class ModelBuilder(_Rules):
     """A model declared by Python calls, checked as the same model written in .fz would be.
 
     `input(name, lo, hi)` and `output(name, lo, hi)` declare the rule base's variables and
     return them (`BuilderVariable`: `terms`, `uniform`, `singletons`, an output's own
     `inference`);
     `rule` adds a rule (its .fz text, or `when`/`then` mappings), `table` a rule table,
-    `inference` the rule base's settings, `verify` properties, `note` a remark. `build()`
+    `inference` the rule base's settings, `block` a rule block (`RuleBlock`: its own `rule`,
+    `table`, `inference`), `verify` properties, `tune` the lines of the tune section, `note`
+    a remark. `build()`
     returns the checked Model or raises FuzzycError, each diagnostic at the Python line that
     declared the offending item; `text()` is the .fz text the model is read from.
 
@@ -263,6 +360,8 @@ class ModelBuilder:
         if title:
             head += " " + _string(title, "the title")
         self._head = _Item(f"the model `{name}`", site, [head + " {"], -1)
+        self._builder = self
+        self._block = None
         self._items: list[_Item] = []
         self._variables: dict[str, BuilderVariable] = {}
         self._counts: dict[str, int] = {}
@@ -273,8 +372,11 @@ class ModelBuilder:
         return f"<ModelBuilder {self.name}: " + ", ".join(
             f"{n} {word}{'' if n == 1 else 's'}" for n, word in counts) + ">"
 
-    def _add(self, what: str, rank: int, lines: list[str], kind: str | None = None) -> None:
-        self._items.append(_Item(what, _call_site(), lines, rank, kind, len(self._items)))
+    def _add(self, what: str, rank: int, lines: list[str], kind: str | None = None,
+             block: _Item | None = None) -> _Item:
+        item = _Item(what, _call_site(), lines, rank, kind, len(self._items), block)
+        self._items.append(item)
+        return item
 
     def _next(self, kind: str) -> int:
         """The number the next `kind` declared gets (counted once it is added: a refused
@@ -307,72 +409,21 @@ class ModelBuilder:
         self._add(f"output `{name}`", _VARIABLE, [line])
         return self._variables.setdefault(name, BuilderVariable(self, name, True))
 
-    def rule(self, text: str | None = None, *, when: Mapping[str, str] | None = None,
-             then: Mapping[str, str | float] | None = None, weight: float | None = None,
-             name: str | None = None) -> None:
-        """A rule: its .fz text (`"if food is bad then tip is low"`, parsed by the grammar),
-        or `when` (variable -> "[not] [hedge] term", joined by `and`) and `then` (output ->
-        term, or a number: a singleton of its own); `weight` in [0, 1]; `name` labels it."""
-        what = f"rule {self._next('rule')}"
-        label = "" if name is None else f"{_name(name, f'{what}: the name')}: "
-        if text is not None:
-            if when is not None or then is not None:
-                raise ValueError(f"{what}: give its text or when/then, not both")
-            body = _one_line(text, f"{what}: the text")
-            if body.startswith("rule "):
-                body = body[5:]
-            kind: str | None = "rule"
-        else:
-            if not when or not then:
-                raise ValueError(f"{what}: give its text, or both `when` (variable -> term) "
-                                 "and `then` (output -> term)")
-            conclusions = []
-            for var, term in dict(then).items():
-                value = (_number(term, f"{what}: the conclusion on `{var}`")
-                         if isinstance(term, numbers.Real) and not isinstance(term, bool)
-                         else _name(term, f"{what}: the term of `{var}`"))
-                conclusions.append(f"{_name(var, f'{what}: the output')} is {value}")
-            body = (f"if {' and '.join(_clause(v, t, what) for v, t in dict(when).items())} "
-                    f"then {', '.join(conclusions)}")
-            kind = None
-        if weight is not None:
-            body += f" with {_number(weight, f'{what}: the weight')}"
-        self._add(what, _RULES, [f"rule {label}{body}"], kind)
-        self._counted("rule")
+    def block(self, name: str) -> RuleBlock:
+        """A rule block (`block NAME { ... }`): declare its rules, tables and inference on
+        what this returns. A model with blocks has all its rules in blocks."""
+        line = f"block {_name(name, 'the block name')} {{"
+        return RuleBlock(self, self._add(f"block `{name}`", _BLOCK, [line]), name)
 
-    def table(self, output: str, rows: tuple[str, Sequence[str]],
-              cols: tuple[str, Sequence[str]], cells: Sequence[Sequence[Any]], *,
-              when: Mapping[str, str] | None = None, learnable: bool = False) -> None:
-        """A rule table as the papers print it (the language's `table` statement): `rows` and
-        `cols` are (variable, [term, ...]); `cells[i][j]` the term of `output` where the row
-        variable is rows' i-th term and the column variable cols' j-th (a number: a singleton
-        of its own; None: no rule); `when` guards every cell ("variable -> term")."""
-        what = f"table {self._next('table')} (`{output}`)"
-        guard = "" if not when else " when " + " and ".join(
-            _clause(v, t, what) for v, t in dict(when).items())
-        axes = []
-        for word, (var, terms) in (("rows", rows), ("cols", cols)):
-            if isinstance(terms, str):
-                raise TypeError(f"{what}: the {word}' terms are a list of names, not a str")
-            axes.append(f"{word} {_name(var, f'{what}: the {word} variable')}: "
-                        + " ".join(_name(t, f"{what}: a term of `{var}`") for t in terms))
-        lines = [f"table {_name(output, f'{what}: the output')}{guard} ({'; '.join(axes)})"
-                 f"{' learnable' if learnable else ''} {{"]
-        for row in cells:
-            if isinstance(row, str):
-                raise TypeError(f"{what}: each row of cells is a list of cells, not a str")
-            lines.append("  " + " ".join(
-                "-" if c is None else
-                _number(c, f"{what}: a cell") if isinstance(c, numbers.Real)
-                and not isinstance(c, bool) else _name(c, f"{what}: a cell") for c in row))
-        lines.append("}")
-        self._add(what, _RULES, lines)
-        self._counted("table")
-
-    def inference(self, **settings: str) -> None:
-        """The rule base's inference: `and_`, `or_`, `implication`, `aggregation`,
-        `defuzzify` (the .fz words: `inference(and_="product", defuzzify="centroid")`)."""
-        self._add("inference", _INFERENCE, ["inference " + _settings(settings)])
+    def tune(self, *targets: str) -> None:
+        """Lines of the `tune` section, each its .fz text (`"food.bad.c in [1, 3]"`,
+        `"tip.* in +/- 1"`; docs/tuning.md): what `fuzzyc.tune` may move."""
+        first = self._next("tune")
+        texts = [_one_line(text, f"tune line {first + i}: the text")
+                 for i, text in enumerate(targets)]
+        for text in texts:
+            self._add(f"tune line {self._next('tune')}", _TUNE, [text], "tune")
+            self._counted("tune")
 
     def verify(self, *properties: str) -> None:
         """Properties for `fuzzyc.verify`, each its .fz text (`"complete"`,
@@ -396,20 +447,32 @@ class ModelBuilder:
         """The .fz lines and, per line, the declaration it belongs to."""
         lines = list(self._head.lines)
         owner: list[_Item | None] = [self._head]
-        items = sorted(self._items, key=lambda i: (i.rank, i.order))
-        props = [i for i in items if i.rank == _VERIFY]
-        for item in items:
-            if item is (props[0] if props else None):
-                lines.append("  verify {")
-                owner.append(item)
-            indent = "    " if item.rank == _VERIFY else "  "
-            lines += [indent + line for line in item.lines]
-            owner += [item] * len(item.lines)
-            if item is (props[-1] if props else None):
-                lines.append("  }")
-                owner.append(item)
-        lines.append("}")
-        owner.append(None)
+
+        def emit(item: _Item | None, text: str) -> None:
+            lines.append(text)
+            owner.append(item)
+
+        def ordered(block: _Item | None) -> list[_Item]:
+            return sorted((i for i in self._items if i.block is block),
+                          key=lambda i: (i.rank, i.order))
+
+        top = ordered(None)
+        for item in top:
+            section = _SECTIONS.get(item.rank)
+            mates = [i for i in top if i.rank == item.rank]
+            if section and item is mates[0]:
+                emit(item, f"  {section} {{")
+            indent = "    " if section else "  "
+            for line in item.lines:
+                emit(item, indent + line)
+            if item.rank == _BLOCK:
+                for inner in ordered(item):
+                    for line in inner.lines:
+                        emit(inner, "    " + line)
+                emit(item, "  }")
+            if section and item is mates[-1]:
+                emit(item, "  }")
+        emit(None, "}")
         return lines, owner
 
     def text(self) -> str:
@@ -469,7 +532,8 @@ def _one_statement(item: _Item) -> Diagnostic | None:
     if item.kind is None:
         return None
     line = item.lines[0]
-    wrapped = line if item.kind == "rule" else f"verify {{ {line} }}"
+    section, noun = _KINDS[item.kind]
+    wrapped = line if section is None else f"{section} {{ {line} }}"
     try:
         stmts = [t for t in _lark().parse(wrapped, start="statements").children
                  if isinstance(t, Tree)]
@@ -477,13 +541,13 @@ def _one_statement(item: _Item) -> Diagnostic | None:
         count = None
     else:
         count = len([t for t in stmts[0].children if isinstance(t, Tree)]) \
-            if item.kind == "property" and len(stmts) == 1 else len(stmts)
-        if count == 1 and stmts[0].data == ("rule" if item.kind == "rule" else "verify"):
+            if section is not None and len(stmts) == 1 else len(stmts)
+        if count == 1 and stmts[0].data == (section or "rule"):
             return None
     return Diagnostic(CallSite(item.site[0], item.site[1], 1),
-                      f"{item.what}: the text is not one {item.kind}"
+                      f"{item.what}: the text is not one {noun}"
                       + ("" if count is None else f" but {count}")
-                      + f"; give each {item.kind} its own call", line)
+                      + f"; give each {noun} its own call", line)
 
 
-__all__ = ["BuilderVariable", "CallSite", "ModelBuilder"]
+__all__ = ["BuilderVariable", "CallSite", "ModelBuilder", "RuleBlock"]
