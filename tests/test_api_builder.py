@@ -188,6 +188,8 @@ def test_text_that_would_be_more_than_its_own_declaration_is_refused():
         x.terms(lo="tri(0, 0, 1)")
     with pytest.raises(ValueError, match="unknown inference setting `andd`"):
         b.inference(andd="min")
+    with pytest.raises(TypeError, match=r"`over` of `x` is \(low, high\)"):
+        x.uniform("a", "b", over=(0, 1, 2))
     with pytest.raises(ValueError, match="not both"):
         b.rule("if x is lo then y is lo", when={"x": "lo"}, then={"y": "lo"})
 

@@ -9,9 +9,11 @@ checks, and no validity rule has a second copy here.  What this module checks it
 what keeps the text faithful to the calls: every name is a .fz name (letters, digits and _,
 not starting with a digit; one spelled like a keyword is written in backticks, as the .fz
 writer does), every number finite, a title or note one line without `"` or `\\` (the
-language's strings have no escapes), a unit only units' characters, and a rule's or a
-property's text exactly one statement of its kind (parsed by the grammar, never evaluated).
-Those are refused at the call, with ValueError (TypeError for a value of the wrong type).
+language's strings have no escapes), a unit only units' characters, and no `#` in a free
+text: those are refused at the call, with ValueError (TypeError for a value of the wrong
+type).  A free text (a rule's, a property's, a tune line's) is parsed by the grammar, never
+evaluated; when the whole text has parsed, `build` also refuses one that is not exactly one
+statement of its kind (two rules in one text), at its call.
 
 Every mistake the front end finds is reported as the FuzzycError it raises, each diagnostic
 moved to the Python call that declared the offending item: `script.py:12: error: rule 3:
@@ -204,6 +206,9 @@ class BuilderVariable:
         """A uniform partition of the range (or of `over`): isosceles triangles with evenly
         spread peaks, shoulders at the ends."""
         words = " ".join(_name(n, f"the name of a term of `{self.name}`") for n in names)
+        if over is not None and (isinstance(over, str) or not isinstance(over, Sequence)
+                                 or len(over) != 2):
+            raise TypeError(f"`over` of `{self.name}` is (low, high), not {over!r}")
         span = "" if over is None else (
             f" over [{_number(over[0], 'over')}, {_number(over[1], 'over')}]")
         self._builder._add(f"terms of `{self.name}`", _TERMS,
