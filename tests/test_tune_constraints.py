@@ -160,7 +160,7 @@ def test_bounded_linear_consequent_is_kept():
     assert verdict(kept.model, "bounded") in KEPT
     dense = evaluate(kept.model.rulebase, np.linspace(0, 1, 10001)[:, None])[:, 0]
     assert dense.min() >= 0 and dense.max() <= 1.5
-    assert [(c.before, c.after) for c in kept.properties] == [("held", "held")]
+    assert [(c.before, c.after) for c in kept.properties] == [("proved", "proved")]
 
 
 def test_counterexample_joins_the_penalty():
@@ -211,3 +211,16 @@ def test_corner_constraints_of_a_linear_consequent():
     assert corner.corners == 2 and corner.C.tolist() == [[1, 0], [1, 1]]
     assert corner.lo.tolist() == [0, 0] and corner.hi.tolist() == [1.5, 1.5]
     assert corner.holds(np.array([0.0, 1.0])) and not corner.holds(np.array([0.0, 2.0]))
+
+
+def test_linear_consequents_bounded_by_their_corners():
+    # the verifier's proof: y = x as written is a convex combination of one consequent whose
+    # values at the corners x = 0, 1 are 0 and 1, within [0, 1.5]: proved, not searched
+    model = parse(LINE)
+    prop = model.properties[0]
+    evidence = check_property(model, prop, Options(max_examples=50))
+    assert [(e.method, e.status) for e in evidence] == [("proof", Status.PROVED)]
+    assert "2 corners: y in [0, 1]" in evidence[0].detail
+    # y = 2 x reaches 2 at x = 1: no proof, the search finds it
+    steep = parse(LINE.replace("linear(0, 1)", "linear(0, 2)"))
+    assert verdict(steep, "bounded") == Status.VIOLATED

@@ -2,7 +2,8 @@
 
 - Peak-based defuzzifiers (center of area, weighted average) return a convex combination of
   the concluded terms' peaks, or the default where nothing fires: the hull of those values
-  bounds the output everywhere. Area-based ones stay in the output's range.
+  bounds the output everywhere (a weighted average's linear consequents: their values at the
+  input box's corners). Area-based ones stay in the output's range.
 - Multilinear rule bases (product t-norm, AND, trapezoid terms, no hedges): on each cell
   between consecutive break points every membership is linear in its own input, so every rule
   activation, and a weighted sum of them (the neuro-fuzzy controller), is a multilinear
@@ -21,6 +22,7 @@ import numpy as np
 
 from ..engine import inference as engine
 from ..engine.defuzz import FOLDED
+from ..engine.membership import linear_coefficients
 from ..semantics.model import Aggregation, Connective, Defuzzifier, RuleBase, TNorm, TermKind
 from ..semantics.operators import DEFUZZIFIERS, HEDGES, IMPLICATIONS, S_NORMS, T_NORMS, members
 from ..semantics.shapes import SHAPES, provable_kinds
@@ -28,6 +30,7 @@ from .result import Evidence, Status
 from .space import break_points, hedge_free, restrict, tensor_points
 
 TOL = 1e-9
+MAX_CORNER_INPUTS = 12     # 4096 corners
 AREA_BASED = members(DEFUZZIFIERS, lambda rec: rec.family == "area")
 # What the proof methods (here, coverage.py, levelsets.py) were written for: the shapes whose
 # registry record has closed-form level sets; the rest of the model (fuzzylite's extra norms,
@@ -118,6 +121,34 @@ def prove_bounded(rb: RuleBase, output: str, lo: float, hi: float) -> Evidence:
                         point=_extreme_point(rb, o, lo, hi))
     return Evidence("proof", Status.UNDECIDED, f"{how}: the hull [{low:.6g}, {high:.6g}] is "
                     f"wider than [{lo:g}, {hi:g}]; the search decides if it is reached")
+
+
+def prove_bounded_linear(rb: RuleBase, output: str, lo: float, hi: float) -> Evidence | None:
+    """A weighted average over singleton and linear consequents, whatever the antecedents: the
+    output is a convex combination of the fired rules' consequent values (strengths and rule
+    weights >= 0), or the default where none fires, and a linear consequent reads its inputs
+    clamped to their ranges, so its extremes are at the input box's corners. PROVED when the
+    hull of the corner values and the default is within [lo, hi]; else None (the search
+    decides: the hull asks each rule alone what only the blend needs)."""
+    o = rb.output_index(output)
+    var = rb.outputs[o]
+    used = np.unique(rb.consequents[:, o][rb.consequents[:, o] >= 0])
+    kinds = var.kinds[used]
+    if rb.inference_of(o).defuzzifier != Defuzzifier.WEIGHTED_AVERAGE or var.lock_previous \
+            or np.any(np.asarray(rb.weights) < 0) or not np.any(kinds == TermKind.LINEAR) \
+            or not np.all((kinds == TermKind.LINEAR) | (kinds == TermKind.SINGLETON)) \
+            or len(rb.inputs) > MAX_CORNER_INPUTS:
+        return None
+    corners = tensor_points([np.array([v.lo, v.hi]) for v in rb.inputs])
+    coef = linear_coefficients(var, len(rb.inputs))[used]
+    z = np.where(kinds == TermKind.LINEAR, corners @ coef[:, 1:].T + coef[:, 0],
+                 np.nan_to_num(var.peaks()[used]))
+    low, high = min(float(z.min()), var.default), max(float(z.max()), var.default)
+    if lo - TOL <= low and high <= hi + TOL:
+        return Evidence("proof", Status.PROVED, f"convex combination of singleton and linear "
+                        f"consequents (or the default), their extremes at the input box's "
+                        f"{len(corners)} corners: {output} in [{low:.6g}, {high:.6g}]")
+    return None
 
 
 def _extreme_point(rb: RuleBase, o: int, lo: float, hi: float) -> dict[str, float]:

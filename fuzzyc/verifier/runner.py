@@ -200,6 +200,8 @@ def _bounded(model: Model, signal: str, lo: float, hi: float, options: Options):
     rb = model.rulebase
     if signal in [v.name for v in rb.outputs]:
         proved = _unless_beyond(rb) or proof.prove_bounded(rb, signal, lo, hi)
+        if proved.status == Status.UNDECIDED:     # linear consequents: their corner hull
+            proved = proof.prove_bounded_linear(rb, signal, lo, hi) or proved
         if proved.status != Status.UNDECIDED:
             return [proved]
         return [proved] + search.bounded(rb, signal, lo, hi, options.grid_budget,
