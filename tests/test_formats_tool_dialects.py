@@ -447,3 +447,36 @@ def test_mean_of_maximum_over_two_plateaus(semantics, expected):
     rb = read_fll(TWO_PLATEAUS_FLL, "plateaus.fll").rulebase
     got = evaluate_as(rb, np.array([[0.25]]), semantics, 100 if semantics != "exact" else None)
     np.testing.assert_allclose(got, [[expected]], rtol=0, atol=1e-12)
+
+
+def test_fuzzylite_fcl_unbounded_sum_accumulation_by_hand():
+    # fuzzylite 6's FclExporter writes UnboundedSum by its class name (it has no FCL word) and
+    # its importer reads no `SUM` (the differential fuzzer's `out.fld is empty` tool errors)
+    text = """FUNCTION_BLOCK s
+VAR_INPUT x: REAL; END_VAR
+VAR_OUTPUT y: REAL; END_VAR
+FUZZIFY x
+  RANGE := (0 .. 1);
+  TERM all := Rectangle -1 2;
+END_FUZZIFY
+DEFUZZIFY y
+  RANGE := (0 .. 2);
+  TERM a := Rectangle 0 1;
+  TERM b := Rectangle 0 2;
+  METHOD : COG;
+  ACCU : {accu};
+  DEFAULT := nan;
+END_DEFUZZIFY
+RULEBLOCK r
+  AND : MIN;
+  OR : MAX;
+  ACT : MIN;
+  RULE 1 : if x is all then y is a;
+  RULE 2 : if x is all then y is b;
+END_RULEBLOCK
+END_FUNCTION_BLOCK
+"""
+    # summed: M = 2 on [0, 1], 1 on [1, 2]: (2 * 1/2 + 1 * 3/2) / (2 + 1) = 5/6; MAX: 1
+    for accu, expected in (("UnboundedSum", 5 / 6), ("SUM", 5 / 6), ("MAX", 1.0)):
+        rb = read_fcl(text.replace("{accu}", accu), "s.fcl").rulebase
+        assert evaluate(rb, [[0.5]])[0, 0] == pytest.approx(expected, abs=1e-12), accu

@@ -91,8 +91,8 @@ def test_the_formats_write_and_read_the_registry_names():
     assert fcl.OPERATORS["accu"][2] == written(ops.AGGREGATIONS, "fcl")
     assert fcl.METHODS == written(ops.DEFUZZIFIERS, "fcl")
     for key, table in (("OR", ops.S_NORMS), ("ACCU", ops.AGGREGATIONS)):   # read only
-        assert fcl.ALIASES[key] == {w: rec.fcl for rec in table.values()
-                                    for w in rec.also_in("fcl")}
+        assert fcl.ALIASES[key] == {w.upper(): rec.fcl for rec in table.values()   # read
+                                    for w in rec.also_in("fcl")}                # upper-cased
     for key, table in (("AndMethod", ops.T_NORMS), ("OrMethod", ops.S_NORMS),
                        ("ImpMethod", ops.IMPLICATIONS), ("AggMethod", ops.AGGREGATIONS),
                        ("DefuzzMethod", ops.DEFUZZIFIERS)):

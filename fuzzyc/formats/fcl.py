@@ -57,7 +57,8 @@ OPERATORS = {
     "act": ("ACT", "implication", ops.format_words(ops.IMPLICATIONS, "fcl", read=False)),
 }
 # fuzzylite's other words for what the model has (read only; export writes the IEC words)
-ALIASES = {key: {word: rec.fcl for rec in table.values() for word in rec.also_in("fcl")}
+ALIASES = {key: {word.upper(): rec.fcl for rec in table.values()
+                  for word in rec.also_in("fcl")}
            for key, table in (("OR", ops.S_NORMS), ("ACCU", ops.AGGREGATIONS))}
 METHODS = ops.format_words(ops.DEFUZZIFIERS, "fcl", read=False)
 

@@ -190,8 +190,10 @@ AGGREGATIONS: dict[Aggregation, AggregationOp] = {
                                    "{acc} = {p}greater({acc}, {x});",
                                    "{acc} = {acc} > {x} ? {acc} : {x};",
                                    snorm=SNorm.MAX, exact=True),
+    # fuzzylite 6's FCL has no word for it: its FclExporter writes the class name
     Aggregation.SUM: AggregationOp("sum", np.add, True, "UnboundedSum", "SUM", "sum",
-                                   "{acc} += {x};", "{acc} += {x};", exact=True),
+                                   "{acc} += {x};", "{acc} += {x};",
+                                   also=(("fcl", "UnboundedSum"),), exact=True),
     Aggregation.PROBSUM: AggregationOp("probsum", _fold(SNorm.PROBSUM), True, "AlgebraicSum",
                                        "PROBOR", "probor",
                                        also=(("fz", "probabilistic_sum"), ("fcl", "ASUM"),

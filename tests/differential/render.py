@@ -14,7 +14,10 @@ FCL_TNORMS = {"Minimum": "MIN", "AlgebraicProduct": "PROD", "BoundedDifference":
               "NilpotentMinimum": "NMIN"}
 FCL_SNORMS = {"Maximum": "MAX", "AlgebraicSum": "ASUM", "BoundedSum": "BSUM",
               "DrasticSum": "DSUM", "EinsteinSum": "ESUM", "HamacherSum": "HSUM",
-              "NilpotentMaximum": "NMAX", "NormalizedSum": "NSUM", "UnboundedSum": "SUM"}
+              "NilpotentMaximum": "NMAX", "NormalizedSum": "NSUM",
+              # fuzzylite 6's FclExporter writes the class name (it has no FCL word for it),
+              # and its importer reads no `SUM` (measured: `fuzzylite -i x.fll -of fcl`)
+              "UnboundedSum": "UnboundedSum"}
 FCL_METHODS = {"Centroid": "COG", "Bisector": "COA", "MeanOfMaximum": "MM",
                "SmallestOfMaximum": "LM", "LargestOfMaximum": "RM", "WeightedAverage": "COGS",
                "WeightedSum": "COGSS"}
