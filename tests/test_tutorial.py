@@ -17,6 +17,10 @@ The page's blocks, in order:
 
 So the page and this test cannot drift: a changed output, a step that stops working or a
 trimmed output without its `...` fails here, naming the tutorial's line.
+
+docs/tutorial.ipynb is the page as a notebook (tests/tutorial_notebook.py builds it): the
+committed file must be what the page gives, and with nbclient, nbformat and ipykernel (the
+`test` extra) it is executed in a fresh folder, each cell's output checked by the same rules.
 """
 from __future__ import annotations
 
@@ -27,6 +31,8 @@ import subprocess
 import sys
 from dataclasses import dataclass
 from pathlib import Path
+
+import pytest
 
 from conftest import ROOT
 
@@ -202,3 +208,62 @@ def test_matching_rules():
     assert mismatch("a\n...\n", "a\nb\n") is None
     assert mismatch("x: .../p.fz\n", "x: /tmp/q/p.fz\n") is None
     assert mismatch("x = 1.5\n", "x = 1.50\n") is not None      # numbers as printed
+
+
+# ---- the notebook: docs/tutorial.ipynb, built from the page by tests/tutorial_notebook.py
+
+PROGRESS = re.compile(r"^simulating \[[# ]*\]")
+
+
+def terminal_text(outputs: list) -> str:
+    """What a terminal shows of a cell's stream outputs (`!` commands run on a pty): each line
+    as its last carriage return left it, erase codes dropped, and without the progress bars
+    `simulate` and `verify` draw on a terminal (the page leaves them out)."""
+    raw = "".join(o.get("text", "") for o in outputs if o.get("output_type") == "stream")
+    shown = []
+    for line in raw.replace("\r\n", "\n").split("\n"):
+        line = re.sub(r"\x1b\[[0-9;]*[A-Za-z]", "", line.rstrip("\r").split("\r")[-1])
+        if not PROGRESS.match(line):
+            shown.append(line)
+    return "\n".join(shown).strip("\n") + "\n"
+
+
+def test_notebook_is_built_from_the_tutorial():
+    from tutorial_notebook import NOTEBOOK, build, dumps
+    assert NOTEBOOK.read_text(encoding="utf-8") == dumps(build(TUTORIAL.read_text(encoding="utf-8"))), \
+        "docs/tutorial.ipynb is not what docs/tutorial.md gives: python tests/tutorial_notebook.py"
+
+
+def test_terminal_text():
+    progress = [{"output_type": "stream", "name": "stdout",
+                 "text": "\r\x1b[K[1] a property\rsimulating [   ]   0.0%\rsimulating [###] 100.0%\r\n"},
+                {"output_type": "stream", "name": "stdout", "text": "\r\x1b[KHELD  x\r\nnext\r\n"}]
+    assert terminal_text(progress) == "HELD  x\nnext\n"
+
+
+def test_notebook_runs_as_stored(tmp_path, monkeypatch):
+    """docs/tutorial.ipynb executed with nbclient in a fresh folder: every code cell prints what
+    the notebook stores (the page's outputs, trimmed the same way), with no error."""
+    nbformat = pytest.importorskip("nbformat", reason="the notebook needs `fuzzyc[test]`")
+    nbclient = pytest.importorskip("nbclient", reason="the notebook needs `fuzzyc[test]`")
+    pytest.importorskip("ipykernel", reason="the notebook needs `fuzzyc[test]`")
+    script = Path(sys.executable).parent / "fuzzyc"
+    assert script.exists(), f"no console script beside {sys.executable}"
+    # `!fuzzyc` finds this venv's console script, as it would in the user's environment
+    monkeypatch.setenv("PATH", f"{script.parent}{os.pathsep}{os.environ.get('PATH', '')}")
+    monkeypatch.setenv("MPLBACKEND", "Agg")
+    for name in [k for k in os.environ if k.startswith("PYTEST_")]:
+        monkeypatch.delenv(name)
+    notebook = nbformat.reads((ROOT / "docs" / "tutorial.ipynb").read_text(encoding="utf-8"),
+                              as_version=4)
+    nbformat.validate(notebook)
+    code = [cell for cell in notebook.cells if cell.cell_type == "code"]
+    stored = ["".join(o.get("text", "") for o in cell.outputs) for cell in code]
+    nbclient.NotebookClient(notebook, timeout=TIMEOUT, kernel_name="python3",
+                            resources={"metadata": {"path": str(tmp_path)}}).execute()
+    for cell, shown in zip(code, stored):
+        first = cell.source.splitlines()[0]
+        assert not [o for o in cell.outputs if o.output_type == "error"], (first, cell.outputs)
+        problem = mismatch(shown, terminal_text(cell.outputs))
+        assert problem is None, f"notebook cell `{first}`: {problem}\n--- printed:\n" \
+                                f"{terminal_text(cell.outputs)}"
