@@ -480,3 +480,74 @@ END_FUNCTION_BLOCK
     for accu, expected in (("UnboundedSum", 5 / 6), ("SUM", 5 / 6), ("MAX", 1.0)):
         rb = read_fcl(text.replace("{accu}", accu), "s.fcl").rulebase
         assert evaluate(rb, [[0.5]])[0, 0] == pytest.approx(expected, abs=1e-12), accu
+
+
+OCTAVE_DRASTIC = """[System]
+Name='ds'
+Type='mamdani'
+Version=2.0
+NumInputs=1
+NumOutputs=2
+NumRules=3
+AndMethod='min'
+OrMethod='max'
+ImpMethod='min'
+AggMethod='drastic_sum'
+DefuzzMethod='centroid'
+
+[Input1]
+Name='x'
+Range=[0 2]
+NumMFs=2
+MF1='half':'trimf',[0 1 2]
+MF2='other':'trimf',[1 2 3]
+
+[Output1]
+Name='out1'
+Range=[0 2]
+NumMFs=2
+MF1='a':'trimf',[0 0.5 1]
+MF2='b':'trimf',[0 1.5 2]
+
+[Output2]
+Name='out2'
+Range=[0 2]
+NumMFs=1
+MF1='c':'trimf',[0 1 2]
+
+[Rules]
+1, 1 0 (1) : 1
+1, 2 0 (1) : 1
+2, 0 1 (1) : 1
+"""
+
+
+def test_octave_drastic_sum_aggregates_every_rule_at_once():
+    # drastic_sum.m's vector_arg over the column of every rule's output: the max where some
+    # rule's value is 0, else 1.  Rule 3 concludes only out2, so out1's column always holds a
+    # 0: at x = 0.5 (half = 0.5) out1's set is max(min(0.5, a), min(0.5, b)), the trapezoid
+    # (0, 0.25, 1.75, 2) at 0.5: centroid 1 (Octave 1.0000000000000002).  The pairwise fold
+    # is 1 where a and b are both positive, (0, 1): further left (differential case
+    # octave-fis/aggregation-drastic-sum, Octave 172.16 where the fold gave 173.75)
+    rb = read_fis(OCTAVE_DRASTIC, "ds.fis").rulebase
+    assert evaluate_as(rb, [[0.5]], "octave")[0, 0] == pytest.approx(1.0, abs=1e-12)
+    assert evaluate(rb, [[0.5]])[0, 0] < 0.9
+    # rule 3 on rule 1's premise: one rule concluding out1 and out2 in fuzzyc, still a row
+    # with no out1 in Octave's column (measured: 1.0000000000000002 again)
+    merged = read_fis(OCTAVE_DRASTIC.replace("2, 0 1 (1) : 1", "1, 0 1 (1) : 1"), "m.fis")
+    assert merged.rulebase.n_rules == 2
+    assert evaluate_as(merged.rulebase, [[0.5]], "octave")[0, 0] == pytest.approx(1.0, abs=1e-12)
+
+
+@pytest.mark.parametrize("method, expected", [
+    # measured: Octave 7, fuzzy-logic-toolkit 0.4.6, evalfis([0.5], readfis(FILE)); out2's
+    # rule does not fire at 0.5, its set is 0: no default, defuzz.m's own values
+    ("centroid", [1.0, math.nan]),           # 0/0
+    ("mom", [1.0, 1.0]),                     # every sample is maximal: the middle
+    ("som", [0.26, 0.0]), ("lom", [1.74, 2.0]),
+    ("bisector", [51.0, 101.0]),             # a sample's index (defuzz.m: crisp_x = midpoint)
+])
+def test_octave_defuzz_as_the_toolkit_computes_it(method, expected):
+    text = OCTAVE_DRASTIC.replace("DefuzzMethod='centroid'", f"DefuzzMethod='{method}'")
+    got = evaluate_as(read_fis(text, "d.fis").rulebase, [[0.5]], "octave")[0]
+    np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12)

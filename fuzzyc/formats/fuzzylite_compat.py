@@ -70,13 +70,16 @@ class Sampling(Enum):
 def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int | Sequence[int] = 100,
                      sampling: Sampling = Sampling.MIDPOINT,
                      methods: tuple[Defuzzifier, ...] = SAMPLED,
-                     first_plateau: bool = False) -> np.ndarray:
+                     first_plateau: bool = False, octave: bool = False) -> np.ndarray:
     """x (N, I) -> y (N, O) as fuzzylite computes it with integral defuzzifiers sampled at
     `resolution` midpoints (or as Octave does, `sampling`); `resolution` is one for every
     output or one per output (each fuzzylite OutputVariable has its own defuzzifier and
     resolution: `defuzzifier: Centroid 300`); `methods` are the defuzzifiers sampled, the
     others as the engine (every tool is exact there).  `first_plateau`: the mean of maximum
-    over the first run of maximal samples only (fuzzylite 6)."""
+    over the first run of maximal samples only (fuzzylite 6).  `octave`: the Octave
+    toolkit's own arithmetic (`_octave_defuzzify`): its n-ary drastic sum over every rule
+    (`octave_drastic_sum`), its bisector (a sample's index) and its values where the set is
+    empty (no default)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     y = evaluate(rb, x)
     sampled = [o for o in range(len(rb.outputs)) if _is_sampled(rb, o, methods)]
@@ -89,7 +92,7 @@ def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int | Sequence[int
         act = activations(rb, x[start:start + rows])
         for o in sampled:
             y[start:start + rows, o] = _defuzzify(rb, o, act, per_output[o], sampling,
-                                                  first_plateau)
+                                                  first_plateau, octave)
     return y
 
 
@@ -123,17 +126,23 @@ def octave_linspace(lo: float, hi: float, n: int) -> np.ndarray:
 
 
 def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
-               sampling: Sampling, first_plateau: bool) -> np.ndarray:
+               sampling: Sampling, first_plateau: bool, octave: bool = False) -> np.ndarray:
     var, inf = rb.outputs[o], rb.inference_of(o)
     rules = np.flatnonzero(rb.consequents[:, o] >= 0)
-    if not rules.size:          # no rule concludes the output: its fuzzy set is empty
+    if not rules.size and not octave:   # no rule concludes the output: its set is empty
         return np.full(act.shape[0], var.default)
     u, w = _samples(var, resolution, sampling)                                       # (K,)
     mu = memberships(var, u)[:, rb.consequents[rules, o]].T                          # (R, K)
     a = act[:, rules, None]                                                          # (N, R, 1)
     clipped = implied(a, mu, inf.implication)
-    m = AGGREGATE[inf.aggregation](clipped) if inf.aggregation in AGGREGATE else \
-        _fold(clipped, aggregation_snorm(inf.aggregation))
+    if octave and inf.aggregation == Aggregation.DRASTIC_SUM:
+        m = octave_drastic_sum(clipped, a[:, :, 0] > 0,
+                               rules.size == rb.n_rules and not any(merged_rows(rb)))
+    else:
+        m = AGGREGATE[inf.aggregation](clipped) if inf.aggregation in AGGREGATE else \
+            _fold(clipped, aggregation_snorm(inf.aggregation))
+    if octave:
+        return _octave_defuzzify(m, u, w, inf.defuzzifier)
     total = m.sum(axis=1)
     fired = total > 0
     safe_total = np.where(fired, total, 1.0)
@@ -158,6 +167,69 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
         # Exact equality, as fuzzylite: which samples tie can hang on the last bit.
         value = _mean_where((m > 0) & (m == m.max(axis=1, keepdims=True)), u)
     return np.where(fired, value, var.default)
+
+
+def _octave_defuzzify(m: np.ndarray, u: np.ndarray, w: np.ndarray,
+                      method: Defuzzifier) -> np.ndarray:
+    """The Octave toolkit's defuzz.m on the sampled set m (N, K) at u = linspace(lo, hi, K)
+    (trapz weights w), also where m is 0 throughout (nothing fired: the toolkit has no
+    default there): centroid trapz(u, u m) / trapz(u, m) (0/0 = NaN); mom the mean of the
+    u where m equals its maximum (all of them: the middle); som/lom the smallest/largest
+    such u (lo/hi); bisector its search for half the area, which returns the sample's index
+    1..K, not the sample (defuzz.m: `crisp_x = midpoint`)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        if method == Defuzzifier.CENTROID:
+            return (m @ (w * u)) / (m @ w)
+        if method == Defuzzifier.BISECTOR:
+            return _octave_bisector_index(m, u)
+        top = m == m.max(axis=1, keepdims=True)
+        if method == Defuzzifier.MEAN_OF_MAXIMUM:
+            return (top @ u) / top.sum(axis=1)
+        return _extreme_where(top, u, method == Defuzzifier.LARGEST_OF_MAXIMUM)
+
+
+def _octave_bisector_index(m: np.ndarray, u: np.ndarray) -> np.ndarray:
+    """defuzz.m's bisector: lower = 1, upper = K; K - 1 times midpoint = round((lower +
+    upper) / 2), the area of m zeroed after the midpoint minus half the area: > 0 moves
+    upper there, else lower; the last midpoint (1-based) is the answer."""
+    n, k = m.shape
+    segment = np.diff(u) * (m[:, :-1] + m[:, 1:])                     # (N, K-1), trapz's
+    half = 0.5 * segment.sum(axis=1) / 2
+    before = np.concatenate([np.zeros((n, 1)), np.cumsum(segment, axis=1)], axis=1)  # (N, K)
+    # zeroed after sample j (0-based): the segments before it, and j's own half segment
+    left = 0.5 * (before[:, :k] + np.append(np.diff(u), 0.0) * m)
+    lower, upper = np.ones(n, dtype=np.int64), np.full(n, k, dtype=np.int64)
+    midpoint = lower
+    rows = np.arange(n)
+    for _ in range(k - 1):
+        midpoint = np.floor((lower + upper) / 2 + 0.5).astype(np.int64)   # round half up
+        above = left[rows, midpoint - 1] - half > 0
+        upper = np.where(above, midpoint, upper)
+        lower = np.where(above, lower, midpoint)
+    return midpoint.astype(float)
+
+
+def merged_rows(rb: RuleBase) -> list[bool]:
+    """Per rule whether it stands for several rows of its file: rows with the same premise
+    concluding different outputs are one rule (language/builder/rules.merge_rules joins their
+    origins with `; `), so each of those rows has no conclusion on the others' outputs."""
+    return ["; " in origin for origin in (rb.origins or [""] * rb.n_rules)]
+
+
+def octave_drastic_sum(clipped: np.ndarray, firing: np.ndarray, every_rule: bool) -> np.ndarray:
+    """The Octave toolkit's aggregation `drastic_sum` (drastic_sum.m's vector_arg, applied by
+    aggregate_output_mamdani.m to a column of every rule's output): max over the rules where
+    some rule's value is 0, else 1 -- not the pairwise fold (which is 1 wherever two rules are
+    positive).  Its column holds every rule: one not concluding the output, or not firing
+    (eval_rules_mamdani.m skips it), is 0 throughout, so then the aggregation is the max.
+    clipped (N, R, K) the implied sets of the rules concluding the output, firing (N, R)."""
+    if clipped.shape[1] == 0:
+        return np.zeros((clipped.shape[0], clipped.shape[2]))
+    top = clipped.max(axis=1)
+    if not every_rule:
+        return top
+    some_zero = (clipped == 0.0).any(axis=1) | ~firing.all(axis=1)[:, None]
+    return np.where(some_zero, top, 1.0)
 
 
 def _fold(g: np.ndarray, norm: SNorm) -> np.ndarray:

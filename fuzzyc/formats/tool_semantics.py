@@ -7,13 +7,19 @@ fuzzyc's own semantics ("exact") integrate the integral defuzzifiers exactly.  T
   `default: nan`, which its examples use).  fuzzylite 6's WeightedAverage sums over the rules
   whatever the aggregation (measured: the shipped WEDM rule bases exported as FLL, 0.28 apart
   from the grouped value), pyfuzzylite 8 groups the rules of a term with it (CENTER_OF_AREA);
-- "matlab": MATLAB's evalfis as documented: Mamdani outputs as "octave" below, Sugeno outputs
-  summed over the rules (WEIGHTED_AVERAGE, exact); not checked against MATLAB (none here);
+- "matlab": MATLAB's evalfis as documented: Mamdani outputs sampled as "octave" below (but
+  the output's default, the middle of the range, where nothing fired, the exact bisector and
+  the pairwise folds of the norms), Sugeno outputs summed over the rules (WEIGHTED_AVERAGE,
+  exact); not checked against MATLAB (none here);
 - "octave" (the Octave fuzzy-logic-toolkit 0.4.6 evalfis, also MATLAB's num_points = 101):
   the aggregated set sampled at linspace(lo, hi, 101) and integrated with trapz, so
   Centroid = trapz(u, u M) / trapz(u, M); MeanOfMaximum = the mean of the samples where M equals
-  its maximum; the output's default (the middle of the range) where nothing fired.
-  Its bisector (which returns a sample index, not a value) is not reproduced: exact instead.
+  its maximum; its bisector returns the index (1..101) of the sample it stops at, not the
+  sample (defuzz.m), and that is what "octave" gives ("matlab": exact); where nothing fired
+  defuzz.m's own values on a set that is 0 throughout (centroid NaN, mom the middle, som/lom
+  the ends, bisector 101).  Its aggregation drastic_sum takes the column of every rule at once
+  (drastic_sum.m: the max where some rule's value is 0, else 1; a rule not concluding the
+  output counts as 0), not the pairwise fold (fuzzylite_compat.octave_drastic_sum).
   Sugeno outputs: the rules' values that are equal are merged with the AggMethod before the
   weighted average (so `max` takes the strongest rule per term: CENTER_OF_AREA with that
   aggregation), where MATLAB sums over every rule (fuzzyc's WEIGHTED_AVERAGE).
@@ -53,7 +59,7 @@ from .fuzzylite_compat import FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
 SEMANTICS = ("exact", "fuzzylite", "pyfuzzylite", "matlab", "octave")
 RESOLUTION = {"fuzzylite": 100, "pyfuzzylite": 1000}
 OCTAVE_POINTS = 101
-# the Octave toolkit samples these (its bisector is not reproduced: exact instead)
+# the Octave toolkit samples these ("octave" adds its bisector, which returns an index)
 OCTAVE_SAMPLED = (Defuzzifier.CENTROID, Defuzzifier.MEAN_OF_MAXIMUM,
                   Defuzzifier.SMALLEST_OF_MAXIMUM, Defuzzifier.LARGEST_OF_MAXIMUM)
 
@@ -370,8 +376,11 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
         if semantics == "octave" and rb.inference.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE \
                 and rb.inference.aggregation != Aggregation.SUM:
             return _grouped_average(rb, x)
+        octave = semantics == "octave"
         return evaluate_sampled(rb, x, resolutions(rb, resolution, OCTAVE_POINTS),
-                                Sampling.TRAPEZOID, methods=OCTAVE_SAMPLED)
+                                Sampling.TRAPEZOID, methods=OCTAVE_SAMPLED + (
+                                    (Defuzzifier.BISECTOR,) if octave else ()),
+                                octave=octave)
     raise ValueError(f"unknown semantics `{semantics}`: one of {', '.join(SEMANTICS)}")
 
 
