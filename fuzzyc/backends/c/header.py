@@ -384,32 +384,15 @@ class HeaderWriter:
         """Per distinct partition: break points and, per segment, the two active terms' linear
         pieces; one shared function finds them for every input (one copy of its code, which
         keeps the header small at -O2 too, where per-input copies would be inlined)."""
-        t, p, P, lit = self.real.name, self.p, self.P, self.real.lit
-        parts: list = []
-        part_of: list[int] = []
-        for part in self.partitions:
-            keys = [q.breaks.tobytes() + q.table.tobytes() for q in parts]
-            key = part.breaks.tobytes() + part.table.tobytes()
-            if key not in keys:
-                parts.append(part)
-                keys.append(key)
-            part_of.append(keys.index(key))
+        t, P = self.real.name, self.P
+        parts, part_of = self.distinct_partitions()
         # Same length for all: the last break repeated, so the count loop has one constant
         # bound and x past the last break lands in the last (constant) segment.
         nb = max(len(q.breaks) for q in parts)
-        breaks, pieces, active = [], [], []
-        for q in parts:
-            pad = nb - len(q.breaks)
-            breaks.append(list(q.breaks) + [q.breaks[-1]] * pad)
-            rows = [self.slope_intercept(r[0::2][:3]) + self.slope_intercept(r[1::2][:3])
-                    for r in q.table]
-            pieces.append(rows[:-1] + [rows[-1]] * (pad + 1))
-            ids = active_codes(q).tolist()
-            active.append(ids[:-1] + [ids[-1]] * (pad + 1))
+        breaks, pieces, active = zip(*(self.padded_partition(q, nb) for q in parts))
         place = self.cells.place
         inputs = [[k, int(pl)] for k, pl in zip(part_of, place)]
         n_parts = len(parts)
-        cell_type = self.cells.cell_type
         self.out("/* Partitions of the inputs: break points and per segment (slope, intercept) "
                  "x 2 with the two term ids. */",
                  f"static const {t} {P}BREAKS[{n_parts}][{nb}] = {_table(self.real, breaks)};",
@@ -420,11 +403,40 @@ class HeaderWriter:
                  "/* Per rule-base input (" + ", ".join(c_comment(v.name) for v in self.rb.inputs)
                  + "): partition, place value in the cell index. */",
                  f"static const {index_type(int(max(np.max(place), n_parts)))} "
-                 f"{P}INPUTS[{P}N_RB_INPUTS][2] = {int_table(inputs)};",
-                 "/* The two positive terms of input i at x: memberships m and their place in "
+                 f"{P}INPUTS[{P}N_RB_INPUTS][2] = {int_table(inputs)};")
+        self.active_function(nb)
+        self.out(*cell_table_c(self.cells, P, self.p, self.rb.n_rules))
+
+    def distinct_partitions(self) -> tuple[list, list[int]]:
+        """(the distinct partitions of the inputs, per input the index of its own)."""
+        parts: list = []
+        part_of: list[int] = []
+        for part in self.partitions:
+            keys = [q.breaks.tobytes() + q.table.tobytes() for q in parts]
+            key = part.breaks.tobytes() + part.table.tobytes()
+            if key not in keys:
+                parts.append(part)
+                keys.append(key)
+            part_of.append(keys.index(key))
+        return parts, part_of
+
+    def padded_partition(self, q, nb: int) -> tuple[list, list, list]:
+        """q's break points, per segment (slope, intercept) x 2 and its two term ids, padded
+        to nb break points (the last break and the last segment repeated)."""
+        pad = nb - len(q.breaks)
+        rows = [self.slope_intercept(r[0::2][:3]) + self.slope_intercept(r[1::2][:3])
+                for r in q.table]
+        ids = active_codes(q).tolist()
+        return (list(q.breaks) + [q.breaks[-1]] * pad, rows[:-1] + [rows[-1]] * (pad + 1),
+                ids[:-1] + [ids[-1]] * (pad + 1))
+
+    def active_function(self, nb: int) -> None:
+        """NAME_active: the two positive terms of an input from the partition tables."""
+        t, p, P, lit = self.real.name, self.p, self.P, self.real.lit
+        self.out("/* The two positive terms of input i at x: memberships m and their place in "
                  "the cell index. */",
-                 f"static inline void {p}active(int i, {t} x, {t} m[2], {cell_type} cell[2]) "
-                 "{",
+                 f"static inline void {p}active(int i, {t} x, {t} m[2], "
+                 f"{self.cells.cell_type} cell[2]) {{",
                  f"    const {t} *b = {P}BREAKS[{P}INPUTS[i][0]];",
                  "    /* Outside the outer break points every term is constant: clamp. */",
                  f"    {t} xc = {p}clamp(x, b[0], b[{nb - 1}]);",
@@ -438,7 +450,6 @@ class HeaderWriter:
                  f"        cell[s] = {P}ACTIVE[{P}INPUTS[i][0]][k][s] * {P}INPUTS[i][1];",
                  "    }",
                  "}")
-        self.out(*cell_table_c(self.cells, P, p, self.rb.n_rules))
 
     def sparse_rules(self) -> list[str]:
         rb, t, P = self.rb, self.real.name, self.P
