@@ -351,3 +351,27 @@ def test_derived_chain_bound_grows_with_the_run_only_through_integrators(numeric
     milling = shipped("milling_neurofuzzy")
     e1, e2, e3 = (chain_error_bound(milling, numeric, n)["feed"] for n in (1, 2, 3))
     assert e1 < e2 < e3 and e3 - e2 == pytest.approx(e2 - e1, rel=1e-9)
+
+
+def test_helper_template_compiles_alone_and_each_header_holds_it():
+    # fixed_helpers.c is C (strict flags, the macros a header defines given on the command
+    # line), and a header holds its text under the header's own prefixes
+    from importlib import resources
+    template = resources.files("fuzzyc").joinpath("backends/c_fixed/fixed_helpers.c").read_text()
+    for numeric, (_, _, mf) in FORMATS.items():
+        compile_shared({"helpers.c": template}, "helpers.c",
+                       (f"-DFUZZYC_FX_ONE={1 << mf}", f"-DFUZZYC_FX_MF={mf}"))
+        header = generate_fixed_header(shipped("wedm_corner"), numeric)
+        pasted = template.split("from here -- */\n", 1)[1]
+        assert pasted.replace("fuzzyc_fx_", f"wedm_corner_{numeric}_").replace(
+            "FUZZYC_FX_", f"WEDM_CORNER_{numeric.upper()}_") in header
+        assert f"#define WEDM_CORNER_{numeric.upper()}_MF {mf}\n" in header
+
+
+def test_several_fixed_headers_share_a_translation_unit():
+    # every helper is named with the header's prefix: q15 and q31 of one controller and a
+    # second controller compile together
+    headers = {f"{name}_{numeric}.h": generate_fixed_header(shipped(name), numeric)
+               for name in ("wedm_corner", "edm_sink_gap") for numeric in FORMATS}
+    unit = "".join(f'#include "{h}"\n' for h in headers)
+    compile_shared({**headers, "unit.c": unit}, "unit.c")
