@@ -551,3 +551,71 @@ def test_octave_defuzz_as_the_toolkit_computes_it(method, expected):
     text = OCTAVE_DRASTIC.replace("DefuzzMethod='centroid'", f"DefuzzMethod='{method}'")
     got = evaluate_as(read_fis(text, "d.fis").rulebase, [[0.5]], "octave")[0]
     np.testing.assert_allclose(got, expected, rtol=0, atol=1e-12)
+
+
+OCTAVE_NARY = """[System]
+Name='nary'
+Type='sugeno'
+Version=2.0
+NumInputs=3
+NumOutputs=1
+NumRules=2
+AndMethod='{and}'
+OrMethod='{or}'
+ImpMethod='prod'
+AggMethod='{agg}'
+DefuzzMethod='{defuzz}'
+
+[Input1]
+Name='a'
+Range=[0 1]
+NumMFs=1
+MF1='up':'trimf',[0 1 2]
+
+[Input2]
+Name='b'
+Range=[0 1]
+NumMFs=1
+MF1='up':'trimf',[0 1 2]
+
+[Input3]
+Name='c'
+Range=[0 1]
+NumMFs=1
+MF1='up':'trimf',[0 1 2]
+
+[Output1]
+Name='y'
+Range=[0 10]
+NumMFs=2
+MF1='ten':'constant',[10]
+MF2='four':'constant',[4]
+
+[Rules]
+{rules}
+"""
+
+
+@pytest.mark.parametrize("methods, rules, x, octave, pairwise", [
+    # drastic_product over [1, .5, .5] at once: max is 1, so min = .5 (pairwise: dp(.5, .5)
+    # = 0); rule 2's one clause .5 alone: max is not 1, so 0 (pairwise: .5).  Octave 10
+    (("drastic_product", "max", "sum", "wtaver"), "1 1 1, 1 (1) : 1\n0 0 1, 2 (1) : 1",
+     [1, 0.5, 0.5], 10.0, 4.0),
+    # wtsum after merging the rules of one value with max: .5 * 10 (summed per rule: 10).
+    # Octave 5 (differential cases octave-fis/defuzzifier-wtsum, -wtaver-wtsum)
+    (("min", "max", "max", "wtsum"), "0 0 1, 1 (1) : 1\n0 1 0, 1 (1) : 1",
+     [1, 0.5, 0.5], 5.0, 10.0),
+    # drastic_sum over [0, .5, .5] at once: min is 0, so max = .5 (pairwise: ds(.5, .5) = 1):
+    # (.5 * 10 + .5 * 4) / 1 = 7 (pairwise (10 + 2) / 1.5 = 8).  Octave 7
+    (("min", "drastic_sum", "sum", "wtaver"), "1 1 1, 1 (1) : 2\n0 0 1, 2 (1) : 1",
+     [0, 0.5, 0.5], 7.0, 8.0),
+])
+def test_octave_norms_over_all_clauses_and_merged_sugeno_sums(methods, rules, x, octave,
+                                                             pairwise):
+    # measured: Octave 7, fuzzy-logic-toolkit 0.4.6, evalfis(x, readfis(FILE))
+    text = OCTAVE_NARY
+    for key, value in zip(("and", "or", "agg", "defuzz"), methods):
+        text = text.replace("{" + key + "}", value)
+    rb = read_fis(text.replace("{rules}", rules), "n.fis").rulebase
+    assert evaluate_as(rb, [x], "octave")[0, 0] == pytest.approx(octave, abs=1e-12)
+    assert evaluate(rb, [x])[0, 0] == pytest.approx(pairwise, abs=1e-12)

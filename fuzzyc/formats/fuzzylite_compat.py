@@ -38,7 +38,7 @@ tools and are taken from the engine unchanged.
 from __future__ import annotations
 
 from enum import Enum
-from typing import Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -70,7 +70,8 @@ class Sampling(Enum):
 def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int | Sequence[int] = 100,
                      sampling: Sampling = Sampling.MIDPOINT,
                      methods: tuple[Defuzzifier, ...] = SAMPLED,
-                     first_plateau: bool = False, octave: bool = False) -> np.ndarray:
+                     first_plateau: bool = False, octave: bool = False,
+                     activations: Callable = activations) -> np.ndarray:
     """x (N, I) -> y (N, O) as fuzzylite computes it with integral defuzzifiers sampled at
     `resolution` midpoints (or as Octave does, `sampling`); `resolution` is one for every
     output or one per output (each fuzzylite OutputVariable has its own defuzzifier and
@@ -79,7 +80,8 @@ def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int | Sequence[int
     over the first run of maximal samples only (fuzzylite 6).  `octave`: the Octave
     toolkit's own arithmetic (`_octave_defuzzify`): its n-ary drastic sum over every rule
     (`octave_drastic_sum`), its bisector (a sample's index) and its values where the set is
-    empty (no default)."""
+    empty (no default).  `activations`: the rules' activations (N, R) at x, by default the
+    engine's (tool_semantics.octave_activations: the toolkit's n-ary drastic norms)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     y = evaluate(rb, x)
     sampled = [o for o in range(len(rb.outputs)) if _is_sampled(rb, o, methods)]

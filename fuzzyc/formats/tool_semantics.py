@@ -47,12 +47,12 @@ from typing import Sequence
 
 import numpy as np
 
-from ..engine.inference import activations, evaluate
+from ..engine.inference import activations, evaluate, flat_activations
 from ..errors import Diagnostic, FuzzycError
-from ..engine.membership import linear_coefficients, pointwise, term_inverse
-from ..semantics.model import (Aggregation, CondOp, Defuzzifier, Hedge, Model, RuleBase, TermKind,
-                     Variable, aggregation_snorm)
-from ..engine.norms import combine
+from ..engine.membership import linear_coefficients, memberships, pointwise, term_inverse
+from ..semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Model,
+                               RuleBase, SNorm, TermKind, TNorm, Variable, aggregation_snorm)
+from ..engine.norms import combine, firing
 from ..engine.held_outputs import POLICIES, Held, reads_values
 from .fuzzylite_compat import FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
 
@@ -372,15 +372,16 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
             return _in_order(rb, x, semantics, resolution, held)
         y = evaluate_sampled(rb, x, resolution, first_plateau=semantics == "fuzzylite")
         return np.where(fired(rb, x), y, np.nan)
+    if semantics == "octave" and rb.inference.defuzzifier in (Defuzzifier.WEIGHTED_AVERAGE,
+                                                              Defuzzifier.WEIGHTED_SUM):
+        return _grouped_average(rb, x, octave_activations(rb, x))
     if semantics in ("octave", "matlab"):
-        if semantics == "octave" and rb.inference.defuzzifier == Defuzzifier.WEIGHTED_AVERAGE \
-                and rb.inference.aggregation != Aggregation.SUM:
-            return _grouped_average(rb, x)
         octave = semantics == "octave"
         return evaluate_sampled(rb, x, resolutions(rb, resolution, OCTAVE_POINTS),
                                 Sampling.TRAPEZOID, methods=OCTAVE_SAMPLED + (
                                     (Defuzzifier.BISECTOR,) if octave else ()),
-                                octave=octave)
+                                octave=octave, activations=octave_activations if octave
+                                else activations)
     raise ValueError(f"unknown semantics `{semantics}`: one of {', '.join(SEMANTICS)}")
 
 
@@ -452,24 +453,60 @@ def _fuzzylite6_inverse(kinds, params, w, lo, hi) -> np.ndarray:
     return np.where(kinds == TermKind.CONCAVE, term_inverse(kinds, params, mu), z)
 
 
-def _grouped_average(rb: RuleBase, x: np.ndarray) -> np.ndarray:
-    """The Octave toolkit's Sugeno output: per term, the rules' strengths merged with the
-    aggregation; then sum alpha_j z_j / sum alpha_j (the output's default when all are 0)."""
+def _grouped_average(rb: RuleBase, x: np.ndarray, act: np.ndarray | None = None) -> np.ndarray:
+    """The Octave toolkit's Sugeno output (aggregate_output_sugeno.m, defuzz.m): per term, the
+    rules' strengths merged with the aggregation (a sum for `sum`); then wtaver
+    sum alpha_j z_j / sum alpha_j (the output's default when all are 0: the toolkit fails
+    there) or wtsum sum alpha_j z_j.  `act`: the rules' activations (default the engine's)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
-    act = activations(rb, x)
+    act = activations(rb, x) if act is None else act
     y = np.empty((x.shape[0], len(rb.outputs)))
+    snorm = aggregation_snorm(rb.inference.aggregation)
     for o, var in enumerate(rb.outputs):
         z = _term_values(var, x)
         alpha = np.zeros_like(z)
         for t in range(var.n_terms):
             rules = np.flatnonzero(rb.consequents[:, o] == t)
             if rules.size:
-                alpha[:, t] = combine([act[:, r] for r in rules],
-                                      aggregation_snorm(rb.inference.aggregation), False)
+                alpha[:, t] = act[:, rules].sum(axis=1) if snorm is None else \
+                    combine([act[:, r] for r in rules], snorm, False)
         total = alpha.sum(axis=1)
+        if rb.inference_of(o).defuzzifier == Defuzzifier.WEIGHTED_SUM:
+            y[:, o] = (alpha * z).sum(axis=1)
+            continue
         y[:, o] = np.where(total > 0, (alpha * z).sum(axis=1) / np.where(total > 0, total, 1.0),
                            var.default)
     return y
+
+
+def octave_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
+    """The rules' activations as the Octave toolkit computes them (eval_firing_strength.m):
+    the AND or OR method applied to the vector of the rule's clauses at once, so
+    drastic_product is min(clauses) where max(clauses) is 1, else 0, and drastic_sum
+    max(clauses) where min(clauses) is 0, else 1 -- not the pairwise folds, which differ from
+    three clauses on; the other methods fold as the engine does."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    act = activations(rb, x)
+    drastic_and = rb.inference.and_ == TNorm.DRASTIC_PRODUCT
+    drastic_or = rb.inference.or_ == SNorm.DRASTIC_SUM
+    if not (drastic_and or drastic_or):
+        return act
+    mus = [memberships(var, x[:, i]) for i, var in enumerate(rb.inputs)]
+    n = x.shape[0]
+
+    def truth(connective: Connective, norm) -> np.ndarray:
+        # every rule's clauses combined by min or max (absent clauses are neutral there)
+        plain = replace(rb, connective=np.full(rb.n_rules, int(connective)),
+                        inference=replace(rb.inference, and_=norm, or_=norm))
+        return flat_activations(plain, mus, mus, n)
+
+    lowest, highest = truth(Connective.AND, TNorm.MIN), truth(Connective.OR, SNorm.MAX)
+    conj = rb.connective == Connective.AND
+    nary = np.where(conj, np.where(highest == 1.0, lowest, 0.0) if drastic_and else np.nan,
+                    np.where(lowest == 0.0, highest, 1.0) if drastic_or else np.nan)
+    use = (conj & drastic_and) | (~conj & drastic_or)
+    use[list(rb.conditions)] = False       # clause programs (hedged conclusions): the engine's
+    return np.where(use, firing(nary * rb.weights), act)
 
 
 def _term_values(var, x: np.ndarray) -> np.ndarray:
