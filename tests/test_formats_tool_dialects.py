@@ -619,3 +619,37 @@ def test_octave_norms_over_all_clauses_and_merged_sugeno_sums(methods, rules, x,
     rb = read_fis(text.replace("{rules}", rules), "n.fis").rulebase
     assert evaluate_as(rb, [x], "octave")[0, 0] == pytest.approx(octave, abs=1e-12)
     assert evaluate(rb, [x])[0, 0] == pytest.approx(pairwise, abs=1e-12)
+
+
+BISECTOR_FLL = """Engine: bisector
+InputVariable: x
+  enabled: true
+  range: 0 1
+  term: all Rectangle -1 2
+OutputVariable: y
+  enabled: true
+  range: 0 4
+  aggregation: Maximum
+  defuzzifier: Bisector 4
+  default: nan
+  term: up Ramp 0 4
+RuleBlock: rules
+  enabled: true
+  conjunction: Minimum
+  disjunction: Maximum
+  implication: Minimum
+  activation: General
+  rule: if x is all then y is up
+"""
+
+
+def test_bisector_of_each_fuzzylite_by_hand():
+    # up = u/4 at the midpoints 0.5, 1.5, 2.5, 3.5: 1/8, 3/8, 5/8, 7/8.
+    # fuzzylite 6 (Bisector.cpp) sweeps from both ends, the left side while its area is at
+    # most the right's: left 0.5 (1/8), right 3.5 (7/8), left 1.5 (1/2), left 2.5 (9/8);
+    # (9/8 * 3.5 + 7/8 * 2.5) / 2 = 3.0625, as the fuzzylite 6 CLI gives (differential cases
+    # fuzzylite-*/defuzzifier-bisector*).  pyfuzzylite 8: the cumulative areas 1/8, 1/2, 9/8, 2 are nearest half of
+    # 2 at the third midpoint: 2.5
+    rb = read_fll(BISECTOR_FLL, "b.fll").rulebase
+    assert evaluate_as(rb, [[0.5]], "fuzzylite", 4)[0, 0] == pytest.approx(3.0625, abs=1e-12)
+    assert evaluate_as(rb, [[0.5]], "pyfuzzylite", 4)[0, 0] == pytest.approx(2.5, abs=1e-12)

@@ -13,9 +13,10 @@ k = 0..n-1, n = the defuzzifier's resolution (C++ default 100, pyfuzzylite 8 def
   SmallestOfMaximum / LargestOfMaximum = the smallest / largest such u_k (pyfuzzylite 8; fuzzylite
     6 scans from the left with its 1e-6 tolerance: a larger sample for the smallest, a larger or
     equal one for the largest; Octave: the samples equal to the maximum).
-The Bisector is pyfuzzylite 8's; C++ fuzzylite's (read in the 4.x source, 6 not checked) sweeps
-the midpoints from both ends, adding to the smaller side's area, and returns the two last
-midpoints' area-weighted average: a different answer, not reproduced here and not measured.
+The Bisector above is pyfuzzylite 8's; fuzzylite 6's (its Bisector.cpp, under
+`--semantics fuzzylite`) sweeps the midpoints from both ends, adding to the smaller side's
+area, and returns the two last midpoints' area-weighted average (`_fuzzylite6_bisector`;
+measured against the fuzzylite 6 CLI by the differential fuzzer's kept Bisector cases).
 The model's own defuzzifiers integrate exactly.  Agreement with pyfuzzylite 8.0.6, all three
 methods, n = 100 and 1000, aggregation Maximum / AlgebraicSum / BoundedSum / UnboundedSum x
 implication Minimum / AlgebraicProduct (tests/test_formats_fuzzylite.py, live; and
@@ -77,7 +78,8 @@ def evaluate_sampled(rb: RuleBase, x: np.ndarray, resolution: int | Sequence[int
     output or one per output (each fuzzylite OutputVariable has its own defuzzifier and
     resolution: `defuzzifier: Centroid 300`); `methods` are the defuzzifiers sampled, the
     others as the engine (every tool is exact there).  `first_plateau`: the mean of maximum
-    over the first run of maximal samples only (fuzzylite 6).  `octave`: the Octave
+    over the first run of maximal samples only, and fuzzylite 6's other scans (its smallest
+    and largest of maximum, its bisector from both ends).  `octave`: the Octave
     toolkit's own arithmetic (`_octave_defuzzify`): its n-ary drastic sum over every rule
     (`octave_drastic_sum`), its bisector (a sample's index) and its values where the set is
     empty (no default).  `activations`: the rules' activations (N, R) at x, by default the
@@ -152,6 +154,8 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
         value = (m @ (w * u)) / np.where(fired, m @ w, 1.0)
     elif inf.defuzzifier == Defuzzifier.CENTROID:
         value = (m @ u) / safe_total
+    elif inf.defuzzifier == Defuzzifier.BISECTOR and first_plateau:
+        value = _fuzzylite6_bisector(m, var.lo, var.hi)
     elif inf.defuzzifier == Defuzzifier.BISECTOR:
         # Normalised by the cumsum's last element as fuzzylite does, not by m.sum (pairwise
         # summation): the two differ in the last bit, which moves near-ties by one sample.
@@ -238,6 +242,33 @@ def _fold(g: np.ndarray, norm: SNorm) -> np.ndarray:
     """g (N, R, K) folded over the rules (axis 1) with the s-norm; 0 when there is no rule."""
     return combine([g[:, r] for r in range(g.shape[1])], norm, False) if g.shape[1] \
         else np.zeros((g.shape[0], g.shape[2]))
+
+
+def _fuzzylite6_bisector(m: np.ndarray, lo: float, hi: float) -> np.ndarray:
+    """fuzzylite 6's Bisector (src/defuzzifier/Bisector.cpp): n = the resolution steps, each
+    adding the next midpoint's membership to the left area (from lo up) while it is at most
+    the right one (Op::isLE, within FL_EPSILON), else to the right area (from hi down); then
+    (left area * the last right midpoint + right area * the last left midpoint) / (left area
+    + right area), the midpoints computed as fuzzylite does (lo + (k + 1/2) dx from the left,
+    hi - (k + 1/2) dx from the right; x = lo and hi before any).  m (N, n): the set at the
+    midpoints from the left."""
+    count, n = m.shape[0], m.shape[1]
+    dx = (hi - lo) / n
+    rows = np.arange(count)
+    left, right = np.zeros(count, dtype=np.int64), np.zeros(count, dtype=np.int64)
+    left_area, right_area = np.zeros(count), np.zeros(count)
+    x_left, x_right = np.full(count, float(lo)), np.full(count, float(hi))
+    for _ in range(n):
+        go_left = (np.abs(left_area - right_area) < FL_EPSILON) | (left_area < right_area)
+        x_left = np.where(go_left, lo + (left + 0.5) * dx, x_left)
+        x_right = np.where(go_left, x_right, hi - (right + 0.5) * dx)
+        take = np.where(go_left, m[rows, np.minimum(left, n - 1)],
+                        m[rows, np.maximum(n - 1 - right, 0)])
+        left_area = np.where(go_left, left_area + take, left_area)
+        right_area = np.where(go_left, right_area, right_area + take)
+        left, right = left + go_left, right + ~go_left
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return (left_area * x_right + right_area * x_left) / (left_area + right_area)
 
 
 def _first_plateau_mean(m: np.ndarray, u: np.ndarray) -> np.ndarray:
