@@ -653,3 +653,36 @@ def test_bisector_of_each_fuzzylite_by_hand():
     rb = read_fll(BISECTOR_FLL, "b.fll").rulebase
     assert evaluate_as(rb, [[0.5]], "fuzzylite", 4)[0, 0] == pytest.approx(3.0625, abs=1e-12)
     assert evaluate_as(rb, [[0.5]], "pyfuzzylite", 4)[0, 0] == pytest.approx(2.5, abs=1e-12)
+
+
+TINY_FLL = """Engine: tiny
+InputVariable: x
+  enabled: true
+  range: 0 1
+  term: up Triangle 0 1 2
+OutputVariable: y
+  enabled: true
+  range: 0 2
+  aggregation: Maximum
+  defuzzifier: Centroid 100
+  default: nan
+  term: mid Triangle 0 1 2
+RuleBlock: rules
+  enabled: true
+  conjunction: Minimum
+  disjunction: Maximum
+  implication: Minimum
+  activation: General
+  rule: if x is up then y is mid
+"""
+
+
+def test_fuzzylite6_fires_no_rule_below_its_epsilon():
+    # up(x) = x: the rule's activation is 5e-7 or 2e-6.  fuzzylite 6 (Rule::trigger,
+    # Op::isGt within 1e-6) fires it only at 2e-6: nan, then the centroid of mid clipped
+    # flat, 1 (measured: the fuzzylite 6 CLI prints nan and 1); pyfuzzylite 8 fires both: 1, 1
+    rb = read_fll(TINY_FLL, "tiny.fll").rulebase
+    got = evaluate_as(rb, [[5e-7], [2e-6]], "fuzzylite")[:, 0]
+    assert math.isnan(got[0]) and got[1] == pytest.approx(1.0, abs=1e-9)
+    np.testing.assert_allclose(evaluate_as(rb, [[5e-7], [2e-6]], "pyfuzzylite")[:, 0],
+                               [1.0, 1.0], rtol=0, atol=1e-9)

@@ -363,15 +363,18 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
     if semantics in ("fuzzylite", "pyfuzzylite"):
         resolution = resolutions(rb, resolution, RESOLUTION[semantics])
         rb = linear_unclamped(fuzzylite_hedges(rb))
+        acts = fuzzylite6_activations if semantics == "fuzzylite" else activations
         if rb.inference.defuzzifier == Defuzzifier.TSUKAMOTO:
             return _tsukamoto(rb, np.atleast_2d(np.asarray(x, dtype=float)),
-                              _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse)
+                              _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse,
+                              acts)
         if semantics == "fuzzylite" and _any_center_of_area(rb):
             rb = _over_rules(rb)
         if reads_values(rb):
             return _in_order(rb, x, semantics, resolution, held)
-        y = evaluate_sampled(rb, x, resolution, first_plateau=semantics == "fuzzylite")
-        return np.where(fired(rb, x), y, np.nan)
+        y = evaluate_sampled(rb, x, resolution, first_plateau=semantics == "fuzzylite",
+                             activations=acts)
+        return np.where(fired(rb, x, acts), y, np.nan)
     if semantics == "octave" and rb.inference.defuzzifier in (Defuzzifier.WEIGHTED_AVERAGE,
                                                               Defuzzifier.WEIGHTED_SUM):
         return _grouped_average(rb, x, octave_activations(rb, x))
@@ -407,10 +410,10 @@ def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: list[int]
     return y
 
 
-def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse) -> np.ndarray:
+def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse, acts=activations) -> np.ndarray:
     """sum act_r z_r / sum act_r over the firing rules, z_r = inverse(kinds, params, act_r)
     (fuzzylite's, unclipped); NaN where none fires."""
-    act = activations(rb, x)
+    act = acts(rb, x)
     y = np.full((x.shape[0], len(rb.outputs)), np.nan)
     for o, var in enumerate(rb.outputs):
         J = rb.consequents[:, o]
@@ -516,9 +519,20 @@ def _term_values(var, x: np.ndarray) -> np.ndarray:
     return np.where(var.kinds == TermKind.LINEAR, linear, var.peaks())
 
 
-def fired(rb: RuleBase, x: np.ndarray) -> np.ndarray:
-    """(N, O) bool: some rule concluding the output has a positive activation."""
-    act = activations(rb, np.atleast_2d(np.asarray(x, dtype=float)))
+def fuzzylite6_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
+    """The rules' activations as fuzzylite 6 triggers them: Rule::trigger fires a rule only
+    where Op::isGt(activation, 0), which is false within its 1e-6 (FL_EPSILON) of 0, so an
+    activation below 1e-6 (or NaN) is 0: it adds nothing to the output's fuzzy set, and an
+    output whose rules all stay below it takes its default (measured: the fuzzylite 6 CLI;
+    pyfuzzylite 8 fires every rule above 0)."""
+    act = activations(rb, x)
+    return np.where(act >= FL_EPSILON, act, 0.0)
+
+
+def fired(rb: RuleBase, x: np.ndarray, acts=activations) -> np.ndarray:
+    """(N, O) bool: some rule concluding the output has a positive activation (`acts`: the
+    rules' activations as the tool computes them)."""
+    act = acts(rb, np.atleast_2d(np.asarray(x, dtype=float)))
     concludes = rb.consequents >= 0                       # (R, O)
     return (act > 0).astype(float) @ concludes.astype(float) > 0
 
