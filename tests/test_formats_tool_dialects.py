@@ -686,3 +686,18 @@ def test_fuzzylite6_fires_no_rule_below_its_epsilon():
     assert math.isnan(got[0]) and got[1] == pytest.approx(1.0, abs=1e-9)
     np.testing.assert_allclose(evaluate_as(rb, [[5e-7], [2e-6]], "pyfuzzylite")[:, 0],
                                [1.0, 1.0], rtol=0, atol=1e-9)
+
+
+def test_fuzzylite6_defuzzifies_a_fired_set_that_is_zero_throughout():
+    # DrasticProduct implication: min(a, mu) where max(a, mu) is 1, else 0; the rule fires
+    # at 0.5 and mid < 1 at every midpoint of [0, 2] (100: 0.01, 0.03, ..., none is 1), so
+    # the set is 0 throughout.  fuzzylite 6 still defuzzifies it (the default only where no
+    # rule fired): its LargestOfMaximum scan keeps the last sample, 1.99, the smallest the
+    # first, 0.01, the mean of maximum the middle, 1 (measured: the fuzzylite 6 CLI)
+    for method, expected in (("LargestOfMaximum", 1.99), ("SmallestOfMaximum", 0.01),
+                             ("MeanOfMaximum", 1.0)):
+        text = TINY_FLL.replace("Centroid 100", f"{method} 100").replace(
+            "implication: Minimum", "implication: DrasticProduct")
+        rb = read_fll(text, "zero.fll").rulebase
+        assert evaluate_as(rb, [[0.5]], "fuzzylite")[0, 0] == pytest.approx(expected,
+                                                                              abs=1e-12)

@@ -172,6 +172,13 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
     else:
         # Exact equality, as fuzzylite: which samples tie can hang on the last bit.
         value = _mean_where((m > 0) & (m == m.max(axis=1, keepdims=True)), u)
+    if first_plateau:
+        # fuzzylite 6 defuzzifies a set its rules triggered even where it is 0 throughout
+        # (OutputVariable::defuzzify takes the default only where no rule fired: the caller's
+        # mask): its scans give a sample there (the last for the largest of maximum, the
+        # first for the smallest, the middle for the mean), the centroid and bisector 0/0
+        ratio = inf.defuzzifier in (Defuzzifier.CENTROID, Defuzzifier.BISECTOR)
+        return np.where(fired, value, np.nan) if ratio else value
     return np.where(fired, value, var.default)
 
 
