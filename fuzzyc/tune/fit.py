@@ -22,6 +22,7 @@ from scipy.optimize import least_squares, lsq_linear
 from ..engine import inference as engine
 from ..semantics.model import Model
 from ..semantics.tunable import TunedNumber
+from . import anfis
 from .consequent_bounds import CornerBounds, corner_bounds
 from .constraints import KEPT, Penalties, PropertyCheck, check, kept_properties, status
 from .space import Space
@@ -51,26 +52,31 @@ class FitResult:
 
 def fit_data(model: Model, x, y, *, validate: tuple | None = None, folds: int | None = None,
              seed: int = 0, passes: int = 20, max_nfev: int | None = None,
-             keep_properties: bool = True) -> FitResult:
+             keep_properties: bool = True, method: str = "least_squares") -> FitResult:
     """Fit `model`'s tuned numbers (its `tune` section) to inputs x (N, I) -> outputs y (N, O)
     (columns in the rule base's input / output order; a mapping by name works too).
     validate: (x, y) to report the error on; folds: K-fold cross-validation instead.
     passes: hybrid passes (Takagi-Sugeno); max_nfev: function evaluations of each
-    least-squares run (None: scipy's default)."""
+    least-squares run (None: scipy's default).  method "anfis" (Takagi-Sugeno): Jang's
+    hybrid rule, `passes` epochs of it (fuzzyc.tune.anfis), instead of the hybrid passes and
+    the joint least squares."""
+    if method not in ("least_squares", "anfis"):
+        raise ValueError(f"method is least_squares or anfis, not {method!r}")
     X, Y = _columns(model, x, True), _columns(model, y, False)
     if len(X) != len(Y):
         raise ValueError(f"{len(X)} input rows but {len(Y)} output rows")
-    fit = _fit(model, X, Y, seed, passes, max_nfev, keep_properties)
+    fit = _fit(model, X, Y, seed, passes, max_nfev, keep_properties, method)
     if validate is not None:
         Xv, Yv = _columns(model, validate[0], True), _columns(model, validate[1], False)
         fit.validation_before = _rmse(_predict(model, Xv), Yv)
         fit.validation = _rmse(_predict(fit.model, Xv), Yv)
     elif folds:
-        fit.validation = _cross_validate(model, X, Y, folds, seed, passes, max_nfev)
+        fit.validation = _cross_validate(model, X, Y, folds, seed, passes, max_nfev, method)
     return fit
 
 
-def _fit(model: Model, X, Y, seed, passes, max_nfev, keep_properties) -> FitResult:
+def _fit(model: Model, X, Y, seed, passes, max_nfev, keep_properties,
+         how: str = "least_squares") -> FitResult:
     space = Space(model)
     if any(n.kind == "param" for n in space.numbers):
         names = ", ".join(n.target for n in space.numbers if n.kind == "param")
@@ -95,7 +101,7 @@ def _fit(model: Model, X, Y, seed, passes, max_nfev, keep_properties) -> FitResu
         weight = PENALTY_WEIGHTS[min(rounds - 1, len(PENALTY_WEIGHTS) - 1)] if penalties \
             else 0.0
         candidate, name = _search(space, form, X, Y, passes, max_nfev, penalties, weight, start,
-                                  corner)
+                                  corner, how)
         method = name if start is None else method
         found: list = []
         lost = _lost(space, candidate, held, seed, found)
@@ -162,7 +168,8 @@ def _lost(space: Space, theta, held, seed, found: list | None = None) -> list[st
 
 
 def _search(space: Space, form: SugenoForm | None, X, Y, passes, max_nfev, penalties,
-            weight, start=None, corner: CornerBounds | None = None) -> tuple[np.ndarray, str]:
+            weight, start=None, corner: CornerBounds | None = None,
+            how: str = "least_squares") -> tuple[np.ndarray, str]:
     """The least-squares search; returns the numbers and the method's name. `start`: a
     candidate to go on from (a counterexample round), without the hybrid passes. `corner`:
     linear constraints on the consequents, which the joint polish cannot take: it moves the
@@ -193,6 +200,12 @@ def _search(space: Space, form: SugenoForm | None, X, Y, passes, max_nfev, penal
     analytic = form is not None and form.analytic
     if start is not None:
         method = "counterexample round"      # the caller keeps the first round's name
+    elif how == "anfis" and form is not None and form.analytic and form.linear_part.any():
+        theta = anfis.train(form, theta, target, space.lo, space.hi, epochs=passes).theta
+        method = f"ANFIS (Jang 1993: {passes} epochs of least-squares consequents and one " \
+                 "normalised gradient step on the premises)"
+        if not weight and corner is None:     # Jang's rule alone; a penalty polishes after
+            return theta, method
     elif form is not None and form.linear_part.any():     # the penalised search starts there too
         theta = _hybrid(form, theta, space, target, passes, max_nfev, corner)
         method = "ANFIS hybrid (bounded linear least squares + trust-region least squares)"
@@ -282,14 +295,15 @@ def _forward_differences(fun, theta, space: Space) -> np.ndarray:
     return J
 
 
-def _cross_validate(model, X, Y, folds, seed, passes, max_nfev) -> float:
+def _cross_validate(model, X, Y, folds, seed, passes, max_nfev,
+                    how: str = "least_squares") -> float:
     if not 2 <= folds <= len(X):
         raise ValueError(f"--folds needs 2 <= K <= {len(X)} (the rows), got {folds}")
     order = np.random.default_rng(seed).permutation(len(X))
     errors = []
     for part in np.array_split(order, folds):
         train = np.setdiff1d(order, part)
-        fold = _fit(model, X[train], Y[train], seed, passes, max_nfev, False)
+        fold = _fit(model, X[train], Y[train], seed, passes, max_nfev, False, how)
         errors.append(_rmse(_predict(fold.model, X[part]), Y[part]))
     return float(np.mean(errors))
 

@@ -113,20 +113,22 @@ class SugenoForm:
         return y, share, rules, z, total, some
 
     # ---- derivatives
-    def jacobian(self, theta: np.ndarray) -> np.ndarray:
-        """d y / d theta, (N * O, P) with rows sample-major (as predict(theta).ravel())."""
+    def jacobian(self, theta: np.ndarray, columns=None) -> np.ndarray:
+        """d y / d theta, (N * O, P) with rows sample-major (as predict(theta).ravel());
+        `columns`: only those numbers' columns (indices into theta), in that order."""
         self.space.apply(theta)
         rb = self.space.model.blocks[0]
         act, M = self._strengths()
         fired = firing(act)
         live = act >= ACTIVATION_FLOOR         # a rule under the floor does not fire at all
         outs = [self._output(fired, o) for o in range(len(rb.outputs))]
-        n, P = self.x.shape[0], self.space.size
+        which = range(self.space.size) if columns is None else [int(c) for c in columns]
+        n, P = self.x.shape[0], len(which)
         J = np.zeros((n, len(rb.outputs), P))
-        for k, number in enumerate(self.space.numbers):
+        for k, c in enumerate(which):
             for o, (y, share, rules, z, total, some) in enumerate(outs):
-                J[:, o, k] = self._column(number, o, y, share, rules, z, total, some, act, M,
-                                          live)
+                J[:, o, k] = self._column(self.space.numbers[c], o, y, share, rules, z, total,
+                                          some, act, M, live)
         return J.reshape(n * len(rb.outputs), P)
 
     def _column(self, number, o, y, share, rules, z, total, some, act, M, live):
