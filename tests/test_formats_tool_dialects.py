@@ -601,6 +601,10 @@ MF2='four':'constant',[4]
     # = 0); rule 2's one clause .5 alone: max is not 1, so 0 (pairwise: .5).  Octave 10
     (("drastic_product", "max", "sum", "wtaver"), "1 1 1, 1 (1) : 1\n0 0 1, 2 (1) : 1",
      [1, 0.5, 0.5], 10.0, 4.0),
+    # the same with a hedged clause (very b: .25; a clause program in fuzzyc): max(1, .25,
+    # .5) is 1, so .25 (pairwise 0).  Octave 10
+    (("drastic_product", "max", "sum", "wtaver"), "1 1.2 1, 1 (1) : 1\n0 0 1, 2 (1) : 1",
+     [1, 0.5, 0.5], 10.0, 4.0),
     # wtsum after merging the rules of one value with max: .5 * 10 (summed per rule: 10).
     # Octave 5 (differential cases octave-fis/defuzzifier-wtsum, -wtaver-wtsum)
     (("min", "max", "max", "wtsum"), "0 0 1, 1 (1) : 1\n0 1 0, 1 (1) : 1",

@@ -47,9 +47,10 @@ from typing import Sequence
 
 import numpy as np
 
-from ..engine.inference import activations, evaluate, flat_activations
+from ..engine.inference import activations, evaluate, flat_activations, run_condition
 from ..errors import Diagnostic, FuzzycError
-from ..engine.membership import linear_coefficients, memberships, pointwise, term_inverse
+from ..engine.membership import (HEDGE_EXPONENT, apply_hedges, linear_coefficients, memberships,
+                                 pointwise, term_inverse)
 from ..semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Model,
                                RuleBase, SNorm, TermKind, TNorm, Variable, aggregation_snorm)
 from ..engine.norms import combine, firing
@@ -508,8 +509,47 @@ def octave_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
     nary = np.where(conj, np.where(highest == 1.0, lowest, 0.0) if drastic_and else np.nan,
                     np.where(lowest == 0.0, highest, 1.0) if drastic_or else np.nan)
     use = (conj & drastic_and) | (~conj & drastic_or)
-    use[list(rb.conditions)] = False       # clause programs (hedged conclusions): the engine's
+    for r, program in rb.conditions.items():     # hedged clauses or conclusions
+        use[r] = False
+        ops = set(program[:, 0].tolist())      # the row's connective is its program's
+        and_ = CondOp.AND in ops or (CondOp.OR not in ops and bool(conj[r]))
+        if (drastic_and and and_) or (drastic_or and not and_):
+            act[:, r] = firing(_octave_program(rb, program, x, and_) * rb.weights[r])
     return np.where(use, firing(nary * rb.weights), act)
+
+
+def _octave_nary(values: list[np.ndarray], conj: bool) -> np.ndarray:
+    """drastic_product.m / drastic_sum.m over a rule's clause truths at once."""
+    v = np.array(values)
+    if conj:
+        return np.where(v.max(axis=0) == 1.0, v.min(axis=0), 0.0)
+    return np.where(v.min(axis=0) == 0.0, v.max(axis=0), 1.0)
+
+
+def _octave_program(rb: RuleBase, program: np.ndarray, x: np.ndarray, conj: bool) -> np.ndarray:
+    """A FIS row's clause program (engine.inference.run_condition: its clauses with their
+    hedges and NOT, joined by the row's one connective, then a hedge on its conclusion) with
+    the connective taken over all the clauses at once (`_octave_nary`)."""
+    stack: list[list[np.ndarray]] = []
+    for step in program:
+        op, i, t, h = (int(v) for v in step)
+        if op in (CondOp.AND, CondOp.OR):
+            b, a = stack.pop(), stack.pop()
+            stack.append(a + b)
+            continue
+        if op == CondOp.CLAUSE:
+            stack.append([run_condition(rb, step[None], x)])
+            continue
+        top = stack.pop()       # NOT and a hedge act on one clause, CONCLUDED on the row's
+        value = top[0] if len(top) == 1 and op != CondOp.CONCLUDED else _octave_nary(top, conj)
+        if op == CondOp.NOT:
+            value = 1.0 - value
+        elif op == CondOp.HEDGE:
+            value = apply_hedges(value[:, None], np.array([h]))[:, 0]
+        elif op == CondOp.CONCLUDED and t:
+            value = value ** (1.0 / HEDGE_EXPONENT[h])
+        stack.append([value])
+    return _octave_nary(stack.pop(), conj)
 
 
 def _term_values(var, x: np.ndarray) -> np.ndarray:
