@@ -224,3 +224,18 @@ def test_linear_consequents_bounded_by_their_corners():
     # y = 2 x reaches 2 at x = 1: no proof, the search finds it
     steep = parse(LINE.replace("linear(0, 1)", "linear(0, 2)"))
     assert verdict(steep, "bounded") == Status.VIOLATED
+
+
+def test_bounded_by_counterexample_rounds_under_weighted_sum():
+    # weighted_sum is no convex combination: no corner constraints, the penalty keeps it. The
+    # first candidate ends just over 1.5 at x = 1; that point joins the penalty, the heavier
+    # round keeps it (the verifier's search: held), near the same optimum c0 = 1/6, c1 = 4/3
+    model = parse(LINE.replace("weighted_average", "weighted_sum"))
+    xs = np.linspace(0, 1, 5)
+    kept = fit_data(model, xs[:, None], 2 * xs)
+    assert "kept by construction" not in kept.method
+    assert len(kept.rejected) == 1 and "counterexample points added" in kept.rejected[0]
+    assert kept.values == pytest.approx([1 / 6, 4 / 3], abs=1e-3)
+    assert [(c.before, c.after) for c in kept.properties] == [("held", "held")]
+    dense = evaluate(kept.model.rulebase, np.linspace(0, 1, 10001)[:, None])[:, 0]
+    assert dense.min() >= 0 and dense.max() <= 1.5
