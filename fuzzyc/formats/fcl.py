@@ -357,20 +357,26 @@ class _FclReader:
             defuzzifier = Defuzzifier.WEIGHTED_AVERAGE        # over the rules
             self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION)
         elif method == "COGS":        # grouped per term: linear and function terms too
-            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION)
+            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION,
+                                     tsukamoto="Tsukamoto weighted average with an ACCU")
         elif method == "COGSS":       # fuzzylite's WeightedSum: over the rules, whatever ACCU
-            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION, method="COGSS")
+            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION, method="COGSS",
+                                     tsukamoto="Tsukamoto weighted sum")
         return inf.aggregation, defuzzifier
 
-    def _require_singletons(self, var: VarSpec, *also: TermKind, method: str = "COGS") -> None:
+    def _require_singletons(self, var: VarSpec, *also: TermKind, method: str = "COGS",
+                            tsukamoto: str = "") -> None:
         """COGS over anything but singletons (and Linear terms, where allowed) is Tsukamoto's
-        method in fuzzylite, which the model does not carry."""
+        method in fuzzylite, which the model carries as a weighted average without ACCU only
+        (`tsukamoto` names the method it lacks where it is not that one)."""
         for term in var.terms:
             if term.kind != TermKind.SINGLETON and term.kind not in also:
                 kinds = " or Linear/Function" if also else ""
-                self.rep.error(term.loc, f"{method} needs singleton{kinds} terms or monotonic "
-                                         "ones (Tsukamoto); "
-                                         f"`{term.name}` is neither")
+                what = (f"or monotonic ones (Tsukamoto); `{term.name}` is neither"
+                        if not tsukamoto else
+                        f"(Takagi-Sugeno); over `{term.name}` it is fuzzylite's {tsukamoto}, "
+                        "which the model does not have")
+                self.rep.error(term.loc, f"{method} needs singleton{kinds} terms {what}")
 
 
 def _block_name(block: Tree) -> Token | None:

@@ -321,10 +321,12 @@ class _FllReader:
             if aggregation not in GROUPING and tsukamoto_terms([var]):
                 inf.defuzzifier = Defuzzifier.TSUKAMOTO      # Ramp, Sigmoid, ... terms
             else:
-                self._require_constants(var, defuzz)
+                self._require_constants(var, defuzz, tsukamoto=(
+                    "Tsukamoto weighted average with an aggregation"
+                    if aggregation in GROUPING else ""))
         elif defuzz == "WeightedSum" and aggregation in ("none", "UnboundedSum"):
             inf.defuzzifier = Defuzzifier.WEIGHTED_SUM
-            self._require_constants(var, defuzz)
+            self._require_constants(var, defuzz, tsukamoto="Tsukamoto weighted sum")
         elif defuzz in ("WeightedAverage", "WeightedSum"):
             self.rep.error(agg_loc, f"{defuzz} with aggregation `{aggregation}` is not "
                                     "supported")
@@ -362,12 +364,17 @@ class _FllReader:
                                          "constant over the whole range in fuzzylite, a "
                                          "singleton in the model: use WeightedAverage")
 
-    def _require_constants(self, var, defuzz: str) -> None:
+    def _require_constants(self, var, defuzz: str, tsukamoto: str = "") -> None:
+        """`tsukamoto`: the fuzzylite method over monotonic terms the model lacks for this
+        defuzzifier (its Tsukamoto is a weighted average without grouping)."""
         for term in var.terms:
             if term.kind not in (TermKind.SINGLETON, TermKind.LINEAR, TermKind.FUNCTION):
+                what = ("or monotonic ones (Tsukamoto); " f"`{term.name}` is neither"
+                        if not tsukamoto else
+                        f"(Takagi-Sugeno); over `{term.name}` it is fuzzylite's {tsukamoto}, "
+                        "which the model does not have")
                 self.rep.error(term.loc, f"{defuzz} needs Constant, Linear or Function terms "
-                                         "(Takagi-Sugeno) or monotonic ones (Tsukamoto); "
-                                         f"`{term.name}` is neither")
+                                         + what)
 
     # ------------------------------------------------------------------ rules
     def _rule(self, line: _Line) -> None:
