@@ -65,12 +65,18 @@ SUBSTITUTED = {
         ("pytest --fuzzyc-verify rulebases/fopdt_pi.fz",
          "the six shipped files take minutes (`make test` collects rulebases/ with the plugin)"),
     "python -m fuzzyc.tune.mackey_glass":
-        ("python -m fuzzyc.tune.mackey_glass --passes 1 --max-nfev 3",
-         "the full fit takes a minute of CPU; one pass and 3 evaluations take the same path "
-         "(tests/test_tune_mackey_glass.py checks the short fit's errors)"),
-    "python -m fuzzyc.tune.mackey_glass --bounded -0.5 2.5 --max-nfev 300":
-        ("python -m fuzzyc.tune.mackey_glass --bounded -0.5 2.5 --passes 1 --max-nfev 3",
-         "the two fits take four minutes of CPU; 3 evaluations each take the same path"),
+        ("python -m fuzzyc.tune.mackey_glass --epochs 5",
+         "500 epochs take 15 s of CPU; 5 take the same path "
+         "(tests/test_tune_mackey_glass.py pins 20 epochs' errors)"),
+    "python -m fuzzyc.tune.mackey_glass --method least_squares":
+        ("python -m fuzzyc.tune.mackey_glass --method least_squares --max-nfev 3",
+         "the joint least squares to convergence; 3 evaluations take the same path"),
+    "python -m fuzzyc.tune.mackey_glass --delay-steps 170":
+        ("python -m fuzzyc.tune.mackey_glass --delay-steps 170 --epochs 5",
+         "500 epochs on the other series; 5 take the same path"),
+    "python -m fuzzyc.tune.mackey_glass --bounded -0.5 2.5":
+        ("python -m fuzzyc.tune.mackey_glass --bounded -0.5 2.5 --epochs 5",
+         "two fits of 500 epochs and the verifier's rounds; 5 epochs take the same path"),
     "fuzzyc tune rulebases/fopdt_pi.fz --scenario fopdt_step --minimize 'iae(y)' --limit 'overshoot(y)<=0.02' --seed 0 -o tuned.fz":
         ("fuzzyc tune rulebases/fopdt_pi.fz --scenario fopdt_step --minimize 'iae(y)' --limit 'overshoot(y)<=0.02' --seed 0 -o tuned.fz --max-evaluations 5 --max-examples 5",
          "the search takes 80 loops and the checks 30 each; 5 take the same path "
