@@ -98,3 +98,18 @@ def test_epochs_are_reproducible_and_lower_the_error():
     # each epoch's gradient step lowers the training error here (k = 0.01 is short)
     assert all(b < a for a, b in zip(one.errors, one.errors[1:]))
     assert one.best_epoch == 5 and one.steps == [(4, pytest.approx(0.011))]
+
+
+def test_fuzzyc_tune_method_anfis(tmp_path, capsys):
+    from fuzzyc.cli.main import main
+    rule, train, check = mg.export(tmp_path / "mg")
+    out = tmp_path / "tuned.fz"
+    assert main(["tune", str(rule), "--data", str(train), "--validate", str(check),
+                 "--method", "anfis", "--passes", "3", "-o", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "104 numbers tuned by ANFIS (Jang 1993: 3 epochs" in printed
+    assert "method: ANFIS (Jang 1993: 3 epochs" in out.read_text()
+    # the data tuner's methods and the closed loop's do not mix
+    with pytest.raises(ValueError, match="method powell goes with --scenario"):
+        from fuzzyc.tune import tune
+        tune(rule, train, method="powell")

@@ -31,8 +31,10 @@ def add_parser(subparsers) -> None:
     p.add_argument("--limit", action="append", default=[], metavar="METRIC<=VALUE",
                    dest="limits", help="with --scenario: a metric kept at most VALUE "
                    "(e.g. 'overshoot(y)<=0.02'); repeatable")
-    p.add_argument("--method", choices=("powell", "nelder-mead"), default="powell",
-                   help="with --scenario: scipy's derivative-free method (default powell)")
+    p.add_argument("--method", choices=("least_squares", "anfis", "powell", "nelder-mead"),
+                   default=None, help="with --data: least_squares (default) or anfis (Jang's "
+                   "1993 hybrid rule, --passes epochs); with --scenario: scipy's "
+                   "derivative-free powell (default) or nelder-mead")
     p.add_argument("--max-evaluations", type=at_least(1), default=None, metavar="N",
                    help="with --scenario: closed-loop runs of the search (default: scipy's)")
     p.add_argument("--batch", type=at_least(1), default=1, help="with --scenario: loops per "
@@ -68,7 +70,8 @@ def run(args) -> int:
                                             "(a closed-loop tune), not with --data")])
     try:
         result = tune(args.file, args.data, validate=args.validate, folds=args.folds,
-                      seed=args.seed, passes=args.passes, max_nfev=args.max_nfev)
+                      seed=args.seed, passes=args.passes, max_nfev=args.max_nfev,
+                      method=args.method)
     except (ValueError, KeyError, OSError) as exc:
         message = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
         raise FuzzycError([Diagnostic(None, message)]) from None

@@ -49,13 +49,15 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None
          validate: str | os.PathLike | None = None, folds: int | None = None, seed: int = 0,
          passes: int = 20, max_nfev: int | None = None, scenario: str | None = None,
          minimize: str | None = None, sets: dict | None = None, limits: tuple = (),
-         batch: int = 1, randomize: bool = False, method: str = "powell",
+         batch: int = 1, randomize: bool = False, method: str | None = None,
          max_evaluations: int | None = None, max_examples: int = 30) -> TuneResult:
     """Tune a .fz file (or a model parsed from .fz text) against the CSV `data`; `validate`
     (a CSV) or `folds` (K-fold cross-validation) measure the error on data it was not fitted
     to.  Or, with `scenario` instead of data, against a closed loop: minimize the metric
     `minimize` of the scenario's loop (overrides `sets`, as simulate's --set; `limits`
-    'METRIC<=VALUE' kept; fuzzyc.tune.loop).  The result's text differs from the source only
+    'METRIC<=VALUE' kept; fuzzyc.tune.loop).  `method`: with data, "least_squares" (the
+    default) or "anfis" (Jang's rule, `passes` epochs); with a scenario, "powell" (the
+    default) or "nelder-mead".  The result's text differs from the source only
     in the tuned numbers and the provenance comment block on top; the same files and seed give
     the same text, byte for byte."""
     if not isinstance(model, Model):
@@ -66,19 +68,25 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None
                          "(fuzzyc convert), add a `tune` section, and tune that")
     if (data is None) == (scenario is None):
         raise ValueError("tune against data (a CSV) or a closed loop (--scenario), one of them")
+    data_methods, loop_methods = ("least_squares", "anfis"), ("powell", "nelder-mead")
+    allowed = loop_methods if scenario is not None else data_methods
+    if method is not None and method not in allowed:
+        raise ValueError(f"method {method} goes with {'data' if scenario else '--scenario'}; "
+                         f"here: {' or '.join(allowed)}")
     if scenario is not None:
         if not minimize:
             raise ValueError("a closed-loop tune needs the metric to minimize (--minimize)")
         from .scenario_tune import tune_scenario
         return tune_scenario(model, scenario, minimize, sets=sets, limits=limits, seed=seed,
-                             batch=batch, randomize=randomize, method=method,
+                             batch=batch, randomize=randomize, method=method or "powell",
                              max_evaluations=max_evaluations, max_examples=max_examples)
     from .data import read_csv
     from .rewrite import rewrite
     train = read_csv(data, model)
     check: Table | None = read_csv(validate, model) if validate is not None else None
     fit = fit_data(model, train.x, train.y, seed=seed, passes=passes, max_nfev=max_nfev,
-                   validate=(check.x, check.y) if check else None, folds=folds)
+                   validate=(check.x, check.y) if check else None, folds=folds,
+                   method=method or "least_squares")
     lines = provenance(model, fit, train, check, folds, passes, max_nfev)
     text = rewrite(model.source_text, fit.numbers, fit.values, lines)
     _check_reads_back(text, fit)
