@@ -705,3 +705,47 @@ def test_fuzzylite6_defuzzifies_a_fired_set_that_is_zero_throughout():
         rb = read_fll(text, "zero.fll").rulebase
         assert evaluate_as(rb, [[0.5]], "fuzzylite")[0, 0] == pytest.approx(expected,
                                                                               abs=1e-12)
+
+
+OCTAVE_DSIGMF = """[System]
+Name='dsig'
+Type='sugeno'
+Version=2.0
+NumInputs=1
+NumOutputs=1
+NumRules=2
+AndMethod='min'
+OrMethod='max'
+ImpMethod='prod'
+AggMethod='sum'
+DefuzzMethod='wtaver'
+
+[Input1]
+Name='x'
+Range=[0 2]
+NumMFs=2
+MF1='d':'dsigmf',[1 0 2 0]
+MF2='half':'trimf',[0 2 4]
+
+[Output1]
+Name='y'
+Range=[0 10]
+NumMFs=2
+MF1='ten':'constant',[10]
+MF2='four':'constant',[4]
+
+[Rules]
+1, 1 (1) : 1
+2, 2 (1) : 1
+"""
+
+
+def test_octave_dsigmf_is_the_clipped_difference():
+    # dsigmf [1 0 2 0] at x = 1: sig(1) - sig(2) = 0.7311 - 0.8808 < 0.  dsigmf.m clips it to
+    # 0 (max(0, min(1, ...))): only rule 2 (half = 0.5) counts, y = 4 (Octave: 4); fuzzyc's
+    # SigmoidDifference, fuzzylite's, is |0.1497|: (0.1497 * 10 + 0.5 * 4) / 0.6497 = 5.3828
+    # (differential case octave-fis/shape-dsigmf: 21 of 200 Octave files disagreed so)
+    rb = read_fis(OCTAVE_DSIGMF, "ds.fis").rulebase
+    assert evaluate_as(rb, [[1.0]], "octave")[0, 0] == pytest.approx(4.0, abs=1e-12)
+    d = abs(1 / (1 + math.exp(-1)) - 1 / (1 + math.exp(-2)))
+    assert evaluate(rb, [[1.0]])[0, 0] == pytest.approx((10 * d + 2) / (d + 0.5), abs=1e-12)

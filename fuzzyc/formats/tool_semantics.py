@@ -54,6 +54,7 @@ from ..engine.membership import (HEDGE_EXPONENT, apply_hedges, linear_coefficien
 from ..semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Model,
                                RuleBase, SNorm, TermKind, TNorm, Variable, aggregation_snorm)
 from ..engine.norms import combine, firing
+from ..engine.formula import parse_formula
 from ..engine.held_outputs import POLICIES, Held, reads_values
 from .fuzzylite_compat import FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
 
@@ -376,6 +377,8 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
         y = evaluate_sampled(rb, x, resolution, first_plateau=semantics == "fuzzylite",
                              activations=acts)
         return np.where(fired(rb, x, acts), y, np.nan)
+    if semantics == "octave":
+        rb = octave_dsigmf(rb)
     if semantics == "octave" and rb.inference.defuzzifier in (Defuzzifier.WEIGHTED_AVERAGE,
                                                               Defuzzifier.WEIGHTED_SUM):
         return _grouped_average(rb, x, octave_activations(rb, x))
@@ -516,6 +519,33 @@ def octave_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
         if (drastic_and and and_) or (drastic_or and not and_):
             act[:, r] = firing(_octave_program(rb, program, x, and_) * rb.weights[r])
     return np.where(use, firing(nary * rb.weights), act)
+
+
+def octave_dsigmf(rb: RuleBase) -> RuleBase:
+    """The rule base with its dsigmf terms as the Octave toolkit computes them: dsigmf.m is
+    max(0, min(1, sig1 - sig2)), the difference clipped, where fuzzyc's SigmoidDifference (a
+    FIS dsigmf is read so) is |sig1 - sig2|, fuzzylite's: they differ where the second sigmoid
+    is above the first.  Each such term becomes a Function term of that formula (built here
+    from the term's numbers, never from file text)."""
+    def clipped(var: Variable) -> Variable:
+        kinds = np.asarray(var.kinds)
+        where = np.flatnonzero(kinds == TermKind.SIGMOID_DIFFERENCE)
+        if not where.size:
+            return var
+        formulas = dict(var.formulas or {})
+        for t in where:
+            c1, a1, a2, c2 = (repr(float(v)) for v in np.asarray(var.params, dtype=float)[t])
+            formulas[int(t)] = parse_formula(
+                f"max(0, min(1, 1 / (1 + exp(-({a1}) * (x - ({c1})))) "
+                f"- 1 / (1 + exp(-({a2}) * (x - ({c2}))))))")
+        kinds = np.where(kinds == TermKind.SIGMOID_DIFFERENCE, int(TermKind.FUNCTION), kinds)
+        return replace(var, kinds=kinds, formulas=formulas)
+
+    if not any(np.any(np.asarray(v.kinds) == TermKind.SIGMOID_DIFFERENCE)
+               for v in rb.inputs + rb.outputs):
+        return rb
+    return replace(rb, inputs=[clipped(v) for v in rb.inputs],
+                   outputs=[clipped(v) for v in rb.outputs])
 
 
 def _octave_nary(values: list[np.ndarray], conj: bool) -> np.ndarray:
