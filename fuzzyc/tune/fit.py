@@ -226,8 +226,8 @@ def _premises_then_consequents(form, theta, space, target, residual, jacobian, m
                                corner, rounds: int = 12) -> np.ndarray:
     """The polish under corner constraints: the premises by least squares (the consequents
     held), then the consequents by the constrained solve; again while the error drops, at
-    most `rounds` times (Mackey-Glass: NDEI check 0.027 after 3, 0.021 after 12, 0.019 after
-    40 at four times the CPU)."""
+    most `rounds` times (Mackey-Glass, bounded, the former series with method least_squares:
+    NDEI check 0.027 after 3, 0.021 after 12, 0.019 after 40 at four times the CPU)."""
     lin, premises = form.linear_part, ~form.linear_part
     cost = np.inf
     for _ in range(rounds):
