@@ -749,3 +749,16 @@ def test_octave_dsigmf_is_the_clipped_difference():
     assert evaluate_as(rb, [[1.0]], "octave")[0, 0] == pytest.approx(4.0, abs=1e-12)
     d = abs(1 / (1 + math.exp(-1)) - 1 / (1 + math.exp(-2)))
     assert evaluate(rb, [[1.0]])[0, 0] == pytest.approx((10 * d + 2) / (d + 0.5), abs=1e-12)
+
+
+def test_drastic_product_within_fuzzylite6_epsilon_and_pyfuzzylite_empty_set():
+    # DrasticProduct implication, x = 0.5 (activation 0.5), mid peaks at 1.0100005: at the
+    # midpoint 1.01 mid = 0.9999995, which fuzzylite 6 takes as 1 (DrasticProduct.cpp:
+    # Op::isEq(max, 1) within 1e-6), so the set is 0.5 there alone: centroid 1.01 (the
+    # fuzzylite 6 CLI: 1.01).  pyfuzzylite 8 compares exactly: the set is 0 throughout and
+    # its centroid NaN (measured), the file's default nan (was the model's default, 0)
+    text = TINY_FLL.replace("implication: Minimum", "implication: DrasticProduct").replace(
+        "term: mid Triangle 0 1 2", "term: mid Triangle 0 1.0100005 2")
+    rb = read_fll(text, "dp.fll").rulebase
+    assert evaluate_as(rb, [[0.5]], "fuzzylite")[0, 0] == pytest.approx(1.01, abs=1e-12)
+    assert math.isnan(evaluate_as(rb, [[0.5]], "pyfuzzylite")[0, 0])

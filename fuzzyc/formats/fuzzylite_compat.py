@@ -45,7 +45,8 @@ import numpy as np
 
 from ..engine.inference import activations, evaluate
 from ..engine.membership import memberships
-from ..semantics.model import Aggregation, Defuzzifier, RuleBase, SNorm, TermKind, aggregation_snorm
+from ..semantics.model import (Aggregation, Defuzzifier, RuleBase, SNorm, TermKind, TNorm,
+                               aggregation_snorm)
 from ..engine.norms import combine, implied
 
 SAMPLED = (Defuzzifier.CENTROID, Defuzzifier.BISECTOR, Defuzzifier.MEAN_OF_MAXIMUM,
@@ -138,8 +139,16 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
     u, w = _samples(var, resolution, sampling)                                       # (K,)
     mu = memberships(var, u)[:, rb.consequents[rules, o]].T                          # (R, K)
     a = act[:, rules, None]                                                          # (N, R, 1)
-    clipped = implied(a, mu, inf.implication)
-    if octave and inf.aggregation == Aggregation.DRASTIC_SUM:
+    if first_plateau and inf.implication == TNorm.DRASTIC_PRODUCT:
+        clipped = fuzzylite6_drastic_product(a, mu)
+    else:
+        clipped = implied(a, mu, inf.implication)
+    if first_plateau and inf.aggregation == Aggregation.DRASTIC_SUM:
+        m = np.zeros((clipped.shape[0], clipped.shape[2]))
+        for r in range(clipped.shape[1]):       # Aggregated::membership: from 0, in order
+            m = np.where(np.abs(np.minimum(m, clipped[:, r])) < FL_EPSILON,
+                         np.maximum(m, clipped[:, r]), 1.0)
+    elif octave and inf.aggregation == Aggregation.DRASTIC_SUM:
         m = octave_drastic_sum(clipped, a[:, :, 0] > 0,
                                rules.size == rb.n_rules and not any(merged_rows(rb)))
     else:
@@ -179,6 +188,10 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
         # first for the smallest, the middle for the mean), the centroid and bisector 0/0
         ratio = inf.defuzzifier in (Defuzzifier.CENTROID, Defuzzifier.BISECTOR)
         return np.where(fired, value, np.nan) if ratio else value
+    if sampling == Sampling.MIDPOINT:
+        # pyfuzzylite 8: every defuzzifier is NaN on a set that is 0 throughout; the output
+        # then takes the file's default (tool_semantics applies it), not the model's
+        return np.where(fired, value, np.nan)
     return np.where(fired, value, var.default)
 
 
@@ -220,6 +233,15 @@ def _octave_bisector_index(m: np.ndarray, u: np.ndarray) -> np.ndarray:
         upper = np.where(above, midpoint, upper)
         lower = np.where(above, lower, midpoint)
     return midpoint.astype(float)
+
+
+def fuzzylite6_drastic_product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """fuzzylite 6's DrasticProduct (norm/t/DrasticProduct.cpp): min(a, b) where max(a, b)
+    is 1 within its 1e-6 (Op::isEq), else 0; its DrasticSum likewise takes the max where the
+    min is 0 within 1e-6.  A Gaussian or Bell near its peak is 1 for fuzzylite there (exact
+    equality, the model's and pyfuzzylite 8's, gives 0)."""
+    top = np.maximum(a, b)
+    return np.where((top == 1.0) | (np.abs(top - 1.0) < FL_EPSILON), np.minimum(a, b), 0.0)
 
 
 def merged_rows(rb: RuleBase) -> list[bool]:
