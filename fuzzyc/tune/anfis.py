@@ -6,7 +6,7 @@ premises with the consequents fixed, of length k along the normalised gradient o
 error (Jang's eta = k / sqrt(sum of the squared derivatives)).  k starts at 0.01 and grows by
 10 % after four reductions of the error in a row, shrinks by 10 % after two alternations of an
 increase and a reduction; two changes of the same kind are at least four epochs apart (the
-rule as Jang's own code, the MATLAB toolbox's anfis, applies it: the same defaults 0.01, 0.9,
+rule as the MATLAB toolbox's anfis, which Jang co-wrote, applies it: its defaults 0.01, 0.9,
 1.1).  The result is the epoch with the lowest training error (the toolbox's choice too); no
 checking data is read.  Nothing here is random: the same data give the same numbers, bit for
 bit.  Premises are held in the `tune` section's bounds (a projection: Jang's rule has none).

@@ -90,17 +90,20 @@ def export(folder: Path) -> list[Path]:
 
 
 def run(passes: int, max_nfev: int | None, seed: int = 0, bounded: tuple | None = None,
-        method: str = "anfis", back: int = 169):
+        method: str = "anfis", back: int = 169, monotone: str | None = None):
     """(the fit, NDEI train, NDEI check, CPU seconds) of the 104-parameter ANFIS; `bounded`
-    (lo, hi): with `verify { bounded y in [lo, hi] }` added to the file, kept by the tuner.
+    (lo, hi): with `verify { bounded y in [lo, hi] }` added to the file, kept by the tuner;
+    `monotone` an input: `monotone y increasing in` it, likewise.
     method "anfis": Jang's rule, `passes` epochs; "least_squares": the hybrid passes and the
     joint least squares (max_nfev evaluations)."""
     from ..language.parser import parse
     from .fit import fit_data
     text = rule_file().read_text()
-    if bounded is not None:
-        text = text.replace("  tune {", f"  verify {{\n    bounded y in [{bounded[0]:g}, "
-                                         f"{bounded[1]:g}]\n  }}\n  tune {{")
+    lines = [f"bounded y in [{bounded[0]:g}, {bounded[1]:g}]"] if bounded is not None else []
+    lines += [f"monotone y increasing in {monotone}"] if monotone is not None else []
+    if lines:
+        text = text.replace("  tune {", "  verify {\n" + "".join(f"    {v}\n" for v in lines)
+                            + "  }\n  tune {")
     model = parse(text, str(rule_file()))
     X, y = dataset(back)
     start = time.process_time()
@@ -148,6 +151,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--bounded", type=float, nargs=2, metavar=("LO", "HI"),
                         help="also tune with `bounded y in [LO, HI]` kept (a second row)")
+    parser.add_argument("--monotone", choices=INPUTS, metavar="INPUT",
+                        help="also tune with `monotone y increasing in INPUT` kept (a row)")
     parser.add_argument("-o", "--output", help="write the tuned .fz here")
     parser.add_argument("--export", metavar="DIR", help="only write the rule file, train.csv "
                         "and check.csv to DIR (for `fuzzyc tune`)")
@@ -165,6 +170,10 @@ def main(argv: list[str] | None = None) -> int:
         bounded = run(passes, args.max_nfev, args.seed, (lo, hi), args.method,
                       args.delay_steps)
         kept.append((f"the same, keeping bounded y in [{lo:g}, {hi:g}]", *bounded))
+    if args.monotone:
+        monotone = run(passes, args.max_nfev, args.seed, None, args.method, args.delay_steps,
+                       args.monotone)
+        kept.append((f"the same, keeping monotone y increasing in {args.monotone}", *monotone))
     print("Mackey-Glass x(t+6), 500 training and 500 checking samples (t = 118..1117); "
           "NDEI = RMSE / standard deviation of the target")
     if args.delay_steps != 169:
