@@ -113,6 +113,10 @@ NOT_RUN = {
     "fuzzyc tune mg/mackey_glass_anfis.fz --data mg/train.csv --validate mg/check.csv --seed 0 -o mg/tuned.fz":
         "its files are the ones the line above writes, and each doc command runs in a fresh "
         "copy; tests/test_tune_cli.py runs fuzzyc tune on files it writes",
+    "python -m fuzzyc.tune.mackey_glass --monotone x0":
+        "half an hour of CPU (six rounds of the verifier in the 4-input box); the substituted "
+        "run of `python -m fuzzyc.tune.mackey_glass --bounded -0.5 2.5` takes the same path "
+        "to the kept-property row",
     "python -m fuzzyc.tune.corner_identify":
         "about four minutes of CPU (two closed loops of 12,600 periods and the closed-loop "
         "property's checks); tests/test_tune_loop.py checks its data and how its cost reads "
