@@ -72,8 +72,10 @@ def test_a_scenarios_notes_belong_to_its_own_rule_base(tmp_path):
     own = load_scenario("fopdt_step")
     assert own_notes(own)[0].startswith(NOTE)
     # FILE naming the scenario's own rule base (another spelling of its path): still its own
-    same = load_scenario("fopdt_step", {"controller.rulebase": str(ROOT / "rulebases" /
-                                                                   "fopdt_pi.fz")})
+    # (the scenario's own file is the installed package's copy, not the source tree's)
+    path = own.rulebase_path()
+    spelled = path.parent / ".." / path.parent.name / path.name
+    same = load_scenario("fopdt_step", {"controller.rulebase": str(spelled)})
     assert own_notes(same) == own.notes
     # a copy of it is the user's file: the note says nothing about it
     mine = tmp_path / "my_pi.fz"

@@ -148,6 +148,11 @@ def controller_notes(scenario, baseline: bool) -> list[str]:
     return [note] if note else []
 
 
+def _block_named(ref: str) -> str:
+    """The NAME of FILE::NAME (a function block of a several-block file); '' for FILE alone."""
+    return ref.rpartition("::")[2] if "::" in ref else ""
+
+
 def own_notes(scenario) -> list[str]:
     """The scenario's notes when the rule base run is the scenario's own: they describe that
     one ("the fuzzy PI ... does not overshoot" says nothing about the FILE a user gives)."""
@@ -159,8 +164,7 @@ def own_notes(scenario) -> list[str]:
         if own.rulebase_path() is None:
             return []
         same = (own.rulebase_path().resolve() == scenario.rulebase_path().resolve()
-                and own.rulebase_ref().rpartition("::")[2]
-                == scenario.rulebase_ref().rpartition("::")[2])
+                and _block_named(own.rulebase_ref()) == _block_named(scenario.rulebase_ref()))
     except (FuzzycError, OSError):
         return []
     return scenario.notes if same else []
