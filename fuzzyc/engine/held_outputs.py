@@ -32,7 +32,7 @@ from ..semantics.model import Defuzzifier, RuleBase
 # the defuzzifiers that read a term's value (fuzzylite's WeightedAverage/WeightedSum, grouped
 # or not), where a Function term is a value of other variables, not a membership of x
 TAKAGI_SUGENO = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM,
-                 Defuzzifier.CENTER_OF_AREA)
+                 Defuzzifier.CENTER_OF_AREA, Defuzzifier.GROUPED_SUM)
 
 
 @dataclass(frozen=True)

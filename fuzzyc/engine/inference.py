@@ -165,7 +165,8 @@ class CompiledRuleBase:
         self.linear_terms = any(d.linear is not None for d in self.defuzzifiers)
         # every output a ratio of its peaks weighted by the strengths (COA, weighted average)
         self.peak_ratio = not self.linear_terms and all(
-            d.use_peaks and d.inference.defuzzifier != Defuzzifier.WEIGHTED_SUM
+            d.use_peaks and d.inference.defuzzifier not in (Defuzzifier.WEIGHTED_SUM,
+                                                            Defuzzifier.GROUPED_SUM)
             for d in self.defuzzifiers)
         self.defaults = np.array([[float(v.default)] for v in rb.outputs])
         # outputs read by function terms or holding their value: in order, NaN where nothing

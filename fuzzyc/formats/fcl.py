@@ -501,6 +501,9 @@ def _fcl_method(model: Model, problems: list[str], notes: list[str]):
     singletons = all(all_singletons(v) for v in rb.outputs)
     if method == Defuzzifier.WEIGHTED_SUM:
         problems.append("FCL has no weighted-sum defuzzifier")
+    if method == Defuzzifier.GROUPED_SUM:
+        problems.append("FCL has no weighted sum grouped per term (fuzzylite 6 reads COGSS "
+                        "with ACCU as the sum over the rules): write FLL")
     if method == Defuzzifier.TSUKAMOTO:
         problems.append("FCL has no Tsukamoto defuzzifier (fuzzylite's dialect reads COGS over "
                         "ramps so, jFuzzyLogic does not): write FLL")

@@ -492,6 +492,10 @@ def _fis_system(model: Model, problems: list[str], notes: list[str]):
     if method == Defuzzifier.TSUKAMOTO:
         problems.append("MATLAB's FIS has no Tsukamoto system (fuzzylite's `tsukamoto` type is "
                         "read, not written): write FLL")
+    if method == Defuzzifier.GROUPED_SUM:
+        problems.append("MATLAB's wtsum sums over the rules; the weighted sum grouped per term "
+                        "(pyfuzzylite's WeightedSum with an aggregation) has no FIS word: write "
+                        "FLL")
     if method in AREA_METHODS and not any(singletons):
         for v in rb.outputs:
             for name in np.asarray(v.names)[v.kinds == TermKind.SINGLETON]:

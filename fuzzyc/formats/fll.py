@@ -19,7 +19,8 @@ Mapping (exact unless said):
   term with the output's aggregation: `none`/UnboundedSum -> WEIGHTED_AVERAGE,
   Maximum/AlgebraicSum/BoundedSum -> CENTER_OF_AREA with that aggregation (fuzzylite's
   grouped_terms fold each term's degrees with the aggregation's s-norm).  WeightedSum with
-  `none` -> WEIGHTED_SUM; WeightedAverage over monotonic terms (Ramp, Sigmoid, SShape,
+  `none`/UnboundedSum -> WEIGHTED_SUM, with another aggregation -> GROUPED_SUM (the same
+  grouping; fuzzylite 6 sums over the rules: tool_semantics); WeightedAverage over monotonic terms (Ramp, Sigmoid, SShape,
   ZShape, Concave) -> TSUKAMOTO.  Every fuzzylite t-norm as implication, every s-norm as
   aggregation (DrasticSum, EinsteinSum, HamacherSum, NilpotentMaximum integrate on the
   engine's grid).
@@ -324,8 +325,12 @@ class _FllReader:
                 self._require_constants(var, defuzz, tsukamoto=(
                     "Tsukamoto weighted average with an aggregation"
                     if aggregation in GROUPING else ""))
-        elif defuzz == "WeightedSum" and aggregation in ("none", "UnboundedSum"):
-            inf.defuzzifier = Defuzzifier.WEIGHTED_SUM
+        elif defuzz == "WeightedSum" and aggregation in ("none", "UnboundedSum", *GROUPING):
+            # grouped per term by an s-norm (pyfuzzylite 8; fuzzylite 6 sums over the rules,
+            # tool_semantics), by a sum: the weighted sum over the rules
+            inf.defuzzifier = (Defuzzifier.GROUPED_SUM if aggregation in GROUPING
+                               else Defuzzifier.WEIGHTED_SUM)
+            inf.aggregation = GROUPING.get(aggregation, inf.aggregation)
             self._require_constants(var, defuzz, tsukamoto="Tsukamoto weighted sum")
         elif defuzz in ("WeightedAverage", "WeightedSum"):
             self.rep.error(agg_loc, f"{defuzz} with aggregation `{aggregation}` is not "
@@ -545,6 +550,8 @@ def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):
     notes.extend(changed)
     if method == Defuzzifier.WEIGHTED_SUM:
         return outputs, "none", "WeightedSum TakagiSugeno"
+    if method == Defuzzifier.GROUPED_SUM:
+        return outputs, aggregation, "WeightedSum TakagiSugeno"
     grouped = aggregation if (method != Defuzzifier.WEIGHTED_AVERAGE
                               and inf.aggregation != Aggregation.SUM) else "none"
     return outputs, grouped, "WeightedAverage TakagiSugeno"

@@ -10,6 +10,7 @@ absorbing element of s-norms and the neutral one of t-norms, and 0 the other way
 from __future__ import annotations
 
 import functools
+import math
 from collections.abc import Callable
 from importlib import resources
 
@@ -21,6 +22,7 @@ from ..language.conditions import Cond, premise
 from ..errors import Reporter, shown_char, suggest
 from ..language.limits import MAX_HEDGES, MAX_NESTING
 from ..semantics.model import Connective, Hedge, SourceLoc
+from ..semantics.operators import HEDGES as HEDGE_RECORDS
 from .common import Collected
 
 LocOf = Callable[[Token], SourceLoc]
@@ -101,10 +103,13 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
         if not 0.0 <= weight <= 1.0:
             rep.error(loc_of(token), f"a rule weight lies in [0, 1], got {weight:g}")
             ok = False
-        elif carried and weight != 1.0:
+        elif carried and weight != 1.0 and any(HEDGE_RECORDS[h].exponent is None
+                                               for h in carried):
+            bent = next(h for h in carried if HEDGE_RECORDS[h].exponent is None)
             rep.error(loc_of(token), "a weight on a rule with a hedged conclusion is not "
-                                     "supported: fuzzylite hedges the weighted activation, the "
-                                     "model weighs the hedged condition")
+                                     f"supported where the hedge is {HEDGE_RECORDS[bent].name} "
+                                     "(not a power): fuzzylite hedges the weighted activation, "
+                                     "the model weighs the hedged condition")
             ok = False
     if not ok:
         return []
@@ -114,7 +119,13 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
         for hedge in chain:
             hedged = Cond("hedge", [hedged], hedge=hedge)
         mine = {out: conclusions[out] for out, c in chains.items() if c == chain}
-        rules.append(_rule(hedged, mine, weight, loc, origin))
+        # fuzzylite hedges the weighted activation, h(w a); for powers h(w a) = w^p h(a), so
+        # the model's rule weighs its hedged condition by w^p (p the chain's exponents' product)
+        if weight != 1.0:       # the chain's hedges are powers (else refused above)
+            hedged_weight = weight ** math.prod(HEDGE_RECORDS[h].exponent for h in chain)
+        else:
+            hedged_weight = weight
+        rules.append(_rule(hedged, mine, hedged_weight, loc, origin))
     return rules
 
 

@@ -76,19 +76,24 @@ def parse_semantics(text: str) -> tuple[str, int | None]:
     return name, int(points) if points else None
 
 
+# fuzzylite 6's WeightedAverage and WeightedSum weigh every rule's value, whatever the
+# aggregation (Defuzzifier.cpp of fuzzylite 6: no grouping, which pyfuzzylite 8 added)
+OVER_RULES = {Defuzzifier.CENTER_OF_AREA: Defuzzifier.WEIGHTED_AVERAGE,
+              Defuzzifier.GROUPED_SUM: Defuzzifier.WEIGHTED_SUM}
+
+
 def _over_rules(rb: RuleBase) -> RuleBase:
-    """fuzzylite 6's WeightedAverage: every rule's value weighted, whatever the aggregation
-    (the block's and each output's own center of area)."""
-    coa, wa = Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE
-    inference = rb.inference if rb.inference.defuzzifier != coa else \
-        replace(rb.inference, defuzzifier=wa)
-    choices = {name: (agg, wa if d == coa else d) for name, (agg, d) in rb.output_choices.items()}
+    """fuzzylite 6's WeightedAverage and WeightedSum: every rule's value weighted, whatever
+    the aggregation (the block's and each output's own center of area or grouped sum)."""
+    inference = replace(rb.inference, defuzzifier=OVER_RULES.get(rb.inference.defuzzifier,
+                                                                  rb.inference.defuzzifier))
+    choices = {name: (agg, OVER_RULES.get(d, d)) for name, (agg, d) in rb.output_choices.items()}
     return replace(rb, inference=inference, output_choices=choices)
 
 
 def _any_center_of_area(rb: RuleBase) -> bool:
-    return any(rb.inference_of(o).defuzzifier == Defuzzifier.CENTER_OF_AREA
-               for o in range(len(rb.outputs)))
+    """Whether some output groups its rules per term (fuzzylite 6 does not)."""
+    return any(rb.inference_of(o).defuzzifier in OVER_RULES for o in range(len(rb.outputs)))
 
 
 def exact_equivalent(rb: RuleBase, semantics: str) -> tuple[RuleBase, str | None]:

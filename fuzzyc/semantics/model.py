@@ -89,7 +89,8 @@ T-norms T(a, b): MIN min; PRODUCT ab; BOUNDED_DIFFERENCE max(0, a+b-1); DRASTIC_
 S-norms S(a, b): MAX max; PROBSUM a+b-ab; BOUNDED_SUM min(1, a+b) (= fuzzylite 8's normalized
   sum (a+b)/max(1, a+b)); DRASTIC_SUM max(a, b) if min(a, b) = 0 else 1; EINSTEIN_SUM
   (a+b)/(1+ab); HAMACHER_SUM (a+b-2ab)/(1-ab) (1 at ab = 1); NILPOTENT_MAX max(a, b) if a+b < 1
-  else 1.
+  else 1; UNBOUNDED_SUM a+b (fuzzylite's UnboundedSum; no s-norm: an OR may exceed 1, and the
+  implication then reads that activation as it is).
 Aggregated output membership of output o at u in [lo, hi]:
   M(u) = AGG over rules r with consequent[r, o] = j >= 0 of IMP(act_r, mu_j(u)).
   AGG: MAX max; SUM the plain (unbounded) sum; PROBSUM 1 - prod_r (1 - m_r); BOUNDED_SUM
@@ -108,6 +109,8 @@ Defuzzifiers (an output where no rule with a consequent on it has act > 0 gives 
   WEIGHTED_AVERAGE  sum_r act_r z_r / sum_r act_r  (Takagi-Sugeno; z_r = peak of the consequent,
              or the LINEAR term's value at the rule base's inputs, or the FUNCTION term's)
   WEIGHTED_SUM      sum_r act_r z_r  (the neuro-fuzzy controller's output; may leave [lo, hi]).
+  GROUPED_SUM       sum_j alpha_j z_j, alpha_j as for CENTER_OF_AREA (pyfuzzylite 8's WeightedSum
+             with an aggregation; with SUM it is WEIGHTED_SUM).
 Per output o the aggregation and defuzzifier are RuleBase.inference_of(o): the rule base's, or
   the output's own (RuleBase.output_choices).
 Rule blocks: a Model holds rule blocks (RuleBase) in evaluation order.  Each sample, after the
@@ -199,6 +202,9 @@ class SNorm(IntEnum):
     EINSTEIN_SUM = 4
     HAMACHER_SUM = 5
     NILPOTENT_MAX = 6
+    # a + b, unbounded (fuzzylite's UnboundedSum as a disjunction): no s-norm (1 does not
+    # absorb), so an OR rule's activation may exceed 1; no C or proof back end takes it
+    UNBOUNDED_SUM = 7
 
 
 # An implication is a t-norm of the rule's activation and the term's membership: the same enum
@@ -241,6 +247,10 @@ class Defuzzifier(IntEnum):
     # LargestOfMaximum, IEC 61131-7's LM and RM, MATLAB's som and lom)
     SMALLEST_OF_MAXIMUM = 7
     LARGEST_OF_MAXIMUM = 8
+    # sum_j alpha_j z_j, alpha_j = AGG of act_r over the rules concluding term j: the weighted
+    # sum grouped per term as CENTER_OF_AREA groups the weighted average (pyfuzzylite 8's
+    # WeightedSum with an aggregation; fuzzylite 6 sums over the rules: WEIGHTED_SUM)
+    GROUPED_SUM = 9
 
 
 PIECEWISE_LINEAR = (TermKind.TRAPEZOID, TermKind.SINGLETON)

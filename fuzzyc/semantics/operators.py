@@ -159,6 +159,10 @@ S_NORMS: dict[SNorm, Norm] = {
     SNorm.NILPOTENT_MAX: Norm("nilpotent_max",
                               lambda a, b: np.where(a + b < 1.0, np.maximum(a, b), 1.0), True,
                               "NilpotentMaximum", "NMAX", also=(("fis", "nilpotent_maximum"),)),
+    # fuzzylite's UnboundedSum (fuzzylite 6 and pyfuzzylite 8: a + b); fuzzylite 6's FCL has
+    # no word for it and reads the class name, as its FclExporter writes it
+    SNorm.UNBOUNDED_SUM: Norm("unbounded_sum", np.add, True, "UnboundedSum", "UnboundedSum",
+                              also=(("fcl", "UnboundedSum"),)),
 }
 
 # An implication is a t-norm of the rule's level and the term's membership (model.Implication
@@ -253,6 +257,10 @@ DEFUZZIFIERS: dict[Defuzzifier, DefuzzifierOp] = {
                                             family="peaks"),
     Defuzzifier.TSUKAMOTO: DefuzzifierOp("tsukamoto", crisp.safe_ratio, False,
                                          "WeightedAverage", family="inverse"),
+    # pyfuzzylite 8's WeightedSum with an aggregation (FLL writes WeightedSum and the
+    # aggregation); no FCL, FIS or C emission (fuzzylite 6's COGSS ignores ACCU)
+    Defuzzifier.GROUPED_SUM: DefuzzifierOp("grouped_sum", crisp.weighted_sum, False,
+                                           "WeightedSum", family="peaks"),
 }
 
 REGISTRIES = {"and": T_NORMS, "or": S_NORMS, "implication": IMPLICATIONS,

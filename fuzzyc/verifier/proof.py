@@ -106,7 +106,7 @@ def prove_bounded(rb: RuleBase, output: str, lo: float, hi: float) -> Evidence:
     elif d in AREA_BASED:
         low, high = min(var.lo, var.default), max(var.hi, var.default)
         how = "area-based defuzzifier: within the output's range or its default"
-    elif d == Defuzzifier.WEIGHTED_SUM:
+    elif d in (Defuzzifier.WEIGHTED_SUM, Defuzzifier.GROUPED_SUM):
         return Evidence("proof", Status.UNDECIDED, "weighted sum without a multilinear form")
     else:
         used = np.unique(rb.consequents[:, o][rb.consequents[:, o] >= 0])

@@ -132,7 +132,7 @@ def evaluate(rb: RuleBase, lo: np.ndarray, hi: np.ndarray) -> tuple[np.ndarray, 
             agg = d.strength_aggregation()
             a_lo = term_strengths(act_lo, J, var.n_terms, agg)
             a_hi = term_strengths(act_hi, J, var.n_terms, agg)
-            if method == Defuzzifier.WEIGHTED_SUM:
+            if method in (Defuzzifier.WEIGHTED_SUM, Defuzzifier.GROUPED_SUM):
                 z = d.peaks
                 y_lo[:, o] = np.minimum(a_lo * z, a_hi * z).sum(axis=1)
                 y_hi[:, o] = np.maximum(a_lo * z, a_hi * z).sum(axis=1)
