@@ -362,7 +362,7 @@ def test_helper_template_compiles_alone_and_each_header_holds_it():
         compile_shared({"helpers.c": template}, "helpers.c",
                        (f"-DFUZZYC_FX_ONE={1 << mf}", f"-DFUZZYC_FX_MF={mf}"))
         header = generate_fixed_header(shipped("wedm_corner"), numeric)
-        pasted = template.split("from here -- */\n", 1)[1]
+        pasted = template.split("/* -- section: helpers -- */\n", 1)[1]
         assert pasted.replace("fuzzyc_fx_", f"wedm_corner_{numeric}_").replace(
             "FUZZYC_FX_", f"WEDM_CORNER_{numeric.upper()}_") in header
         assert f"#define WEDM_CORNER_{numeric.upper()}_MF {mf}\n" in header

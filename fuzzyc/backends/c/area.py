@@ -23,6 +23,7 @@ from ...escape import c_comment
 from ...engine.membership import term_values
 from ...semantics.model import Aggregation, Defuzzifier, Implication, Inference, TermKind, Variable
 from .centroid import CentroidEmitter, area_segments
+from .helpers import helper_lines
 
 FLOAT_FLAT_TOLERANCE = 4 * 2.0 ** -23
 """assumption: the float C evaluates M with a few roundings (a line, a product or min, a sum
@@ -58,141 +59,20 @@ class AreaWriter:
     # -- the algorithms, once per header --------------------------------------------------
 
     def helpers(self, polygon: bool) -> list[str]:
-        """The walk's functions this header needs: its one defuzzifier, and the polygon's
-        point function where a piecewise-linear output is walked."""
+        """The walk's functions this header needs (sections of real_helpers.c): its one
+        defuzzifier, and the polygon's point function where a piecewise-linear output is
+        walked; before them the constants they use, which belong to the real type."""
         method = self.inf.defuzzifier
-        code = self._points() + (self._polygon() if polygon else [])
+        P = self.p.upper()
+        names = ["points"] + (["polygon"] if polygon else [])
         if method != Defuzzifier.MEAN_OF_MAXIMUM:
-            code += self._sums()
-        return code + {Defuzzifier.CENTROID: self._centroid, Defuzzifier.BISECTOR: self._bisector,
-                       Defuzzifier.MEAN_OF_MAXIMUM: self._mom}[method]()
-
-    def _points(self) -> list[str]:
-        """The type of a point function."""
-        t, p = self.t, self.p
-        return [
-            "/* The points of M, (u, f) with M linear between them: the i-th of a stored "
-            "polygon or of the grid. */",
-            f"typedef void (*{p}points)(const {t} *c, int i, {t} *u, {t} *f);",
-        ]
-
-    def _polygon(self) -> list[str]:
-        """Reading and storing a polygon of (u, f) pairs."""
-        t, p = self.t, self.p
-        return [
-            f"static inline void {p}polygon_point(const {t} *c, int i, {t} *u, {t} *f) "
-            f"{{ *u = c[2 * i]; *f = c[2 * i + 1]; }}",
-            f"static inline void {p}store({t} *poly, const {t} *u, const {t} *f, int n) {{",
-            "    int i;",
-            "    for (i = 0; i < n; ++i) { poly[2 * i] = u[i]; poly[2 * i + 1] = f[i]; }",
-            "}",
-        ]
-
-    def _sums(self) -> list[str]:
-        """Compensated area and moment of the first points."""
-        t, p, lit = self.t, self.p, self.real.lit
-        return [
-            "/* Compensated (Kahan) sums: 2000 grid pieces summed in float would lose "
-            "~1e-5 of the range. */",
-            f"static inline void {p}add_piece({t} u0, {t} u1, {t} f0, {t} f1, {t} sum[4]) {{",
-            f"    {t} piece[2] = {{{lit(0)}, {lit(0)}}};",
-            "    int k;",
-            f"    {p}piece(u0, u1, f0, f1, &piece[0], &piece[1]);",
-            "    for (k = 0; k < 2; ++k) {   /* sum[k] with its compensation sum[k + 2] */",
-            f"        {t} y = piece[k] - sum[k + 2], s = sum[k] + y;",
-            "        sum[k + 2] = (s - sum[k]) - y;",
-            "        sum[k] = s;",
-            "    }",
-            "}",
-            "/* Area and moment of the first n points into sum[0], sum[1]; stops early (returns "
-            "the piece's index) once the area would reach `stop`. */",
-            f"static inline int {p}integrate({p}points at, const {t} *c, int n, {t} stop, "
-            f"{t} sum[4]) {{",
-            f"    {t} u0, f0, u1, f1;",
-            "    int i;",
-            "    at(c, 0, &u0, &f0);",
-            "    for (i = 1; i < n; ++i) {",
-            "        at(c, i, &u1, &f1);",
-            f"        if ({lit(0.5)} * (f0 + f1) * (u1 - u0) + sum[0] >= stop) return i;",
-            f"        {p}add_piece(u0, u1, f0, f1, sum);",
-            "        u0 = u1; f0 = f1;",
-            "    }",
-            "    return n;",
-            "}",
-        ]
-
-    def _centroid(self) -> list[str]:
-        """Centroid: moment over area."""
-        t, p, lit = self.t, self.p, self.real.lit
-        return [
-            f"static inline {t} {p}centroid_of({p}points at, const {t} *c, int n, "
-            f"{t} fallback) {{",
-            f"    {t} sum[4] = {{{lit(0)}, {lit(0)}, {lit(0)}, {lit(0)}}};",
-            f"    {p}integrate(at, c, n, INFINITY, sum);",
-            "    return sum[0] > 0 ? sum[1] / sum[0] : fallback;",
-            "}",
-        ]
-
-    def _bisector(self) -> list[str]:
-        """Bisector, solved inside its piece."""
-        t, p, lit = self.t, self.p, self.real.lit
-        return [
-            "/* Bisector: the leftmost u where the running area reaches half the area, solved "
-            "in its piece: g0 t + slope t^2 / 2 = rem, in a form stable for slope 0. */",
-            f"static inline {t} {p}bisect_piece({t} u0, {t} d, {t} g0, {t} g1, {t} rem) {{",
-            f"    {t} slope = d > 0 ? (g1 - g0) / d : {lit(0)};",
-            f"    {t} den = g0 + {self.real.fn('sqrt')}({p}greater(g0 * g0 + {lit(2)} * slope "
-            f"* rem, {lit(0)}));",
-            f"    {t} t = den > 0 ? {lit(2)} * rem / den : {lit(0)};",
-            f"    return u0 + {p}clamp(t, {lit(0)}, d);",
-            "}",
-            f"static inline {t} {p}bisector_of({p}points at, const {t} *c, int n, "
-            f"{t} fallback) {{",
-            f"    {t} sum[4] = {{{lit(0)}, {lit(0)}, {lit(0)}, {lit(0)}}}, half, u0, f0, u1, f1;",
-            "    int i;",
-            f"    {p}integrate(at, c, n, INFINITY, sum);",
-            f"    half = {lit(0.5)} * sum[0];",
-            "    if (!(half > 0)) return fallback;",
-            f"    sum[0] = sum[1] = sum[2] = sum[3] = {lit(0)};",
-            f"    i = {p}integrate(at, c, n, half, sum);",
-            "    if (i >= n) { at(c, n - 1, &u0, &f0); return u0; }   /* rounding: the end */",
-            "    at(c, i - 1, &u0, &f0);",
-            "    at(c, i, &u1, &f1);",
-            f"    return {p}bisect_piece(u0, u1 - u0, f0, f1, half - sum[0]);",
-            "}",
-        ]
-
-    def _mom(self) -> list[str]:
-        """Mean of maximum with this real type's tolerance."""
-        t, p, lit = self.t, self.p, self.real.lit
-        return [
-            "/* Mean of maximum: the mean of the maximal plateaus, else of the distinct maximal "
-            f"points; maximal = at least top x (1 - {self.tolerance():.3g}). */",
-            f"static inline {t} {p}mom_of({p}points at, const {t} *c, int n, {t} fallback) {{",
-            f"    {t} top = {lit(0)}, floor_, total = {lit(0)}, sum = {lit(0)}, "
-            f"points = {lit(0)}, count = {lit(0)}, u0, u1, f1;",
-            "    int i, top0, top1;",
-            "    for (i = 0; i < n; ++i) {",
-            "        at(c, i, &u1, &f1);",
-            f"        top = {p}greater(top, f1);",
-            "    }",
-            "    if (!(top > 0)) return fallback;",
-            f"    floor_ = top * {lit(1.0 - self.tolerance())};",
-            "    at(c, 0, &u0, &f1);",
-            "    top0 = f1 >= floor_;",
-            f"    if (top0) {{ points = u0; count = {lit(1)}; }}",
-            "    for (i = 1; i < n; ++i) {",
-            "        at(c, i, &u1, &f1);",
-            "        top1 = f1 >= floor_;",
-            f"        if (top0 && top1) {{ total += u1 - u0; "
-            f"sum += (u1 - u0) * {lit(0.5)} * (u0 + u1); }}",
-            "        /* a repeated u counts once; a jump up to the top at a repeated u is new */",
-            f"        if (top1 && (u1 > u0 || !top0)) {{ points += u1; count += {lit(1)}; }}",
-            "        u0 = u1; top0 = top1;",
-            "    }",
-            "    return total > 0 ? sum / total : points / count;",
-            "}",
-        ]
+            names.append("sums")
+        names.append({Defuzzifier.CENTROID: "centroid", Defuzzifier.BISECTOR: "bisector",
+                      Defuzzifier.MEAN_OF_MAXIMUM: "mom"}[method])
+        defines = {Defuzzifier.BISECTOR: [f"#define {P}SQRT {self.real.fn('sqrt')}"],
+                   Defuzzifier.MEAN_OF_MAXIMUM: [
+                       f"#define {P}TOP_SHARE {self.real.lit(1.0 - self.tolerance())}"]}
+        return defines.get(method, []) + helper_lines(names, self.p, P)
 
     # -- per output -------------------------------------------------------------------------
 

@@ -30,6 +30,7 @@ from .centroid import CentroidEmitter, area_segments, supported
 from .chain import CChain
 from .expressions import REAL_TYPES, RealType
 from .guard import checked_header
+from .helpers import helper_lines
 from .rule_items import ItemWriter, per_item
 
 PEAK_BASED = members(DEFUZZIFIERS, lambda rec: rec.family == "peaks")
@@ -193,41 +194,9 @@ class HeaderWriter:
         self.lines.extend(lines)
 
     def helpers(self) -> None:
-        t, p, lit = self.real.name, self.p, self.real.lit
-        self.out(
-            "/* min/max that propagate NaN, like numpy (fmin/fmax would drop it). */",
-            f"static inline {t} {p}min({t} a, {t} b) {{ return (a < b || a != a) ? a : b; }}",
-            f"static inline {t} {p}max({t} a, {t} b) {{ return (a > b || a != a) ? a : b; }}",
-            f"static inline {t} {p}sign({t} a) {{ return a > 0 ? {lit(1)} : "
-            f"(a < 0 ? {lit(-1)} : a); }}",
-            "/* NaN-free helpers for values known to be numbers. */",
-            f"static inline {t} {p}lesser({t} a, {t} b) {{ return a < b ? a : b; }}",
-            f"static inline {t} {p}greater({t} a, {t} b) {{ return a > b ? a : b; }}",
-            f"static inline {t} {p}clamp({t} x, {t} lo, {t} hi) "
-            f"{{ return x < lo ? lo : (x > hi ? hi : x); }}",
-            "/* An activation below the floor does not fire (fuzzyc.semantics.model.ACTIVATION_FLOOR). */",
-            f"static inline {t} {p}fired({t} a) "
-            f"{{ return a < {lit(ACTIVATION_FLOOR)} ? {lit(0)} : a; }}",
-            f"static inline void {p}order({t} *a, {t} *b) "
-            f"{{ {t} lo = {p}lesser(*a, *b); *b = {p}greater(*a, *b); *a = lo; }}",
-            f"static inline {t} {p}ratio_or({t} num, {t} den, {t} fallback) "
-            f"{{ return den != 0 ? num / den : fallback; }}",
-            "/* One linear piece of M: exact area and first moment. */",
-            f"static inline void {p}piece({t} x0, {t} x1, {t} f0, {t} f1, {t} *area, "
-            f"{t} *moment) {{",
-            f"    {t} dx = x1 - x0;",
-            f"    *area += {lit(0.5)} * (f0 + f1) * dx;",
-            f"    *moment += dx * (f0 * ({lit(2)} * x0 + x1) + f1 * (x0 + {lit(2)} * x1)) "
-            f"/ {lit(6)};",
-            "}",
-            "/* Trapezoid row: a b c d 1/(b-a) 1/(d-c); shoulders have a = b = -inf or c = d = "
-            "+inf. */",
-            f"static inline {t} {p}trapezoid({t} x, const {t} q[6]) {{",
-            f"    {t} rise = x >= q[1] ? {lit(1)} : (x > q[0] ? (x - q[0]) * q[4] : {lit(0)});",
-            f"    {t} fall = x <= q[2] ? {lit(1)} : (x < q[3] ? (q[3] - x) * q[5] : {lit(0)});",
-            "    return rise < fall ? rise : fall;",
-            "}",
-            "")
+        """real_helpers.c's common section, after the one constant it needs."""
+        self.out(f"#define {self.P}ACTIVATION_FLOOR {self.real.lit(ACTIVATION_FLOOR)}",
+                 *helper_lines(["common"], self.p, self.P), "")
 
     # -- membership -------------------------------------------------------------------------
 
@@ -244,8 +213,6 @@ class HeaderWriter:
 
     def membership_functions(self) -> None:
         t, p, P = self.real.name, self.p, self.P
-        self.out(f"static inline {t} {p}number_or_zero({t} v) "
-                 f"{{ return v == v ? v : {self.real.lit(0)}; }}")
         for i, var in enumerate(self.rb.inputs):
             table = f"{P}TERMS_{c_identifier(var.name).upper()}"
             self.out(f"/* {c_comment(var.name)} in [{var.lo:g}, {var.hi:g}]: "

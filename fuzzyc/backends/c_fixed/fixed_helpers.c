@@ -1,13 +1,13 @@
 /*
  * The q15/q31 headers' helpers that do not depend on the rule base.  Each header pastes the
- * text below the marker line with fuzzyc_fx_ / FUZZYC_FX_ replaced by its own prefixes
- * (NAME_q15_sat, NAME_Q15_ONE, ...), so it stays one file and two headers can share a
- * translation unit.  The format enters through two macros the header defines: FUZZYC_FX_ONE
+ * section below with fuzzyc_fx_ / FUZZYC_FX_ replaced by its own prefixes (NAME_q15_sat,
+ * NAME_Q15_ONE, ...; see fuzzyc/backends/c_template.py), so it stays one file and two headers
+ * can share a translation unit.  The format enters through two macros the header defines: FUZZYC_FX_ONE
  * (a membership of 1, 2^MF) and FUZZYC_FX_MF (its fraction bits); every helper works on
  * int64_t.  Compiles alone: gcc -std=c99 -DFUZZYC_FX_ONE=32768 -DFUZZYC_FX_MF=15 -c
  */
 #include <stdint.h>
-/* -- pasted into each header from here -- */
+/* -- section: helpers -- */
 static inline int64_t fuzzyc_fx_sat(int64_t v, int64_t lo, int64_t hi) { return v < lo ? lo : (v > hi ? hi : v); }
 /* v / 2**s rounded to nearest (s >= 1; >> of a negative int64 is arithmetic on every compiler fuzzyc supports). */
 static inline int64_t fuzzyc_fx_shr(int64_t v, int s) { return (v + ((int64_t)1 << (s - 1))) >> s; }
