@@ -34,8 +34,12 @@ MAX_HTML_RULES = 200     # a 1,000-rule table is a scroll bar, not an overview
 MAX_LINES = 8            # metrics and failures listed in a repr
 
 
-def _plural(n: int, word: str, words: str = "") -> str:
+def plural(n: int, word: str, words: str = "") -> str:
+    """`1 rule`, `2 rules`, `1 property`, `0 properties` (words: an irregular plural)."""
     return f"{n} {word if n == 1 else words or word + 's'}"
+
+
+_plural = plural
 
 
 def _range(lo: float, hi: float, unit: str | None) -> str:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import numpy as np
 
 from .engine.inference import activations, evaluate
+from .display import plural
 from .escape import plot_text
 from .engine.membership import memberships
 from .semantics.model import Aggregation, Defuzzifier, Hedge, Implication, Model, RuleBase, TermKind, Variable
@@ -144,7 +145,7 @@ def draw_rule_view(model: Model, point: dict[str, float], max_rules: int = MAX_R
         ax.set_ylabel(MEMBERSHIP_LABEL, fontsize=7)
     more = f"; the {len(shown)} strongest drawn" if len(fired) > len(shown) else ""
     inputs = ", ".join(f"{v.name}={x[i]:.4g}" for i, v in enumerate(rb.inputs))
-    fig.suptitle(plot_text(f"{model.name} at {inputs}: {len(fired)} rules fired{more}"),
+    fig.suptitle(plot_text(f"{model.name} at {inputs}: {plural(len(fired), 'rule')} fired{more}"),
                  fontsize=9)
     fig.tight_layout()
     return fig

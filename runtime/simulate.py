@@ -68,11 +68,33 @@ def load_controller(scenario, batch: int, backend: str = "numpy", semantics: str
     if backend == "c":
         from fuzzyc.backends.c.load import CController
         from fuzzyc.formats.tool_semantics import with_tool_semantics
+        scheduled_params_as_inputs(model, scenario)
         controller = CController(with_tool_semantics(model, semantics, "--backend c"), batch)
     else:
         from fuzzyc.engine.chain import Controller
         controller = Controller(model, batch, semantics)
     return BusNames(controller, rename) if rename else controller
+
+
+def scheduled_params_as_inputs(model, scenario) -> list[str]:
+    """Turn each param the scenario schedules (a set point `r`) into an input signal of the
+    model, in place; the names turned. The C header compiles a param in as a constant
+    (`static const NAME_real NAME_PARAM_r`), so a schedule could not move it; as an input it is
+    read from in[] each step, where the loop puts the schedule's value from the bus (the numpy
+    engine instead follows the param, ControllerBlock.param_inputs). The input's range is the
+    schedule's values and the param's own (the C reads inputs as they come: the range is
+    documentation, no clamp)."""
+    from fuzzyc.semantics.model import Signal
+    turned = []
+    for name, points in scenario.schedules.items():
+        param = model.params.get(name)
+        if param is None:
+            continue
+        values = [float(v) for _, v in points] + [float(param.value)]
+        model.signals.append(Signal(name, min(values), max(values), param.unit, param.loc))
+        del model.params[name]
+        turned.append(name)
+    return turned
 
 
 def rulebase_ref(scenario) -> str:

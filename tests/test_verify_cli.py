@@ -54,7 +54,7 @@ def test_a_flipped_cell_exits_1_and_names_the_cell_and_the_command(capsys, tmp_p
 
 def test_only_selects_properties(capsys):
     status, out, _ = _run(capsys, f"{ROOT}/rulebases/wedm_corner.fz", "--only", "complete")
-    assert status == 0 and "1 properties: 1 proved" in out
+    assert status == 0 and "1 property: 1 proved" in out
 
 
 def test_bad_input_exits_2_with_the_diagnostic(capsys, tmp_path):

@@ -4,6 +4,7 @@ from __future__ import annotations
 import sys
 
 from .common import RULE_FILE_HELP
+from ..display import plural
 from ..errors import FuzzycError
 from ..semantics.model import Model
 
@@ -16,9 +17,10 @@ def summary(model: Model) -> str:
     outs = ", ".join(f"{v.name}({v.n_terms})" for v in outputs)
     chain = ", ".join(o.name for o in model.outputs) or "-"
     several = f"{len(blocks)} rule blocks; " if len(blocks) > 1 else ""
-    return (f"{model.source_path}: {model.name}: inputs {ins}; outputs {outs}; {terms} terms; "
-            f"{several}{sum(rb.n_rules for rb in blocks)} rules; controller outputs {chain}; "
-            f"{len(model.properties)} properties")
+    return (f"{model.source_path}: {model.name}: inputs {ins}; outputs {outs}; "
+            f"{plural(terms, 'term')}; {several}"
+            f"{plural(sum(rb.n_rules for rb in blocks), 'rule')}; controller outputs {chain}; "
+            f"{plural(len(model.properties), 'property', 'properties')}")
 
 
 def _variables(blocks, kind: str) -> list:

@@ -107,6 +107,18 @@ def _unwritable(path: Path, folder: bool) -> str | None:
     return None
 
 
+def add_progress(parser) -> None:
+    """--progress / --no-progress: args.progress True (a bar on stderr even when it is not a
+    terminal), False (never) or None (the default: a bar only when stderr is a terminal, so a
+    log file or a pipe never gets one)."""
+    shown = parser.add_mutually_exclusive_group()
+    shown.add_argument("--progress", action="store_true", default=None,
+                       help="show the progress line on stderr even when it is not a terminal "
+                            "(default: only on a terminal)")
+    shown.add_argument("--no-progress", "--quiet", action="store_false", dest="progress",
+                       help="never show a progress line")
+
+
 def add_campaign_arguments(parser) -> None:
     """--workers / --scheduler / --chunk: run the loops in chunks, on Dask (runtime.campaign)."""
     where = parser.add_mutually_exclusive_group()
@@ -128,6 +140,6 @@ def cluster_from(args):
     try:
         chunk = DEFAULT_CHUNK if args.chunk is None else args.chunk
         return Cluster(args.workers, args.scheduler, chunk,
-                       progress=True if getattr(args, "progress", False) else None)
+                       progress=getattr(args, "progress", None))
     except ValueError as exc:
         raise FuzzycError([Diagnostic(None, str(exc))]) from None

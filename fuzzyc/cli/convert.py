@@ -51,8 +51,9 @@ def run(args) -> int:
         print(f"{args.output}: warning: {warning}", file=sys.stderr)
     inputs, outputs = file_variables(model)
     blocks = f"{len(model.blocks)} rule blocks, " if len(model.blocks) > 1 else ""
-    print(f"wrote {args.output}: {blocks}{sum(rb.n_rules for rb in model.blocks)} rules, "
-          f"{len(inputs)} inputs, {len(outputs)} outputs")
+    from ..display import plural
+    print(f"wrote {args.output}: {blocks}{plural(sum(rb.n_rules for rb in model.blocks), 'rule')}"
+          f", {plural(len(inputs), 'input')}, {plural(len(outputs), 'output')}")
     return 0
 
 

@@ -151,7 +151,7 @@ def run(args) -> int:
         check_output(args.plot)
     columns = {k: np.array([v]) for k, v in values.items()}
     warn_out_of_range(model, columns, args.core, args.semantics)
-    outputs = {k: float(v[0]) for k, v in
+    outputs = {k: float(v[0]) + 0.0 for k, v in     # + 0.0: -0.0 is 0 (no `-0` printed)
                evaluate_batch(model, columns, args.core, args.semantics).items()}
     fired, rb_inputs = _explain(model, columns, args.core)
     if args.plot:
@@ -207,7 +207,7 @@ def _explain_blocks(model: Model, columns):
 
 def _print_table(model: Model, rb_inputs, outputs, fired) -> None:
     print(f"{model.name}: rule-base inputs " +
-          ", ".join(f"{k} = {v:.6g}" for k, v in rb_inputs.items()))
+          ", ".join(f"{k} = {_short(v)}" for k, v in rb_inputs.items()))
     if not fired:
         print("  no rule fired: every output takes its declared default")
     else:
@@ -215,7 +215,7 @@ def _print_table(model: Model, rb_inputs, outputs, fired) -> None:
         for f in fired:
             rule = f"{f['block']}:{f['rule']}" if "block" in f else f["rule"]
             print(f"  {rule:>5}  {f['activation']:6.3f}  {f['text']}   [{f['origin']}]")
-    print("outputs: " + ", ".join(f"{k} = {v:.6g}" for k, v in outputs.items()))
+    print("outputs: " + ", ".join(f"{k} = {_short(v)}" for k, v in outputs.items()))
 
 
 def _run_csv(model: Model, args) -> int:
@@ -291,4 +291,11 @@ def _finite_or_null(value):
 
 
 def _fmt(value: float) -> str:
-    return repr(float(value)) if math.isfinite(value) else str(value)
+    """A CSV cell: the shortest text that reads back as the value; -0.0 is written 0.0."""
+    return repr(float(value) + 0.0) if math.isfinite(value) else str(value)
+
+
+def _short(value: float) -> str:
+    """A printed number, 6 significant digits; -0.0 (e.g. -delta(y) / GCE of a still y) is
+    printed 0, not -0 (adding 0.0 turns -0.0 into 0.0 and changes no other value)."""
+    return f"{float(value) + 0.0:.6g}"

@@ -15,8 +15,8 @@ import sys
 from pathlib import Path
 
 from ..atomic import write_text
-from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, at_least,
-                     batch_size, check_output, cluster_from)
+from .common import (RULE_FILE_HELP, add_campaign_arguments, add_progress, add_semantics,
+                     at_least, batch_size, check_output, cluster_from)
 from ..language.limits import MAX_BATCH
 from ..errors import Diagnostic, FuzzycError
 from ..language.numbers import not_a_number, parse_integer, parse_number
@@ -42,7 +42,7 @@ def add_parser(subparsers) -> None:
     add_semantics(p)
     p.add_argument("--seed", type=at_least(0), default=0)
     p.add_argument("--pace", choices=("sim", "wall"), default="sim")
-    p.add_argument("--progress", action="store_true", help="show progress even without a tty")
+    add_progress(p)
     p.add_argument("--csv-loops", type=csv_loops, default=SHOWN_LOOPS, metavar="N|all",
                    help=f"loops written to trace.csv (default {SHOWN_LOOPS}, as many as trace.png "
                         f"draws: a big batch would make a huge file; `all` writes every loop); "
@@ -119,10 +119,17 @@ def _yaml_value(item: str, text: str) -> str:
     return (mantissa if "." in mantissa else mantissa + ".0") + (e + exponent if e else "")
 
 
+BACKENDS = {"numpy": "numpy engine", "c": "generated C (float)",
+            "baseline": "Python (the scenario's baseline)"}
+
+
 def format_summary(title: str, controller: str, summary: dict, trace,
-                   notes: list[str] = (), batch: int | None = None) -> str:
-    """batch: the loops the summary is over (default the trace's)."""
-    lines = [f"{title}", f"controller: {controller}; batch {batch or trace.batch}; "
+                   notes: list[str] = (), batch: int | None = None,
+                   backend: str | None = None) -> str:
+    """batch: the loops the summary is over (default the trace's). backend: what ran the
+    controller, a key of BACKENDS (numpy, c, baseline), named on the controller's line."""
+    ran = f"; back end: {BACKENDS.get(backend, backend)}" if backend else ""
+    lines = [f"{title}", f"controller: {controller}{ran}; batch {batch or trace.batch}; "
              f"{trace.steps} periods of {trace.period * 1000:g} ms"]
     if trace.deadline_misses:
         lines.append(f"deadline misses: {trace.deadline_misses}")
@@ -187,7 +194,7 @@ def run(args) -> int:
         return simulate(args.scenario, args.file, batch=args.batch,
                         settings=parse_sets(args.sets), baseline=baseline,
                         randomize=args.randomize, backend=args.backend, seed=args.seed,
-                        pace=args.pace, progress=True if args.progress else None,
+                        pace=args.pace, progress=args.progress,
                         cluster=cluster, semantics=args.semantics,
                         allow_import=args.allow_import)
 
@@ -196,22 +203,23 @@ def run(args) -> int:
     out = Path(args.out)
     trace.to_csv(out / "trace.csv", loops=args.csv_loops)
     controller = "baseline" if args.baseline else rulebase_ref(scenario)
+    backend = "baseline" if args.baseline else args.backend
     text = format_summary(scenario.title, controller, summary, trace,
                           controller_notes(scenario, args.baseline) + own_notes(scenario),
-                          args.batch)
+                          args.batch, backend)
     runs = {"baseline" if args.baseline else "fuzzy": trace}
     compared = None
     if args.compare:
         base = run_loop(True)
         runs["baseline"], compared = base.trace, base.metrics
         text += "\n" + format_summary(scenario.title, "baseline", compared, runs["baseline"],
-                                      batch=args.batch)
+                                      batch=args.batch, backend="baseline")
     panels = [name for name in scenario.plots if name in trace] or None
     plot_runs(runs, out / "trace.png", panels, references(scenario), scenario.title,
               signal_units(scenario))
     write_text(out / "summary.txt", text)
     write_text(out / "summary.json", _json(scenario, controller, summary, args.batch,
-                                           trace.deadline_misses, compared))
+                                           trace.deadline_misses, compared, backend))
     sys.stdout.write(text)
     print(f"wrote {out}/trace.csv, trace.png, summary.txt, summary.json"
           + csv_note(args.batch, args.csv_loops, trace.batch))
@@ -219,13 +227,14 @@ def run(args) -> int:
 
 
 def _json(scenario, controller: str, summary: dict, batch: int, deadline_misses: int,
-          baseline: dict | None = None) -> str:
+          baseline: dict | None = None, backend: str = "numpy") -> str:
     """JSON without NaN (not valid JSON): a metric that does not exist is null. `baseline`: the
     metrics of the baseline run beside (--compare)."""
     def clean(metrics: dict) -> dict:
         return {k: {kk: None if isinstance(vv, float) and vv != vv else vv
                     for kk, vv in v.items()} for k, v in metrics.items()}
-    result = {"scenario": scenario.name, "controller": controller, "batch": batch,
+    result = {"scenario": scenario.name, "controller": controller, "backend": backend,
+              "batch": batch,
               "deadline_misses": deadline_misses, "metrics": clean(summary)}
     if baseline is not None:
         result["baseline_metrics"] = clean(baseline)

@@ -11,6 +11,7 @@ from __future__ import annotations
 import os
 
 from ..atomic import write_text
+from ..display import plural
 from ..errors import Diagnostic, FuzzycError
 from .common import at_least, check_output
 
@@ -36,7 +37,10 @@ def add_parser(subparsers) -> None:
                    "1993 hybrid rule, --passes epochs); with --scenario: scipy's "
                    "derivative-free powell (default) or nelder-mead")
     p.add_argument("--max-evaluations", type=at_least(1), default=None, metavar="N",
-                   help="with --scenario: closed-loop runs of the search (default: scipy's)")
+                   help="with --scenario: closed-loop runs of the search, at most N (the run "
+                        "at the written numbers included; the property checks and --limit "
+                        "re-checks run loops of their own, not counted; default: scipy's "
+                        "own stopping rule)")
     p.add_argument("--batch", type=at_least(1), default=1, help="with --scenario: loops per "
                    "run, the cost their mean (with --randomize: drawn plants)")
     p.add_argument("--randomize", action="store_true",
@@ -77,7 +81,7 @@ def run(args) -> int:
         raise FuzzycError([Diagnostic(None, message)]) from None
     write_text(args.output, result.text)
     fit = result.fit
-    print(f"{args.file}: {len(fit.numbers)} numbers tuned by {fit.method}")
+    print(f"{args.file}: {plural(len(fit.numbers), 'number')} tuned by {fit.method}")
     print(f"RMSE on {args.data}: {fit.rmse_before:.6g} before, {fit.rmse_after:.6g} after")
     if fit.validation is not None:
         said = args.validate or f"{args.folds}-fold cross-validation"
@@ -109,7 +113,7 @@ def _run_scenario(args) -> int:
         raise FuzzycError([Diagnostic(None, message)]) from None
     write_text(args.output, result.text)
     fit = result.fit
-    print(f"{args.file}: {len(fit.numbers)} numbers tuned by {fit.method}")
+    print(f"{args.file}: {plural(len(fit.numbers), 'number')} tuned by {fit.method}")
     print(f"{args.minimize} on {args.scenario}: {fit.cost_before:.6g} before, "
           f"{fit.cost_after:.6g} after")
     for n, value in zip(fit.numbers, fit.values):

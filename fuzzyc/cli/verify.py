@@ -14,8 +14,8 @@ import contextlib
 import sys
 
 from ..formats.tool_semantics import with_tool_semantics
-from .common import (RULE_FILE_HELP, add_campaign_arguments, add_semantics, at_least,
-                     check_output, cluster_from, non_negative)
+from .common import (RULE_FILE_HELP, add_campaign_arguments, add_progress, add_semantics,
+                     at_least, check_output, cluster_from, non_negative)
 from .simulate import add_allow_import
 from ..errors import FuzzycError
 
@@ -42,16 +42,18 @@ def add_parser(subparsers) -> None:
                         "all; the proof states it)")
     add_allow_import(p)
     add_campaign_arguments(p)
+    add_progress(p)
     add_semantics(p)
     p.set_defaults(run=run)
 
 
 class _Progress:
-    """One line on stderr, rewritten per property: [k/n] file: property."""
+    """One line on stderr, rewritten per property: [k/n] file: property. enabled: None on a
+    terminal only (--progress: True, --no-progress: False)."""
 
-    def __init__(self, stream=None):
+    def __init__(self, stream=None, enabled: bool | None = None):
         self.stream, self.count = stream or sys.stderr, 0
-        self.enabled = self.stream.isatty()
+        self.enabled = self.stream.isatty() if enabled is None else enabled
 
     def __call__(self, text: str) -> None:
         self.count += 1
@@ -83,7 +85,7 @@ def run(args) -> int:
     from ..verifier.report import VerifyReport
     if args.report:
         check_output(args.report, folder=True)
-    progress = _Progress()
+    progress = _Progress(enabled=args.progress)
     report, notes, bad_input = VerifyReport([]), [], False
     cluster = cluster_from(args)
     with cluster or contextlib.nullcontext():     # one Dask cluster for every property
@@ -93,7 +95,8 @@ def run(args) -> int:
                 notes.append(defaults_note(path, model))
                 report.results += verify(model, max_examples=args.max_examples,
                                          seed=args.seed, backend=args.backend, only=args.only,
-                                         report_dir=args.report, progress=progress,
+                                         report_dir=args.report,
+                                         progress=None if args.progress is False else progress,
                                          cluster=cluster, prove=args.prove,
                                          prove_boxes=args.prove_boxes,
                                          noise_sigmas=args.noise_sigmas,

@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from ..display import plural
 from ..semantics.model import Model
 
 if TYPE_CHECKING:
@@ -112,7 +113,7 @@ def provenance(model: Model, fit: FitResult, train: Table, check: Table | None,
     lines = [f"tuned from {name} (sha256 {source})",
              f"data {train.name} sha256 {train.sha256}, {len(train.x)} rows",
              f"seed {fit.seed}, passes {passes}, max_nfev {max_nfev}; method: {fit.method}",
-             f"{len(fit.numbers)} numbers tuned; RMSE on the data before {fit.rmse_before:.6g}, "
+             f"{plural(len(fit.numbers), 'number')} tuned; RMSE on the data before {fit.rmse_before:.6g}, "
              f"after {fit.rmse_after:.6g}"]
     if check is not None:
         lines.append(f"validation {check.name} sha256 {check.sha256}, {len(check.x)} rows: "

@@ -166,21 +166,49 @@ def _apply_scenario(scenario, space: Space) -> None:
 
 # -- the search -------------------------------------------------------------------------------
 
+class _BudgetSpent(Exception):
+    """The search asked for one evaluation more than max_evaluations."""
+
+
 def minimize_within(cost: Callable, x0, lo, hi, method: str = "powell",
                     max_evaluations: int | None = None) -> np.ndarray:
     """scipy's derivative-free minimize within [lo, hi] (deterministic: no random start).
-    Powell's line searches keep to the bounds; Nelder-Mead's simplex is clipped to them."""
+    Powell's line searches keep to the bounds; Nelder-Mead's simplex is clipped to them.
+
+    max_evaluations: at most this many calls of `cost` at distinct points, x0's included (a
+    point asked again is not run again). scipy's own `maxfev` is checked only between its
+    steps (Powell ran 83 for 80), so the budget is enforced here: the search stops at the
+    call that would pass it, with the best point seen. The result is never worse than x0."""
     from scipy.optimize import minimize
     if method not in METHODS:
         raise ValueError(f"method {method!r}: one of {', '.join(METHODS)}")
     x0, lo, hi = (np.asarray(v, dtype=float) for v in (x0, lo, hi))
+    seen: dict[bytes, float] = {}
+    best = [x0, np.inf]
+
+    def budgeted(theta) -> float:
+        theta = np.asarray(theta, dtype=float)
+        key = theta.tobytes()
+        if key not in seen:
+            if max_evaluations is not None and len(seen) >= max_evaluations:
+                raise _BudgetSpent
+            value = float(cost(theta))
+            seen[key] = np.inf if np.isnan(value) else value
+            if seen[key] < best[1]:             # the first of equals kept: x0 before others
+                best[0], best[1] = theta.copy(), seen[key]
+        return seen[key]
+
     options = {"maxfev": max_evaluations, "xtol": 1e-4, "ftol": 1e-6}
     if method == "nelder-mead":
         options = {"maxfev": max_evaluations, "xatol": 1e-4, "fatol": 1e-6}
-    result = minimize(cost, x0, method="Powell" if method == "powell" else "Nelder-Mead",
-                      bounds=list(zip(lo, hi)), options=options)
-    best = np.clip(result.x, lo, hi)
-    return best if cost(best) <= cost(x0) else x0      # never worse than the written numbers
+    try:
+        budgeted(x0)
+        result = minimize(budgeted, x0, method="Powell" if method == "powell" else "Nelder-Mead",
+                          bounds=list(zip(lo, hi)), options=options)
+        budgeted(np.clip(result.x, lo, hi))
+    except _BudgetSpent:
+        pass
+    return np.clip(best[0], lo, hi)
 
 
 def closed_loop_checks(model: Model, seed: int, max_examples: int) -> list[tuple[str, str, str]]:
@@ -221,10 +249,16 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
                       limits=limits)
     given = cost
     calls = [0]
+    costs: dict[bytes, float] = {}
 
     def counted(theta) -> float:
-        calls[0] += 1
-        return (given or loop)(theta)
+        """The cost, each point run once (the search's start and its result are asked again):
+        calls[0] counts the runs, as many as the search's budget allows."""
+        key = np.asarray(theta, dtype=float).tobytes()
+        if key not in costs:
+            calls[0] += 1
+            costs[key] = (given or loop)(theta)
+        return costs[key]
     props = kept_properties(model)
     checks = [PropertyCheck(p.text, status(model, p, seed)[0].value) for p in props]
     loop_before = closed_loop_checks(model, seed, max_examples)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import hashlib
 from pathlib import Path
 
+from ..display import plural
 from ..semantics.model import Model
 from .loop import LoopFit, parse_limit, tune_loop
 
@@ -43,7 +44,7 @@ def provenance(model: Model, scenario, minimize: str, sets: dict, fit: LoopFit, 
              f"batch {batch}{', randomized plants' if randomize else ''}",
              f"seed {fit.seed}, max evaluations {max_evaluations}, closed-loop checks "
              f"{max_examples} loops; method: {fit.method}",
-             f"{len(fit.numbers)} numbers tuned; {minimize} before {fit.cost_before:.6g}, "
+             f"{plural(len(fit.numbers), 'number')} tuned; {minimize} before {fit.cost_before:.6g}, "
              f"after {fit.cost_after:.6g}"]
     lines += [f"property `{c.text}`: {c.before} before, {c.after} after" for c in fit.properties]
     lines += [f"rejected: {why}" for why in fit.rejected]

@@ -12,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from ..atomic import save_figure, write_text
+from ..display import plural
 from ..escape import plot_text
 from .result import Result, Status
 
@@ -64,8 +65,8 @@ def format_text(results: list[Result]) -> str:
     body = "\n".join(format_result(r) for r in results)
     counts = {s: sum(r.status == s for r in results) for s in Status}
     known = sum(r.status == Status.VIOLATED and r.finding is not None for r in results)
-    tail = (f"{len(results)} properties: {counts[Status.PROVED]} proved, {counts[Status.HELD]} "
-            f"held, {counts[Status.VIOLATED] - known} violated, {known} known findings, "
+    tail = (f"{plural(len(results), 'property', 'properties')}: {counts[Status.PROVED]} "
+            f"proved, {counts[Status.HELD]} held, {counts[Status.VIOLATED] - known} violated, {known} known findings, "
             f"{counts[Status.UNDECIDED]} undecided")
     return f"{body}\n{tail}"
 
