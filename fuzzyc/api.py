@@ -180,7 +180,9 @@ def verify(model: Model | PathLike, *, max_examples: int = 100, seed: int = 0,
            progress: Callable[[str], None] | None = None,
            cluster: Cluster | None = None, prove: bool = False,
            prove_boxes: int = 64, noise_sigmas: float = 0.0,
-           allow_import: Sequence[str] = ()) -> VerifyReport:
+           allow_import: Sequence[str] = (),
+           scenarios: Mapping[str, PathLike | Mapping[str, Any]] | None = None
+           ) -> VerifyReport:
     """Check every property of a model (or of the file at that path); a model that declares
     none gets the structural defaults. `only` keeps the properties whose text contains it;
     `report_dir` receives the plots of closed-loop counterexamples; `progress` is called with
@@ -189,17 +191,35 @@ def verify(model: Model | PathLike, *, max_examples: int = 100, seed: int = 0,
     `prove`: closed loops get sound reachable sets first (docs/proofs.md), split into at most
     `prove_boxes` boxes, Gaussian plant noise covered to `noise_sigmas` standard deviations
     (0: not at all). `allow_import`: modules of yours the closed loops' scenarios may import
-    (a Gymnasium `env: module:Class`; docs/security.md): a scenario file alone imports none."""
+    (a Gymnasium `env: module:Class`; docs/security.md): a scenario file alone imports none.
+    `scenarios`: your own loops, by the name a `closed_loop` gives: a scenario YAML path, or
+    the mapping such a file holds, whose `plant` may be your plant object (INPUTS, OUTPUTS,
+    params, initial_state, step; with set_step the proof runs too: docs/verification.md)."""
     from .verifier import Options, verify_model
     from .verifier.report import VerifyReport
     if not isinstance(model, Model):
         model = load(model)
+    _check_loop_names(model, scenarios or {})
     options = Options(backend=backend, max_examples=max_examples, seed=seed,
                       report_dir=None if report_dir is None else str(report_dir), only=only,
                       progress=progress, cluster=cluster, prove=prove,
                       prove_boxes=prove_boxes, noise_sigmas=noise_sigmas,
-                      allow_import=tuple(_modules(allow_import)))
+                      allow_import=tuple(_modules(allow_import)),
+                      scenarios=dict(scenarios or {}))
     return VerifyReport(verify_model(model, options))
+
+
+def _check_loop_names(model: Model, scenarios: Mapping[str, Any]) -> None:
+    """Each name of `scenarios` is one a closed_loop of the model uses: a misspelt one would
+    leave that loop on the shipped scenario of its name, unnoticed."""
+    if not isinstance(scenarios, Mapping):
+        raise TypeError(f"scenarios maps a closed_loop's scenario name to a scenario, not "
+                        f"{type(scenarios).__name__}")
+    used = sorted({p.args["scenario"] for p in model.properties if p.kind == "closed_loop"})
+    unknown = [name for name in scenarios if name not in used]
+    if unknown:
+        raise KeyError(f"{model.name}: no closed_loop names the scenario `{unknown[0]}`; "
+                       f"its closed loops name: {', '.join(used) or 'none'}")
 
 
 @dataclass

@@ -38,6 +38,7 @@ environment class) is imported only when `allow_import` (--allow-import) names i
 """
 from __future__ import annotations
 
+import copy
 import dataclasses
 import inspect
 import os
@@ -135,6 +136,8 @@ class Scenario:
     settings: dict[str, str] = field(default_factory=dict)   # the --set overrides applied
     # modules of the user's that may be imported (--allow-import): never from the file itself
     allow_import: tuple[str, ...] = ()
+    # a plant object the user passed from Python (from_mapping): used in place of a module
+    own_plant: Any = field(repr=False, default=None)
 
     # --- plain views of the data -------------------------------------------------------------
     @property
@@ -197,7 +200,10 @@ class Scenario:
 
     def plant_module(self):
         """The plant module of fuzzyc.plants the scenario names, or for `model: gymnasium` a
-        GymPlant, which has what a plant module has (plants/gym_env.py)."""
+        GymPlant, which has what a plant module has (plants/gym_env.py); the user's own plant
+        object when one was passed (from_mapping)."""
+        if self.own_plant is not None:
+            return self.own_plant
         if self.plant_name == gym_env.MODEL:
             return gym_env.from_scenario(self)
         try:
@@ -211,6 +217,8 @@ class Scenario:
         module = self.plant_module()
         if isinstance(module, gym_env.GymPlant):
             return module.params
+        if self.own_plant is not None:
+            return _own_params(self)
         cls = _params_class(self, module)
         given = dict(self.data["plant"].get("params") or {})
         names = {f.name for f in dataclasses.fields(cls)}
@@ -277,6 +285,30 @@ class Scenario:
         if not found:
             raise self.error("controller.rulebase", f"no rule base file {path}")
         return path
+
+
+def _own_params(scenario: Scenario):
+    """The own plant's `params`, with the scenario's `plant.X` settings (`set plant.X = V` of a
+    closed loop) put in by dataclasses.replace: the user's object is never changed."""
+    params = scenario.own_plant.params
+    given = dict(scenario.data["plant"].get("params") or {})
+    if not given:
+        return params
+    if not dataclasses.is_dataclass(params):
+        raise scenario.error("plant.params", f"the params of plant {scenario.plant_name} are "
+                             f"no dataclass: a setting of {', '.join(given)} needs one")
+    names = {f.name for f in dataclasses.fields(params)}
+    for key in given:
+        if key not in names:
+            from fuzzyc.errors import suggest
+            raise scenario.error(f"plant.params.{key}", f"{type(params).__name__} has no field "
+                                 f"`{key}` — {suggest(key, sorted(names))}")
+    _check_types(scenario, "plant.params", given,
+                 {f.name: getattr(params, f.name) for f in dataclasses.fields(params)})
+    try:
+        return dataclasses.replace(params, **given)
+    except (TypeError, ValueError) as exc:
+        raise scenario.error("plant.params", str(exc)) from None
 
 
 def unknown_plant(name) -> str:
@@ -380,6 +412,44 @@ def load(name_or_path: str | Path, overrides: dict[str, str] | None = None,
                                       "a scenario file must be a YAML mapping")])
     allow = (allow_import,) if isinstance(allow_import, str) else tuple(allow_import or ())
     scenario = Scenario(path.stem, path, data, _Marks(text), text, dict(overrides or {}), allow)
+    return _checked(scenario, overrides)
+
+
+# what a plant object of the user's has (as a plant module or GymPlant does); for --prove also
+# SET_VARIABLE, set_initial_state(params, **sets, noise) and set_step (docs/proofs.md)
+OWN_PLANT = ("INPUTS", "OUTPUTS", "params", "initial_state", "step")
+
+
+def from_mapping(name: str, given, overrides: dict[str, str] | None = None,
+                 allow_import=()) -> Scenario:
+    """A scenario given from Python as the mapping its YAML file would hold (the API's
+    `verify(..., scenarios={NAME: {...}})`), checked as a file is. Its `plant` may be, instead
+    of `{model: ...}`, a plant object of the user's with OWN_PLANT: an object the user passes,
+    not a name in a file, so nothing is imported for it."""
+    from collections.abc import Mapping
+    if not isinstance(given, Mapping):
+        raise TypeError(f"scenario `{name}`: a mapping of scenario keys (plant, period, "
+                        f"schedules, ...), not {type(given).__name__}")
+    data = {k: copy.deepcopy(v) for k, v in given.items() if k != "plant"}
+    plant, own = given.get("plant"), None
+    if plant is not None and not isinstance(plant, Mapping):
+        own, plant = plant, {"model": type(plant).__name__, "params": {}}
+        missing = [a for a in OWN_PLANT if not hasattr(own, a)]
+        if missing:
+            raise TypeError(f"scenario `{name}`: the plant {type(own).__name__} has no "
+                            f"`{missing[0]}`; a plant object has {', '.join(OWN_PLANT)} "
+                            f"(docs/verification.md)")
+    if plant is not None:
+        data["plant"] = copy.deepcopy(dict(plant))
+    allow = (allow_import,) if isinstance(allow_import, str) else tuple(allow_import or ())
+    scenario = Scenario(name, Path(f"<scenario {name}>"), data, _Marks(""), "",
+                        dict(overrides or {}), allow, own)
+    return _checked(scenario, overrides)
+
+
+def _checked(scenario: Scenario, overrides: dict[str, str] | None) -> Scenario:
+    """The scenario with its --set overrides applied, its shape checked (scenario_schema)."""
+    data, path = scenario.data, scenario.path
     for key, raw in (overrides or {}).items():
         try:
             _apply_override(data, key, _override_value(key, str(raw)))

@@ -130,7 +130,8 @@ def check(scenario) -> None:
     c.text("plant.model", plant["model"], NAME, "the name of a plant module")
     from . import registry
     from .scenario import unknown_plant
-    if plant["model"] not in (*registry.PLANTS, gym_env.MODEL):
+    own = getattr(scenario, "own_plant", None) is not None     # an object of the user's
+    if not own and plant["model"] not in (*registry.PLANTS, gym_env.MODEL):
         c.fail("plant.model", unknown_plant(plant["model"]))
     c.mapping("plant.params", plant.get("params"))
     c.numbers("plant.randomize", plant.get("randomize"), "a relative spread (a finite number)")

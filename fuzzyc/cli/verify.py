@@ -40,11 +40,45 @@ def add_parser(subparsers) -> None:
     p.add_argument("--noise-sigmas", type=non_negative, default=0.0, metavar="K",
                    help="cover Gaussian plant noise up to K standard deviations (0: not at "
                         "all; the proof states it)")
+    p.add_argument("--scenario", action="append", default=[], metavar="NAME=FILE",
+                   type=_loop_scenario,
+                   help="run the closed loops that name scenario NAME on the scenario file "
+                        "FILE instead (your own plant, e.g. a Gymnasium environment); repeat "
+                        "for more")
     add_allow_import(p)
     add_campaign_arguments(p)
     add_progress(p)
     add_semantics(p)
     p.set_defaults(run=run)
+
+
+def _loop_scenario(text: str) -> tuple[str, str]:
+    """--scenario NAME=FILE: a closed loop's scenario name and the YAML file it runs on."""
+    import argparse
+    name, sep, path = text.partition("=")
+    if not sep or not name or not path:
+        raise argparse.ArgumentTypeError(f"`{text}`: give NAME=FILE, the scenario name a "
+                                         f"closed_loop uses and a scenario YAML file")
+    return name, path
+
+
+def _scenarios_for(model, given: dict[str, str]) -> dict[str, str]:
+    """The --scenario files of the closed loops of this model (a name the model's loops do not
+    use may be another FILE's)."""
+    used = {p.args["scenario"] for p in model.properties if p.kind == "closed_loop"}
+    return {name: path for name, path in given.items() if name in used}
+
+
+def _unused_scenarios(models: list, given: dict[str, str]) -> str | None:
+    """The error for a --scenario NAME no closed loop of any FILE names (a misspelt one would
+    leave the loop on the shipped scenario of its name)."""
+    used = sorted({p.args["scenario"] for m in models for p in m.properties
+                   if p.kind == "closed_loop"})
+    unused = [name for name in given if name not in used]
+    if not unused:
+        return None
+    return (f"error: --scenario {unused[0]}={given[unused[0]]}: no closed_loop names the "
+            f"scenario `{unused[0]}`; the closed loops name: {', '.join(used) or 'none'}")
 
 
 class _Progress:
@@ -88,10 +122,12 @@ def run(args) -> int:
     progress = _Progress(enabled=args.progress)
     report, notes, bad_input = VerifyReport([]), [], False
     cluster = cluster_from(args)
+    given, models = dict(args.scenario), []
     with cluster or contextlib.nullcontext():     # one Dask cluster for every property
         for path in args.files:
             try:
                 model = with_tool_semantics(load(path), args.semantics, "verify")
+                models.append(model)
                 notes.append(defaults_note(path, model))
                 report.results += verify(model, max_examples=args.max_examples,
                                          seed=args.seed, backend=args.backend, only=args.only,
@@ -100,7 +136,8 @@ def run(args) -> int:
                                          cluster=cluster, prove=args.prove,
                                          prove_boxes=args.prove_boxes,
                                          noise_sigmas=args.noise_sigmas,
-                                         allow_import=args.allow_import).results
+                                         allow_import=args.allow_import,
+                                         scenarios=_scenarios_for(model, given)).results
             except FuzzycError as exc:
                 progress.done()
                 for diagnostic in exc.diagnostics:
@@ -113,6 +150,9 @@ def run(args) -> int:
     if args.report:
         for written in report.write(args.report):
             print(f"wrote {written}")
-    if bad_input:
+    unused = _unused_scenarios(models, given)
+    if unused:
+        print(unused, file=sys.stderr)
+    if bad_input or unused:
         return 2
     return 0 if report.passed else 1

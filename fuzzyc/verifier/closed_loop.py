@@ -14,7 +14,9 @@ from __future__ import annotations
 
 import copy
 import dataclasses
+import os
 import re
+from collections.abc import Mapping
 
 import numpy as np
 from hypothesis import HealthCheck, Phase, given, seed as hseed, settings, strategies as st
@@ -31,12 +33,10 @@ EVENTS = ("step", "fault", "noise")   # the entries of a case that are not drawn
 
 
 def check(model: Model, prop: Property, checks: list[Property], options) -> list[list[Evidence]]:
-    from fuzzyc.plants import scenario as scenarios
     a = prop.args
     learning = {k.split(".", 1)[1]: v for k, v in a["set"].items() if k.startswith("learn.")}
     overrides = {k: str(v) for k, v in a["set"].items() if not k.startswith("learn.")}
-    scen = scenarios.load(a["scenario"], overrides,
-                          allow_import=getattr(options, "allow_import", ()))
+    scen = load_scenario(a["scenario"], overrides, options)
     problem = _unsupported(scen, a, options.backend)
     if problem:
         return [[Evidence("closed-loop", Status.UNDECIDED, problem)] for _ in checks]
@@ -86,6 +86,20 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
         results.append(proofs[i] + [Evidence("closed-loop", Status.VIOLATED, detail,
                                              cases=len(cases), trace=trace)])
     return results
+
+
+def load_scenario(name: str, overrides: dict[str, str], options):
+    """The scenario a closed loop names: the user's for that name when the API was given one
+    (options.scenarios: a YAML path, or a mapping whose plant may be the user's own object),
+    else the shipped scenario of that name."""
+    from fuzzyc.plants import scenario as scenarios
+    allow = getattr(options, "allow_import", ())
+    given = (getattr(options, "scenarios", None) or {}).get(name)
+    if given is None:
+        return scenarios.load(name, overrides, allow_import=allow)
+    if isinstance(given, Mapping):
+        return scenarios.from_mapping(name, given, overrides, allow_import=allow)
+    return scenarios.load(os.fspath(given), overrides, allow_import=allow)
 
 
 def _search(loop: "_Loop", checks: list[Property], cases: list[dict], cluster=None):

@@ -5,6 +5,7 @@ import os
 import re
 import shlex
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Callable
 
@@ -35,6 +36,7 @@ class Options:
     prove_boxes: int = 64           # branch-and-bound budget of boxes per closed loop
     noise_sigmas: float = 0.0       # Gaussian plant noise covered up to this many sigma
     allow_import: tuple = ()        # modules a scenario may import (--allow-import), no more
+    scenarios: Any = None           # closed-loop name -> the user's scenario (API: own plants)
 
 
 def covers_violation(note: str, evidence: list[Evidence]) -> bool:
@@ -98,12 +100,13 @@ def default_properties(model: Model) -> list[Property]:
     return [Property(kind, args, None, text) for kind, args, text in texts]
 
 
-def reproduce_command(model: Model, prop: Property, options: Options) -> str:
+def reproduce_command(model: Model, prop: Property, options: Options,
+                      extra: tuple[str, ...] = ()) -> str:
     args = ["fuzzyc", "verify", model.source_path or model.name, "--only", prop.text,
             "--seed", str(options.seed), "--max-examples", str(options.max_examples)]
     if options.backend != "numpy":
         args += ["--backend", options.backend]
-    return " ".join(shlex.quote(a) for a in args)
+    return " ".join(shlex.quote(a) for a in [*args, *extra])
 
 
 def verify_model(model: Model, options: Options | None = None) -> list[Result]:
@@ -220,6 +223,23 @@ def _closed_loop(model: Model, prop: Property, checks: list[Property],
         options.progress(prop.text)
     verdicts = closed_loop.check(model, prop, checks, options)
     elapsed = time.perf_counter() - start
+    given = (options.scenarios or {}).get(prop.args["scenario"])
     return [Result(c, property_name(model, c, prop), ev, _finding(model, c, ev),
-                   reproduce_command(model, c, options), elapsed / len(checks))
+                   _reproduce(model, prop, c, options, given), elapsed / len(checks))
             for c, ev in zip(checks, verdicts)]
+
+
+def _reproduce(model: Model, loop: Property, check: Property, options: Options, given) -> str:
+    """The command that checks `check` again; a loop on a scenario of the user's names it
+    (`--scenario NAME=FILE`), or, given from Python as a mapping (an own plant object), is
+    replayed by the same call: the command line has no plant object to pass."""
+    if given is None:
+        return reproduce_command(model, check, options)
+    if not isinstance(given, Mapping):
+        allowed = [a for m in options.allow_import for a in ("--allow-import", m)]
+        return reproduce_command(model, check, options, (
+            "--scenario", f"{loop.args['scenario']}={os.fspath(given)}", *allowed))
+    backend = f", backend={options.backend!r}" if options.backend != "numpy" else ""
+    return (f"fuzzyc.verify({model.source_path or model.name!r}, scenarios=<the same>, "
+            f"only={check.text!r}, seed={options.seed}, "
+            f"max_examples={options.max_examples}{backend})")
