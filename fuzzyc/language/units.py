@@ -40,9 +40,10 @@ def format_unit(u: Unit | None) -> str:
     if not u:
         return "dimensionless"
     num = [a if p == 1 else f"{a}^{p}" for a, p in u if p > 0]
+    if not num:     # `kHz^-1`, not `1/kHz`: the text reads back as a unit (`param G = 2 kHz^-1`)
+        return "*".join(f"{a}^{p}" for a, p in u)
     den = [a if p == -1 else f"{a}^{-p}" for a, p in u if p < 0]
-    text = "*".join(num) or "1"
-    return text + ("/" + "/".join(den) if den else "")
+    return "*".join(num) + ("/" + "/".join(den) if den else "")
 
 
 # Time units the language converts to seconds (period, loop durations, within/by clauses).
