@@ -137,6 +137,17 @@ def test_a_plant_without_a_set_step_is_held_never_proved(lag_p):
         assert search.cases == 30 and "30 loops of 10 s on scenario lag_step" in search.detail
 
 
+def test_half_a_set_step_is_no_proof(lag_p):
+    class HalfLag(SearchedLag):
+        def set_step(self, params, state, inputs, t, dt, noise):
+            raise AssertionError("never called without set_initial_state")
+    report = fuzzyc.verify(lag_p, scenarios={"lag_step": {"plant": HalfLag(), "period": 0.1}},
+                           prove=True, max_examples=5, only="lag_step")
+    reach = report.results[0].evidence[0]
+    assert reach.detail == "no proof: plant `HalfLag` has no set-valued step (set_initial_state)"
+    assert report.results[0].status == fuzzyc.Status.HELD
+
+
 def test_settings_of_the_closed_loop_reach_the_own_plant(lag_p):
     # `set plant.gain = 3`: every loop overshoots (by hand, 1.2 is passed), the object unchanged
     text = LAG_P.replace("vary plant.y0 in [0, 0.5]", "set plant.gain = 3")
@@ -162,6 +173,10 @@ def test_mistakes_are_named(lag_p):
     with pytest.raises(TypeError, match="the plant NoStep has no `step`; a plant object has "
                                         "INPUTS, OUTPUTS, params, initial_state, step"):
         fuzzyc.verify(lag_p, scenarios={"lag_step": {"plant": NoStep()}}, only="lag_step")
+    with pytest.raises(TypeError, match=r"scenario `lag_step`: a scenario YAML path or the "
+                                        r"mapping of its keys \(\{'plant': \.\.\., "
+                                        r"'period': \.\.\.\}\), not a ProvedLag"):
+        fuzzyc.verify(lag_p, scenarios={"lag_step": ProvedLag()}, only="lag_step")
     text = LAG_P.replace("vary plant.y0 in [0, 0.5]", "set plant.gian = 3")
     with pytest.raises(fuzzyc.FuzzycError, match="LagParams has no field `gian`"):
         fuzzyc.verify(fuzzyc.parse(text, name="lag_p.fz"), only="lag_step",

@@ -99,6 +99,9 @@ def load_scenario(name: str, overrides: dict[str, str], options):
         return scenarios.load(name, overrides, allow_import=allow)
     if isinstance(given, Mapping):
         return scenarios.from_mapping(name, given, overrides, allow_import=allow)
+    if not isinstance(given, (str, os.PathLike)):     # a plant object given bare
+        raise TypeError(f"scenario `{name}`: a scenario YAML path or the mapping of its keys "
+                        f"({{'plant': ..., 'period': ...}}), not a {type(given).__name__}")
     return scenarios.load(os.fspath(given), overrides, allow_import=allow)
 
 

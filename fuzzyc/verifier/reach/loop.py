@@ -57,9 +57,10 @@ class SetLoop:
                               "NaN sensor")
         self.model, self.scen, self.args = model, scen, args
         self.module = scen.plant_module()
-        if not hasattr(self.module, "set_step"):
+        missing = [f for f in ("set_step", "set_initial_state") if not hasattr(self.module, f)]
+        if missing:     # a plant of the user's may have one without the other
             raise Unsupported(f"plant `{scen.data['plant']['model']}` has no set-valued step "
-                              f"(set_step)")
+                              f"({missing[0]})")
         self.batch = len(next(iter(boxes.values()))[0]) if boxes else 1
         self.boxes, self.sigmas = boxes, sigmas
         self.duration, self.period = args["duration"], scen.period
