@@ -52,6 +52,9 @@ class GymParams:
     observations: dict[int, str] = field(default_factory=dict)   # index -> bus name
     action: list[str] = field(default_factory=list)
     discrete: dict[int, float] | None = None                     # action number -> value
+    # a gymnasium.Env subclass passed from Python (fuzzyc.verify's scenarios=): `env` is then
+    # its name, for messages; a file can only name one (a string), never pass one
+    env_class: type | None = None
 
 
 def gymnasium():
@@ -123,6 +126,10 @@ class GymPlant:
             raise self.error("plant.env", str(exc)) from None
 
     def _factory(self, gym, params: GymParams) -> Callable[[], Any]:
+        if params.env_class is not None:       # the user's own class object: nothing imported
+            def make_own():
+                return params.env_class(**params.kwargs)
+            return make_own
         check_import(params.env, self.allow_import, self.error)   # again: nothing unasked
         ref = CLASS_REF.fullmatch(params.env)
         if ref is None:                    # a registered id
@@ -232,10 +239,13 @@ def from_scenario(scenario) -> GymPlant:
             from fuzzyc.errors import suggest
             raise err(f"plant.{key}", f"unknown key for a Gymnasium plant; "
                                       f"{suggest(str(key), sorted(KEYS))}")
-    need(isinstance(spec.get("env"), str) and spec["env"] != "", "env",
+    env_class = _own_class(spec.get("env"), err)
+    env = env_class.__name__ if env_class else spec.get("env")
+    need(isinstance(env, str) and env != "", "env",
          "an environment id (CartPole-v1) or module:Class")
     allow = tuple(getattr(scenario, "allow_import", ()))
-    check_import(spec["env"], allow, err)
+    if env_class is None:
+        check_import(env, allow, err)
     kwargs = spec.get("kwargs") or {}
     need(isinstance(kwargs, dict) and all(isinstance(k, str) for k in kwargs), "kwargs",
          "a mapping of keyword arguments")
@@ -259,8 +269,18 @@ def from_scenario(scenario) -> GymPlant:
     twice = sorted({n for n in names if names.count(n) > 1})
     if twice:
         raise err("plant.observations", f"`{twice[0]}` names two observations")
-    return GymPlant(GymParams(spec["env"], dict(kwargs), observations, list(action), discrete),
-                    err, allow)
+    return GymPlant(GymParams(env, dict(kwargs), observations, list(action), discrete,
+                              env_class), err, allow)
+
+
+def _own_class(env, err) -> type | None:
+    """`env` as a gymnasium.Env subclass the user passed from Python (a mapping given to
+    fuzzyc.verify; YAML yields no class), or None for a name."""
+    if not isinstance(env, type):
+        return None
+    if not issubclass(env, gymnasium().Env):
+        raise err("plant.env", f"`{env.__name__}` is not a gymnasium.Env subclass")
+    return env
 
 
 def check_import(env: str, allow_import: tuple[str, ...], err) -> None:

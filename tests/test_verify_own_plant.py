@@ -217,6 +217,49 @@ def test_a_gymnasium_environment_is_searched():
     assert abs(trace["signals"]["theta"][0]) >= 0.01 or trace["violated_at"] > 0
 
 
+FILL = """controller fill {
+  period 100 ms
+  input level in [0, 20]
+  terms level : uniform L H
+  var v in [0, 1] default 0
+  terms v : singletons Z=0 O=1
+  rule if level is L then v is O
+  rule if level is H then v is O
+  output inflow in [-10, 10] = 5 * v
+  verify {
+    closed_loop tank for 1 s {
+      always level < 1.1
+      always level < 0.5
+    }
+  }
+}"""
+
+
+def test_a_gymnasium_class_of_yours_is_passed_not_imported():
+    pytest.importorskip("gymnasium", reason="Gymnasium is an optional extra: "
+                                            "pip install 'fuzzyc[gym]'")
+    from tests.gym_toy_env import Tank
+    # inflow 5, clipped to the Box's 1: the level rises 0.2 a step from l0 in [0, 0.01), ends
+    # at the limit 1.0 in the 5th step and holds (by hand: at most 1.0 + l0 < 1.1); it passes
+    # 0.5 in the 3rd step, at t = 0.3 s
+    plant = {"model": "gymnasium", "env": Tank, "kwargs": {"rate": 2.0, "limit": 1.0},
+             "observations": ["level"], "action": "inflow"}
+    report = fuzzyc.verify(fuzzyc.parse(FILL, name="fill.fz"), max_examples=5,
+                           scenarios={"tank": {"plant": plant, "period": 0.1,
+                                               "controller": {"initial": {"inflow": 5}}}})
+    held, broken = report.results
+    assert held.status == fuzzyc.Status.HELD
+    assert broken.status == fuzzyc.Status.VIOLATED
+    trace = broken.violation.trace
+    assert trace["violated_at"] == pytest.approx(0.3)
+    np.testing.assert_allclose(trace["signals"]["level"][:3] - trace["signals"]["level"][0],
+                               [0, 0.2, 0.4], atol=1e-12)
+    with pytest.raises(fuzzyc.FuzzycError, match="`plant.env`: `LagParams` is not a "
+                                                 "gymnasium.Env subclass"):
+        fuzzyc.verify(fuzzyc.parse(FILL, name="fill.fz"), scenarios={
+            "tank": {"plant": {**plant, "env": LagParams}, "period": 0.1}})
+
+
 def test_the_command_line_takes_a_scenario_file_for_a_loop(tmp_path, capsys):
     pytest.importorskip("gymnasium", reason="Gymnasium is an optional extra: "
                                             "pip install 'fuzzyc[gym]'")
