@@ -3,7 +3,8 @@ fuzzyc under the tool's semantics against the tool's recorded numbers (always), 
 tool against its recorded numbers and fuzzyc (where installed; skipped with the reason
 otherwise).  A case fuzzyc does not match yet is a strict xfail whose reason is its cause
 (found by undoing the construct: tests/differential/shrink.py); a crash case must now give
-numbers or a located refusal."""
+numbers or a located refusal; a case whose record names a `tool_bug` must still be explained by
+that bug, with its evidence (tests/differential/toolbugs.py)."""
 from __future__ import annotations
 
 import json
@@ -12,9 +13,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from tests.differential import tools
+from tests.differential import toolbugs, tools
 from tests.differential.cases import CASES, read_numbers
-from tests.differential.compare import ours, worst
+from tests.differential.compare import disagreeing_rows, ours, worst
 
 CASE_FILES = sorted(p for p in CASES.rglob("*") if p.suffix in (".fll", ".fcl", ".fis"))
 
@@ -44,6 +45,14 @@ def test_recorded(path, record):
         return
     assert got.status == "imported", got.message
     tool_y = read_numbers(record["tool_y"])
+    if record.get("tool_bug"):      # the tool's numbers are wrong there: the bug, with evidence
+        tolerance = np.array(record["tolerance"])
+        why = toolbugs.explain_disagreement(
+            {"pyfuzzylite": "pyfuzzylite-fll"}.get(record["tool"], record["tool"]),
+            toolbugs.fll_input_terms(path.read_text()), x, got.y, tool_y, tolerance,
+            disagreeing_rows(got.y, tool_y, tolerance))
+        assert why and why.startswith(record["tool_bug"]), why
+        return
     far = worst(got.y, tool_y, np.array(record["tolerance"]))
     assert far <= 1, f"{far:.3g} tolerances from {record['tool']}: ours {got.y.tolist()}, " \
                      f"tool {tool_y.tolist()}"

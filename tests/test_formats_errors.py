@@ -62,15 +62,16 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
     # message said `r` was not monotonic either)
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "OutputVariable: y\n  range: 0 1\n  defuzzifier: WeightedSum\n"
-               "  term: r Ramp 0 1\nRuleBlock:\n  rule: if x is a then y is r\n",
-     "over `r` it is fuzzylite's Tsukamoto weighted sum, which the model does not have"),
+               "  term: r Triangle 0 0.5 1\nRuleBlock:\n  rule: if x is a then y is r\n",
+     "WeightedSum needs Constant, Linear or Function terms or monotonic ones (Tsukamoto); "
+     "`r` is neither"),
     (read_fcl, "FUNCTION_BLOCK f\nVAR_INPUT x: REAL; END_VAR\nVAR_OUTPUT y: REAL; END_VAR\n"
                "FUZZIFY x\n  RANGE := (0 .. 1);\n  TERM a := Triangle 0 0.5 1;\nEND_FUZZIFY\n"
-               "DEFUZZIFY y\n  RANGE := (0 .. 1);\n  TERM r := Ramp 0 1;\n  METHOD : COGSS;\n"
+               "DEFUZZIFY y\n  RANGE := (0 .. 1);\n  TERM r := Triangle 0 0.5 1;\n  METHOD : COGSS;\n"
                "END_DEFUZZIFY\nRULEBLOCK b\n  RULE 1 : if x is a then y is r;\nEND_RULEBLOCK\n"
                "END_FUNCTION_BLOCK\n",
-     "COGSS needs singleton or Linear/Function terms (Takagi-Sugeno); over `r` it is "
-     "fuzzylite's Tsukamoto weighted sum"),
+     "COGSS needs singleton or Linear/Function terms or monotonic ones (Tsukamoto); `r` is "
+     "neither"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Linear 0 1\n",
      "input `x` cannot have one"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"

@@ -244,7 +244,8 @@ def test_defuzzifiers_by_hand():
     for method in (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE,
                    Defuzzifier.TSUKAMOTO):
         np.testing.assert_allclose(d[method].numpy(num, den, 9.0), [1 / 3, 9.0])
-    np.testing.assert_allclose(d[Defuzzifier.WEIGHTED_SUM].numpy(num, den, 9.0), [0.25, 9.0])
+    for method in (Defuzzifier.WEIGHTED_SUM, Defuzzifier.GROUPED_SUM, Defuzzifier.TSUKAMOTO_SUM):
+        np.testing.assert_allclose(d[method].numpy(num, den, 9.0), [0.25, 9.0])
 
 
 def test_defuzzifiers_are_not_monotone_in_the_strengths():
@@ -279,8 +280,8 @@ SINGLETONS = "singletons L=-0.8 M=0.1 H=0.7"
 
 def tiny(and_="min", or_="max", imp="min", agg="max", d="centroid", h="", conn="and",
          neg="not "):
-    terms = SINGLETONS if d in ("center_of_area", "weighted_average", "weighted_sum", "tsukamoto") \
-        else TRIANGLES
+    terms = SINGLETONS if d in ("center_of_area", "weighted_average", "weighted_sum", "tsukamoto",
+                                "grouped_sum", "tsukamoto_sum") else TRIANGLES
     return parse(TINY.format(terms=terms, and_=and_, or_=or_, imp=imp, agg=agg, d=d,
                              h=f"{h} " if h else "", conn=conn, neg=neg))
 

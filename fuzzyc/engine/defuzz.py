@@ -164,7 +164,7 @@ class OutputDefuzzifier:
         # FUNCTION terms of a Takagi-Sugeno output: values of the inputs and earlier outputs
         self.functions = {t: f for t, f in (var.formulas or {}).items()
                           if method in PEAK_BASED}
-        self.tsukamoto = method == Defuzzifier.TSUKAMOTO
+        self.tsukamoto = DEFUZZIFIERS[method].family == "inverse"    # TSUKAMOTO(_SUM)
         self.use_peaks = not self.tsukamoto and (
             method in PEAK_BASED or bool(np.all(kinds == TermKind.SINGLETON)))
         self.sampled = not self.use_peaks and not self.tsukamoto and (bool(
@@ -346,15 +346,16 @@ class OutputDefuzzifier:
         return _area_defuzzify(method, x, f, self.var.default)
 
     def _tsukamoto(self, levels: np.ndarray, ids: np.ndarray) -> np.ndarray:
-        """sum act_r z_r / sum act_r over the firing rules, z_r = mu^-1(act_r) (model.py) in
-        the output's range (a sigmoid reaches 1 only at infinity)."""
+        """sum act_r z_r / sum act_r over the firing rules (TSUKAMOTO_SUM: sum act_r z_r),
+        z_r = mu^-1(act_r) (model.py) in the output's range (a sigmoid reaches 1 only at
+        infinity)."""
         firing = levels > 0
         t = ids.clip(0)
         z = term_inverse(self.var.kinds[t], np.asarray(self.var.params, dtype=float)[t],
                          np.where(firing, levels, 1.0)).clip(self.var.lo, self.var.hi)
         num = np.where(firing, levels * z, 0.0).sum(axis=1)
-        return DEFUZZIFIERS[Defuzzifier.TSUKAMOTO].numpy(num, levels.sum(axis=1),
-                                                         self.var.default)
+        return DEFUZZIFIERS[self.inference.defuzzifier].numpy(num, levels.sum(axis=1),
+                                                              self.var.default)
 
     def _sample(self, levels: np.ndarray, ids: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Points (N, P) sorted, and the implied items IMP(level_k, mu_ids_k) there (N, P, K)."""

@@ -310,7 +310,8 @@ class _FclReader:
         inf = Inference()
         used = set().union(*(r.connectives() for r in rules))
         integral = any(d not in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.TSUKAMOTO,
-                                 Defuzzifier.CENTER_OF_AREA) for _, d in outputs)
+                                 Defuzzifier.TSUKAMOTO_SUM, Defuzzifier.CENTER_OF_AREA)
+                       for _, d in outputs)
         needed = {"AND": Connective.AND in used, "OR": Connective.OR in used, "ACT": integral}
         for key, field, table in (OPERATORS["and_op"], OPERATORS["or_op"], OPERATORS["act"]):
             if key in settings:
@@ -351,17 +352,17 @@ class _FclReader:
                                 + ", ".join(METHODS))
             return inf.aggregation, inf.defuzzifier
         defuzzifier = METHODS[method]
-        if method == "COGS" and accu is None and tsukamoto_terms([var]):
-            defuzzifier = Defuzzifier.TSUKAMOTO        # fuzzylite's, over Ramp, ...
+        if method in ("COGS", "COGSS") and tsukamoto_terms([var]):
+            # fuzzylite's Tsukamoto over Ramp, ...: fuzzylite 6 weighs every rule, whatever ACCU
+            defuzzifier = Defuzzifier.TSUKAMOTO if method == "COGS" else \
+                Defuzzifier.TSUKAMOTO_SUM
         elif method == "COGS" and accu is None:
             defuzzifier = Defuzzifier.WEIGHTED_AVERAGE        # over the rules
             self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION)
         elif method == "COGS":        # grouped per term: linear and function terms too
-            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION,
-                                     tsukamoto="Tsukamoto weighted average with an ACCU")
+            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION)
         elif method == "COGSS":       # fuzzylite's WeightedSum: over the rules, whatever ACCU
-            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION, method="COGSS",
-                                     tsukamoto="Tsukamoto weighted sum")
+            self._require_singletons(var, TermKind.LINEAR, TermKind.FUNCTION, method="COGSS")
         return inf.aggregation, defuzzifier
 
     def _require_singletons(self, var: VarSpec, *also: TermKind, method: str = "COGS",
@@ -504,7 +505,7 @@ def _fcl_method(model: Model, problems: list[str], notes: list[str]):
     if method == Defuzzifier.GROUPED_SUM:
         problems.append("FCL has no weighted sum grouped per term (fuzzylite 6 reads COGSS "
                         "with ACCU as the sum over the rules): write FLL")
-    if method == Defuzzifier.TSUKAMOTO:
+    if method in (Defuzzifier.TSUKAMOTO, Defuzzifier.TSUKAMOTO_SUM):
         problems.append("FCL has no Tsukamoto defuzzifier (fuzzylite's dialect reads COGS over "
                         "ramps so, jFuzzyLogic does not): write FLL")
     if method in (Defuzzifier.CENTER_OF_AREA, Defuzzifier.WEIGHTED_AVERAGE) or (

@@ -489,7 +489,7 @@ def _fis_system(model: Model, problems: list[str], notes: list[str]):
     singletons = [bool(np.all(v.kinds == TermKind.SINGLETON)) for v in rb.outputs]
     operators = [("AndMethod", _fis_operator(rb, "and_", Connective.AND, "min", problems, notes)),
                  ("OrMethod", _fis_operator(rb, "or_", Connective.OR, "max", problems, notes))]
-    if method == Defuzzifier.TSUKAMOTO:
+    if method in (Defuzzifier.TSUKAMOTO, Defuzzifier.TSUKAMOTO_SUM):
         problems.append("MATLAB's FIS has no Tsukamoto system (fuzzylite's `tsukamoto` type is "
                         "read, not written): write FLL")
     if method == Defuzzifier.GROUPED_SUM:

@@ -235,8 +235,7 @@ class _FllReader:
         if words[0] in ("WeightedAverage", "WeightedSum") and len(words) > 1:
             # the type follows from the terms (Tsukamoto: monotonic ones), as fuzzylite's
             # Automatic: a stated type is taken as that
-            allowed = ["TakagiSugeno", "Automatic"] + (["Tsukamoto"] if words[0] ==
-                                                       "WeightedAverage" else [])
+            allowed = ["TakagiSugeno", "Automatic", "Tsukamoto"]
             if words[1] not in allowed:
                 self.rep.error(self.loc(line, line.tokens[1][1]),
                                f"{words[0]} {words[1]} is not supported: the model's weighted "
@@ -319,19 +318,20 @@ class _FllReader:
             inf.defuzzifier = (Defuzzifier.CENTER_OF_AREA if aggregation in GROUPING
                                else Defuzzifier.WEIGHTED_AVERAGE)
             inf.aggregation = GROUPING.get(aggregation, inf.aggregation)
-            if aggregation not in GROUPING and tsukamoto_terms([var]):
-                inf.defuzzifier = Defuzzifier.TSUKAMOTO      # Ramp, Sigmoid, ... terms
+            if tsukamoto_terms([var]):
+                self._tsukamoto(inf, aggregation, Defuzzifier.TSUKAMOTO)
             else:
-                self._require_constants(var, defuzz, tsukamoto=(
-                    "Tsukamoto weighted average with an aggregation"
-                    if aggregation in GROUPING else ""))
+                self._require_constants(var, defuzz)
         elif defuzz == "WeightedSum" and aggregation in ("none", "UnboundedSum", *GROUPING):
             # grouped per term by an s-norm (pyfuzzylite 8; fuzzylite 6 sums over the rules,
             # tool_semantics), by a sum: the weighted sum over the rules
             inf.defuzzifier = (Defuzzifier.GROUPED_SUM if aggregation in GROUPING
                                else Defuzzifier.WEIGHTED_SUM)
             inf.aggregation = GROUPING.get(aggregation, inf.aggregation)
-            self._require_constants(var, defuzz, tsukamoto="Tsukamoto weighted sum")
+            if tsukamoto_terms([var]):
+                self._tsukamoto(inf, aggregation, Defuzzifier.TSUKAMOTO_SUM)
+            else:
+                self._require_constants(var, defuzz)
         elif defuzz in ("WeightedAverage", "WeightedSum"):
             self.rep.error(agg_loc, f"{defuzz} with aggregation `{aggregation}` is not "
                                     "supported")
@@ -339,6 +339,15 @@ class _FllReader:
             self.rep.error(loc, f"defuzzifier `{defuzz}` is not supported: the model has "
                                 "Centroid, Bisector, MeanOfMaximum, WeightedAverage, WeightedSum")
         return inf.aggregation, inf.defuzzifier
+
+    @staticmethod
+    def _tsukamoto(inf: Inference, aggregation: str, method: Defuzzifier) -> None:
+        """A weighted defuzzifier over monotonic terms (Ramp, Sigmoid, ...): Tsukamoto's,
+        averaged or summed.  The model weighs every rule; the aggregation is kept (SUM for
+        none/UnboundedSum) for pyfuzzylite 8, which groups the rules of a term with it before
+        inverting (tool_semantics)."""
+        inf.defuzzifier = method
+        inf.aggregation = GROUPING.get(aggregation, Aggregation.SUM)
 
     def _unset_operator_used(self, kind: str, rules: list) -> None:
         """fuzzylite fails on a rule that needs an operator given as `none`: so do we."""
@@ -542,10 +551,13 @@ def _fll_defuzzifier(model: Model, problems: list[str], notes: list[str]):
                      "(pyfuzzylite 8: 1000 midpoints, fuzzylite 6 C++: 100); fuzzyc integrates "
                      "exactly (see fuzzylite_compat.evaluate_sampled)")
         return rb.outputs, aggregation, FLL_INTEGRAL[method]
-    if method == Defuzzifier.TSUKAMOTO:
+    if method in (Defuzzifier.TSUKAMOTO, Defuzzifier.TSUKAMOTO_SUM):
         notes.append("Tsukamoto: fuzzylite 6 and pyfuzzylite 8 invert some terms differently "
                      "(see tool_semantics)")
-        return rb.outputs, "none", "WeightedAverage Tsukamoto"
+        grouped = aggregation if inf.aggregation not in (Aggregation.SUM, Aggregation.MAX) \
+            else "none"
+        word = "WeightedAverage" if method == Defuzzifier.TSUKAMOTO else "WeightedSum"
+        return rb.outputs, grouped, f"{word} Tsukamoto"
     outputs, changed = peaks_instead(model, "FLL")
     notes.extend(changed)
     if method == Defuzzifier.WEIGHTED_SUM:

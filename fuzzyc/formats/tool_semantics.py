@@ -371,10 +371,10 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
         resolution = resolutions(rb, resolution, RESOLUTION[semantics])
         rb = linear_unclamped(fuzzylite_hedges(rb))
         acts = fuzzylite6_activations if semantics == "fuzzylite" else activations
-        if rb.inference.defuzzifier == Defuzzifier.TSUKAMOTO:
+        if rb.inference.defuzzifier in (Defuzzifier.TSUKAMOTO, Defuzzifier.TSUKAMOTO_SUM):
             return _tsukamoto(rb, np.atleast_2d(np.asarray(x, dtype=float)),
                               _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse,
-                              acts)
+                              acts, grouped=semantics == "pyfuzzylite")
         if semantics == "fuzzylite" and _any_center_of_area(rb):
             rb = _over_rules(rb)
         if reads_values(rb):
@@ -419,13 +419,20 @@ def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: list[int]
     return y
 
 
-def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse, acts=activations) -> np.ndarray:
-    """sum act_r z_r / sum act_r over the firing rules, z_r = inverse(kinds, params, act_r)
-    (fuzzylite's, unclipped); NaN where none fires."""
+def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse, acts=activations,
+               grouped: bool = False) -> np.ndarray:
+    """sum act_r z_r / sum act_r over the firing rules (TSUKAMOTO_SUM: sum act_r z_r),
+    z_r = inverse(kinds, params, act_r) (fuzzylite's, unclipped); NaN where none fires.
+    `grouped` (pyfuzzylite 8's Aggregated.grouped_terms): first the activations of each term's
+    rules folded with the output's aggregation (a sum for none), one item per term."""
     act = acts(rb, x)
     y = np.full((x.shape[0], len(rb.outputs)), np.nan)
+    everyone = act
     for o, var in enumerate(rb.outputs):
-        J = rb.consequents[:, o]
+        act, J = everyone, rb.consequents[:, o]
+        summed = rb.inference_of(o).defuzzifier == Defuzzifier.TSUKAMOTO_SUM
+        if grouped:
+            act, J = _grouped_terms(act, J, var.n_terms, rb.inference_of(o).aggregation)
         firing = (J >= 0) & (act > 0)
         t = J.clip(0)
         params = np.broadcast_to(np.asarray(var.params, dtype=float)[t], act.shape + (4,))
@@ -434,8 +441,25 @@ def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse, acts=activations) -> np.nda
                         np.where(firing, act, 0.5), var.lo, var.hi)
             num = np.where(firing, act * z, 0.0).sum(axis=1)
             den = np.where(firing, act, 0.0).sum(axis=1)
-            y[:, o] = np.where(den > 0, num / np.where(den > 0, den, 1.0), np.nan)
+            y[:, o] = np.where(den > 0, num if summed else num / np.where(den > 0, den, 1.0),
+                               np.nan)
     return y
+
+
+def _grouped_terms(act: np.ndarray, J: np.ndarray, n_terms: int,
+                   aggregation: Aggregation) -> tuple[np.ndarray, np.ndarray]:
+    """(alpha (N, T), term ids (T,)): each term's activations over the rules concluding it,
+    folded with the aggregation's s-norm (SUM: added), -1 for a term no rule concludes."""
+    snorm = aggregation_snorm(aggregation)
+    alpha = np.zeros((act.shape[0], n_terms))
+    ids = np.full(n_terms, -1)
+    for t in range(n_terms):
+        rules = np.flatnonzero(J == t)
+        if rules.size:
+            ids[t] = t
+            alpha[:, t] = act[:, rules].sum(axis=1) if snorm is None else \
+                combine([act[:, r] for r in rules], snorm, False)
+    return alpha, ids
 
 
 def _exact_inverse(kinds, params, w, lo, hi) -> np.ndarray:

@@ -251,6 +251,9 @@ class Defuzzifier(IntEnum):
     # sum grouped per term as CENTER_OF_AREA groups the weighted average (pyfuzzylite 8's
     # WeightedSum with an aggregation; fuzzylite 6 sums over the rules: WEIGHTED_SUM)
     GROUPED_SUM = 9
+    # sum_r act_r z_r over the firing rules, z_r as for TSUKAMOTO (no division; the default
+    # where none fires): fuzzylite's WeightedSum over monotonic terms
+    TSUKAMOTO_SUM = 10
 
 
 PIECEWISE_LINEAR = (TermKind.TRAPEZOID, TermKind.SINGLETON)

@@ -257,6 +257,9 @@ DEFUZZIFIERS: dict[Defuzzifier, DefuzzifierOp] = {
                                             family="peaks"),
     Defuzzifier.TSUKAMOTO: DefuzzifierOp("tsukamoto", crisp.safe_ratio, False,
                                          "WeightedAverage", family="inverse"),
+    # fuzzylite's WeightedSum over monotonic terms (the Tsukamoto values summed, not averaged)
+    Defuzzifier.TSUKAMOTO_SUM: DefuzzifierOp("tsukamoto_sum", crisp.weighted_sum, False,
+                                             "WeightedSum", family="inverse"),
     # pyfuzzylite 8's WeightedSum with an aggregation (FLL writes WeightedSum and the
     # aggregation); no FCL, FIS or C emission (fuzzylite 6's COGSS ignores ACCU)
     Defuzzifier.GROUPED_SUM: DefuzzifierOp("grouped_sum", crisp.weighted_sum, False,

@@ -50,8 +50,8 @@ def beyond_proofs(rb: RuleBase) -> str | None:
     if rb.conditions:
         return f"no proof method for nested conditions ({rb.nested_rules()})"
     chosen = [rb.inference_of(o) for o in range(len(rb.outputs))] or [inf]
-    if any(c.defuzzifier == Defuzzifier.TSUKAMOTO for c in chosen):
-        return "no proof method for the tsukamoto defuzzifier"
+    if any(DEFUZZIFIERS[c.defuzzifier].family == "inverse" for c in chosen):
+        return "no proof method for the tsukamoto defuzzifiers"
     if inf.implication not in EXACT_IMPLICATIONS or \
             any(c.aggregation in FOLDED for c in chosen):
         return (f"no proof method for implication = {inf.implication.name.lower()}, "

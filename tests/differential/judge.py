@@ -8,7 +8,7 @@ from pathlib import Path
 
 import numpy as np
 
-from . import tools
+from . import tools, toolbugs
 from .compare import TOOLS, Ours, disagreeing_rows, ours, tolerances, worst
 from .render import SUFFIX, render
 from .spec import System
@@ -45,16 +45,20 @@ def judge(tool_key: str, systems: list[System], xs: list[np.ndarray],
         results = tools.run(tool, [(paths[k], xs[k], [v.name for v in systems[k].inputs],
                                     [v.name for v in systems[k].outputs]) for k in wanted])
         by_index = dict(zip(wanted, results))
-        return [_verdict(systems[k], paths[k], xs[k], mine[k], by_index.get(k))
+        return [_verdict(systems[k], paths[k], xs[k], mine[k], by_index.get(k), tool_key)
                 for k in range(len(systems))]
 
 
-def _verdict(system: System, path: Path, x: np.ndarray, mine: Ours, tool_y) -> Verdict:
+def _verdict(system: System, path: Path, x: np.ndarray, mine: Ours, tool_y,
+             tool_key: str = "") -> Verdict:
+    """The file's class; a tool error or disagreement that a known tool bug explains (with
+    its evidence, differential.toolbugs) is a tool error saying so."""
     text = path.read_text()
     if mine.status != "imported":
         return Verdict(mine.status, mine.message, text, x)
     if isinstance(tool_y, Exception):
-        return Verdict("tool-error", str(tool_y), text, x)
+        bug = toolbugs.explain_error(tool_key, str(tool_y), path, x)
+        return Verdict("tool-error", bug or str(tool_y), text, x)
     order = [system.outputs.index(next(v for v in system.outputs if v.name == n))
              for n in mine.outputs]
     spans = np.array([system.outputs[o].hi - system.outputs[o].lo for o in order])
@@ -62,5 +66,10 @@ def _verdict(system: System, path: Path, x: np.ndarray, mine: Ours, tool_y) -> V
     tool_y = tool_y[:, [[v.name for v in system.outputs].index(n) for n in mine.outputs]]
     far = worst(mine.y, tool_y, tolerance)
     status = "agree" if far <= 1 else "disagree"
+    bug = toolbugs.explain_disagreement(tool_key, toolbugs.input_terms(system), x, mine.y, tool_y, tolerance,
+                                        disagreeing_rows(mine.y, tool_y, tolerance)) \
+        if status == "disagree" else None
+    if bug:
+        return Verdict("tool-error", bug, text, x, mine.y, tool_y, tolerance, far)
     return Verdict(status, f"{far:.3g} tolerances apart", text, x, mine.y, tool_y, tolerance,
                    far)

@@ -427,8 +427,9 @@ class RulesBuilder:
 
     def _check_linear_terms(self, v: LinguisticVar, n_inputs: int, inference: Inference) -> None:
         for name, kind, params, loc in v.terms:
-            if inference.defuzzifier == Defuzzifier.TSUKAMOTO and not monotonic(kind, params):
-                self.error(loc, f"tsukamoto needs monotonic output terms (shoulders, sigmoid, "
+            if inference.defuzzifier in (Defuzzifier.TSUKAMOTO, Defuzzifier.TSUKAMOTO_SUM) \
+                    and not monotonic(kind, params):
+                self.error(loc, f"{inference.defuzzifier.name.lower()} needs monotonic output terms (shoulders, sigmoid, "
                                 f"sshape, zshape, concave) or singletons; `{name}` is neither")
             if kind != TermKind.LINEAR:
                 continue

@@ -1,0 +1,102 @@
+"""Known bugs of the tools, recognised with evidence: a file the tool gets wrong is no
+agreement and no disagreement of fuzzyc's, but a tool error whose message names the bug and the
+rows it explains (`explain`).  A bug is claimed only where its evidence holds on every row in
+question; anything else stays a disagreement.
+
+- pyfuzzylite 8.0.6, SemiEllipse.membership (term.py): sqrt(r^2 - (x - c)^2) / r on
+  [start, end]; at an end x - c rounds past r, the square root of a negative number is NaN,
+  and the NaN membership makes the output NaN (the semi-ellipse is 0 at its ends: fuzzylite 6
+  and fuzzyc give the number).
+- Octave fuzzy-logic-toolkit 0.4.6, defuzzify_output_sugeno.m: where no rule fires for a
+  Sugeno output, aggregate_output_sugeno.m removes every 0-height singleton and
+  `next_agg_output(1, :)` indexes the empty matrix: evalfis fails for the whole input matrix
+  ("out of bound 0 (dimensions are 0x0)"), where MATLAB gives the output's default.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from fuzzyc.formats import load_any
+from fuzzyc.formats.tool_semantics import Chain, fired, octave_activations
+
+OCTAVE_EMPTY_SUGENO = "next_agg_output(1,_): out of bound 0"
+
+
+def input_terms(system) -> list[tuple[str, list[tuple[str, list[float]]]]]:
+    """A spec System's inputs as (name, [(shape, params)])."""
+    return [(v.name, [(t.shape, list(t.params)) for t in v.terms]) for v in system.inputs]
+
+
+def fll_input_terms(text: str) -> list[tuple[str, list[tuple[str, list[float]]]]]:
+    """The same read off an FLL file (a kept case)."""
+    inputs, current = [], None
+    for line in text.splitlines():
+        words = line.split()
+        if line.startswith("InputVariable:"):
+            current = (words[1], [])
+            inputs.append(current)
+        elif not line.startswith(" "):
+            current = None
+        elif current is not None and words[:1] == ["term:"]:
+            current[1].append((words[2], [float(w) for w in words[3:]]))
+    return inputs
+
+
+def _semi_ellipse_nan(inputs, x_row: np.ndarray) -> str | None:
+    """The first input at a SemiEllipse end where pyfuzzylite's formula gives NaN."""
+    for i, (name, terms) in enumerate(inputs):
+        v = float(x_row[i])
+        for shape, params in terms:
+            if shape != "SemiEllipse":
+                continue
+            s, e = min(params[:2]), max(params[:2])
+            r = (e - s) / 2
+            c = s + r
+            with np.errstate(invalid="ignore"):
+                if s <= v <= e and np.isnan(np.sqrt(r ** 2 - np.square(v - c)) / r):
+                    return f"{name} = {v!r} at an end of SemiEllipse {s:g} {e:g}"
+    return None
+
+
+def explain_disagreement(tool_key: str, inputs, x: np.ndarray, ours: np.ndarray,
+                         tool: np.ndarray, tolerance: np.ndarray, rows: np.ndarray) -> str | None:
+    """The tool bug that explains every disagreeing row (each output apart there is NaN in
+    the tool only, and the bug's evidence holds at the row), or None.  `inputs`: the file's
+    inputs as (name, [(shape, params)]) (`input_terms`, `fll_input_terms`)."""
+    if tool_key != "pyfuzzylite-fll" or not len(rows):
+        return None
+    evidence = []
+    for r in rows:
+        with np.errstate(invalid="ignore"):
+            apart = ~((np.abs(ours[r] - tool[r]) <= tolerance)
+                      | (np.isnan(ours[r]) & np.isnan(tool[r])))
+        nan_only_there = np.isnan(tool[r]) & ~np.isnan(ours[r])
+        where = _semi_ellipse_nan(inputs, x[r]) if np.all(nan_only_there[apart]) else None
+        if where is None:
+            return None
+        evidence.append(where)
+    return (f"pyfuzzylite 8 bug: SemiEllipse membership NaN at its end (sqrt of a negative "
+            f"r^2 - (x - c)^2 by rounding) on {len(rows)} row(s), e.g. {evidence[0]}; "
+            "the other rows agree")
+
+
+def explain_error(tool_key: str, message: str, path, x: np.ndarray) -> str | None:
+    """The tool bug behind a tool error, with its evidence, or None."""
+    if tool_key != "octave-fis" or OCTAVE_EMPTY_SUGENO not in message:
+        return None
+    try:
+        blocks = Chain(load_any(path)).blocks
+    except Exception:   # noqa: BLE001 -- no evidence, no claim
+        return None
+    if len(blocks) != 1:
+        return None
+    rb = blocks[0]
+    silent = ~fired(rb, x, octave_activations)
+    sugeno = rb.inference.defuzzifier.name in ("WEIGHTED_AVERAGE", "WEIGHTED_SUM",
+                                               "CENTER_OF_AREA")
+    if not (sugeno and silent.any()):
+        return None
+    row = int(np.flatnonzero(silent.any(axis=1))[0])
+    return (f"Octave toolkit bug: evalfis fails where no rule fires for a Sugeno output "
+            f"(defuzzify_output_sugeno.m indexes the empty aggregate; "
+            f"{int(silent.any(axis=1).sum())} of {len(x)} rows fire nothing, e.g. row {row})")

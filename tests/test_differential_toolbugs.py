@@ -1,0 +1,88 @@
+"""The tool bugs the differential fuzzer recognises (tests/differential/toolbugs.py): each
+claimed only with its evidence, each reproduced on a hand-written file against the live tool
+(skipped where the tool is not installed), and a disagreement without the evidence left one."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.differential import toolbugs, tools
+from tests.differential.compare import disagreeing_rows, ours
+
+FILES = Path(__file__).resolve().parent / "differential" / "toolbug_files"
+SEMI = FILES / "pyfuzzylite_semiellipse_end.fll"
+EMPTY = FILES / "octave_empty_sugeno.fis"
+OCTAVE_ERROR = "next_agg_output(1,_): out of bound 0 (dimensions are 0x0)"
+
+
+def _semi_case():
+    # x at the semi-ellipse's start, inside, at its end (10.99: r^2 - (x - c)^2 < 0 there)
+    x = np.array([[7.651], [9.0], [10.99]])
+    got = ours(SEMI, x, "pyfuzzylite")
+    assert got.status == "imported", got.message
+    return x, got.y
+
+
+def test_semi_ellipse_end_by_hand():
+    x, y = _semi_case()
+    # the semi-ellipse is 0 at its ends: `not half` fires 1 alone, y = 2 (the Constant low)
+    assert y[2, 0] == pytest.approx(2.0)
+    tool = y.copy()
+    tool[2, 0] = np.nan                     # what pyfuzzylite 8.0.6 gives there (live below)
+    tolerance = np.array([1e-6 * 10])
+    rows = disagreeing_rows(y, tool, tolerance)
+    assert rows.tolist() == [2]
+    why = toolbugs.explain_disagreement("pyfuzzylite-fll", toolbugs.fll_input_terms(
+        SEMI.read_text()), x, y, tool, tolerance, rows)
+    assert why.startswith("pyfuzzylite 8 bug: SemiEllipse membership NaN at its end")
+    assert "x = 10.99" in why
+
+
+def test_semi_ellipse_bug_not_claimed_without_its_evidence():
+    x, y = _semi_case()
+    tolerance = np.array([1e-5])
+    inside = y.copy()
+    inside[1, 0] = np.nan                   # NaN at 9.0, inside the term: no evidence
+    assert toolbugs.explain_disagreement("pyfuzzylite-fll", toolbugs.fll_input_terms(
+        SEMI.read_text()), x, y, inside, tolerance, disagreeing_rows(y, inside, tolerance)) \
+        is None
+    number = y.copy()
+    number[2, 0] = 5.0                      # a number, not NaN, at the end: a disagreement
+    assert toolbugs.explain_disagreement("pyfuzzylite-fll", toolbugs.fll_input_terms(
+        SEMI.read_text()), x, y, number, tolerance, disagreeing_rows(y, number, tolerance)) \
+        is None
+
+
+def test_semi_ellipse_end_live():
+    why = tools.available("pyfuzzylite")
+    if why:
+        pytest.skip(why)
+    x, y = _semi_case()
+    (tool,) = tools.run("pyfuzzylite", [(SEMI, x, ["x"], ["y"])])
+    assert not isinstance(tool, Exception), tool
+    assert np.isnan(tool[2, 0]) and np.allclose(tool[:2], y[:2])
+
+
+def test_octave_empty_sugeno_by_hand():
+    # x = 5 lies in no term: no rule fires; x = 1 and 8 fire one rule each
+    x = np.array([[1.0], [5.0], [8.0]])
+    got = ours(EMPTY, x, "octave")
+    assert got.status == "imported" and got.y[:, 0].tolist() == pytest.approx([0.2, 0.5, 0.9])
+    why = toolbugs.explain_error("octave-fis", OCTAVE_ERROR, EMPTY, x)
+    assert why.startswith("Octave toolkit bug: evalfis fails where no rule fires")
+    assert "1 of 3 rows fire nothing, e.g. row 1" in why
+    # the same error where every row fires something is not this bug
+    assert toolbugs.explain_error("octave-fis", OCTAVE_ERROR, EMPTY, x[[0, 2]]) is None
+    assert toolbugs.explain_error("octave-fis", "some other error", EMPTY, x) is None
+
+
+def test_octave_empty_sugeno_live():
+    why = tools.available("octave")
+    if why:
+        pytest.skip(why)
+    fails, works = tools.run("octave", [(EMPTY, np.array([[1.0], [5.0], [8.0]]), ["x"], ["y"]),
+                                        (EMPTY, np.array([[1.0], [3.0], [8.0]]), ["x"], ["y"])])
+    assert isinstance(fails, Exception) and OCTAVE_ERROR in str(fails)
+    assert np.allclose(works[:, 0], [0.2, 0.2, 0.9])
