@@ -98,6 +98,12 @@ def check_surface(fig) -> None:
     check_figure(fig)
     surface, bar = fig.axes                # the 3D axes and its colour bar
     assert bar.get_ylabel() == surface.get_zlabel()
+    width, height = fig.get_size_inches()
+    assert width >= 7 and height >= 5      # matplotlib's 6.4 x 4.8 crammed the 3D labels
+    for axis, (lo, hi) in ((surface.xaxis, surface.get_xlim()),
+                           (surface.yaxis, surface.get_ylim())):
+        ticks = [t for t in axis.get_majorticklocs() if min(lo, hi) <= t <= max(lo, hi)]
+        assert 2 <= len(ticks) <= 6, ticks  # a physical input's 4-digit ticks ran together
 
 
 MODELS = ["wedm_three_region.fz", "wedm_corner.fz", "milling_neurofuzzy.fz", "edm_sink_gap.fz",
@@ -161,7 +167,26 @@ def test_simulation_traces(scenario, settings):
     baseline = [line for line in top.lines if line.get_color() == "C1"]
     assert min(line.get_zorder() for line in fuzzy) > max(line.get_zorder() for line in baseline)
     assert all(line.get_alpha() < 1 for line in baseline)
+    assert (max(line.get_linewidth() for line in baseline)
+            < min(line.get_linewidth() for line in fuzzy))        # and thinner
+    # drawn in zorder: every fuzzy line after (above) every baseline line
+    order = sorted(top.get_children(), key=lambda artist: artist.get_zorder())
+    assert max(map(order.index, baseline)) < min(map(order.index, fuzzy))
     assert fig.axes[-1].get_xlim() == (sim.trace.time[0], sim.trace.time[-1])
+
+
+def test_corner_path_time_axis_ends_with_the_path():
+    """The corner scenario runs 12,600 s (the slowest row of Table 4) while its default row's
+    path is done at 3,078 s: the axis ends there, with the path, not 9,500 s of flat lines."""
+    sim = fuzzyc.simulate("corner_path")
+    fig = fuzzyc.plot(sim)["trace"]
+    check_figure(fig)
+    done = sim.trace["done"][:, 0] > 0
+    end = float(sim.trace.time[np.argmax(done)])
+    assert sim.trace.time[-1] == pytest.approx(12600)
+    assert fig.axes[-1].get_xlim() == pytest.approx((sim.trace.time[0], end))
+    assert 3000 < end < 3200
+    assert max(max(line.get_xdata()) for ax in fig.axes for line in ax.lines) <= end
 
 
 def test_trace_time_axis_ends_where_the_plant_is_done():
