@@ -60,9 +60,12 @@ FIXED = ("q15", "q31")
 # The headers the back ends refuse to write, with words of the diagnostic; every other file
 # and kind is proved.  Fixed point takes plain AND rules over two-active-term trapezoid
 # partitions with center of area or weighted sums; float C takes min/product, max/probsum
-# and no z/s-shapes; one rule block per header.
+# and no z/s-shapes; the LUT one rule block per header.
 REFUSED = {
-    "blocks_mamdani_sugeno.fll": (KINDS, "2 rule blocks"),
+    # C takes several blocks, not z's own defuzzifier (nor centroid in fixed point); the
+    # lookup table takes one block
+    "blocks_mamdani_sugeno.fll": (KINDS, "2 rule blocks|output `z` has its own|`centroid` is "
+                                         "not supported"),
     "blocks_tipper_fan.fcl::fan": (FIXED, "`centroid` is not supported"),
     "ramp.fll": (FIXED, "`bisector` is not supported"),
     "shapes_tsk.fll": (("float", "double", *FIXED), "einstein_product"),

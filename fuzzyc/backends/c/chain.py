@@ -28,8 +28,9 @@ class CChain:
     prefix `p` (`p`clamp), rule-base sizes with `P`, names spelled by `symbol`."""
 
     def __init__(self, model: Model, real: RealType, p: str, P: str,
-                 symbol: Callable[[str], str]):
+                 symbol: Callable[[str], str], blocks: list[tuple[str, str]]):
         self.model, self.real, self.p, self.P, self.symbol = model, real, p, P, symbol
+        self.blocks = blocks          # per rule block, the prefixes of its rulebase and sizes
         self.lit, self.t = real.lit, real.name
         self.printer = ExprPrinter(real, symbol, p)
         self.code: list[str] = []
@@ -138,12 +139,19 @@ class CChain:
     # -- the rule base and the outputs ----------------------------------------------------------
 
     def rule_blocks(self) -> None:
-        t, P, rb, symbol = self.t, self.P, self.model.rulebase, self.symbol
-        self.code += [f"{t} x[{P}N_RB_INPUTS], y[{P}N_RB_OUTPUTS];"]
-        self.code += [f"{t} {symbol(o.name)};" for o in self.model.outputs]
-        self.code += [f"x[{i}] = {symbol(v.name)};" for i, v in enumerate(rb.inputs)]
-        self.code += [f"{self.p}rulebase(x, y);"]
-        self.code += [f"const {t} {symbol(v.name)} = y[{o}];" for o, v in enumerate(rb.outputs)]
+        """Each block in order: its inputs (signals, steps or earlier blocks' outputs) into
+        x, its rulebase, its outputs named; x and y numbered where there are several."""
+        t, symbol = self.t, self.symbol
+        many = len(self.blocks) > 1
+        for k, (rb, (p, P)) in enumerate(zip(self.model.blocks, self.blocks)):
+            x, y = (f"x{k}", f"y{k}") if many else ("x", "y")
+            self.code += [f"{t} {x}[{P}N_RB_INPUTS], {y}[{P}N_RB_OUTPUTS];"]
+            if k == 0:
+                self.code += [f"{t} {symbol(o.name)};" for o in self.model.outputs]
+            self.code += [f"{x}[{i}] = {symbol(v.name)};" for i, v in enumerate(rb.inputs)]
+            self.code += [f"{p}rulebase({x}, {y});"]
+            self.code += [f"const {t} {symbol(v.name)} = {y}[{o}];"
+                          for o, v in enumerate(rb.outputs)]
 
     @staticmethod
     def limits(o) -> tuple[float, float]:

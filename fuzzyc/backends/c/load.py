@@ -46,6 +46,9 @@ void {entry}_step({name}_state *s, int n, const double *in, double *out) {{
         for (k = 0; k < {n_out}; ++k) out[b * {n_out} + k] = (double)y[k];
     }}
 }}
+"""
+# the bare rule base, where the model has one rule block (the header's NAME_rulebase)
+SHIM_RULEBASE = """\
 void {entry}_rulebase(int n, const double *in, double *out) {{
     int b, k;
     for (b = 0; b < n; ++b) {{
@@ -136,7 +139,8 @@ def shim_prefix(model: Model) -> str:
 def controller_sources(model: Model, numeric: str) -> dict[str, str]:
     """The files CController compiles: NAME.h and the batch shim, shim.c, that includes it."""
     name = c_identifier(model.name)
-    shim = SHIM.format(name=name, P=name.upper() + "_", real=REAL_OF[numeric],
+    text = SHIM + (SHIM_RULEBASE if len(model.blocks) == 1 else "")
+    shim = text.format(name=name, P=name.upper() + "_", real=REAL_OF[numeric],
                        entry=shim_prefix(model),
                        n_in=len(model.signals), n_out=len(model.outputs))
     return {f"{name}.h": c_backend.generate_header(model, numeric), "shim.c": shim}
@@ -152,11 +156,12 @@ class CController:
         self.output_names = [o.name for o in model.outputs]
         path = compile_shared(controller_sources(model, numeric), "shim.c")
         lib, entry = ctypes.CDLL(str(path)), shim_prefix(model)
-        self._step, self._rulebase, self._init = (getattr(lib, f"{entry}_{f}")
-                                                  for f in ("step", "rulebase", "init"))
+        self._step, self._init = (getattr(lib, f"{entry}_{f}") for f in ("step", "init"))
         dptr = ctypes.POINTER(ctypes.c_double)
         self._step.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr]
-        self._rulebase.argtypes = [ctypes.c_int, dptr, dptr]
+        if len(model.blocks) == 1:    # evaluate() reads model.rulebase, which refuses several
+            self._rulebase = lib[f"{entry}_rulebase"]
+            self._rulebase.argtypes = [ctypes.c_int, dptr, dptr]
         self._init.argtypes = [ctypes.c_void_p, ctypes.c_int]
         self._lib = lib
         self._state_size = getattr(lib, f"{entry}_state_size")()

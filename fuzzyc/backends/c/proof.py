@@ -95,7 +95,7 @@ def header_for(model: Model, kind: str) -> tuple[str, str]:
 def harness(model: Model, kind: str, header_name: str) -> tuple[str, list[str]]:
     """(the C main EVA analyses, the claims its assertions make)."""
     name = c_identifier(model.name)
-    rb = model.rulebase
+    rb = model.blocks[0]      # the lookup table takes one block (it refuses several)
     lines = ['#include "__fc_builtin.h"', f'#include "{header_name}"', "int main(void) {"]
     claims = []
     if kind == "lut":
@@ -109,9 +109,13 @@ def harness(model: Model, kind: str, header_name: str) -> tuple[str, list[str]]:
         p = f"{name}_" if kind in FLOATING else f"{name}_{kind}_"
         P = p.upper()
         io = {"q15": "int16_t", "q31": "int32_t"}.get(kind, kind)
+        # each rule block's bare rulebase on any input too (NAME_bK_ in a header of several)
+        blocks = [(p, P)] if len(model.blocks) == 1 else \
+            [(f"{p}b{k}_", f"{P}B{k}_") for k in range(len(model.blocks))]
         lines += [f"    {p}state s;",
                   f"    {io} in[{P}N_SIGNALS], out[{P}N_OUTPUTS];",
-                  f"    {io} x[{P}N_RB_INPUTS], y[{P}N_RB_OUTPUTS];",
+                  *(f"    {io} x{k}[{bP}N_RB_INPUTS], y{k}[{bP}N_RB_OUTPUTS];"
+                    for k, (_, bP) in enumerate(blocks)),
                   f"    {p}init(&s);",
                   "    while (Frama_C_nondet(0, 1)) {",
                   "        Frama_C_make_unknown((char *)in, sizeof in);",
@@ -120,14 +124,17 @@ def harness(model: Model, kind: str, header_name: str) -> tuple[str, list[str]]:
             lo, hi = _output_bounds(o, kind)
             finite = f"\\is_finite(out[{k}]) && " if kind in FLOATING else ""
             lines.append(f"        /*@ assert {finite}{lo} <= out[{k}] <= {hi}; */")
-        lines += ["    }",
-                  "    Frama_C_make_unknown((char *)x, sizeof x);",
-                  f"    {p}rulebase(x, y);"]
+        lines.append("    }")
+        for k, (bp, _) in enumerate(blocks):
+            lines += [f"    Frama_C_make_unknown((char *)x{k}, sizeof x{k});",
+                      f"    {bp}rulebase(x{k}, y{k});"]
         if kind not in FLOATING:
             from ..c_fixed.header import FORMATS
             full = FORMATS[kind][1]
-            lines += [f"    /*@ assert 0 <= y[{o}] <= {full}; */" for o in range(len(rb.outputs))]
-            claims.append(f"the bare rule base's outputs stay in [0, {full}]")
+            lines += [f"    /*@ assert 0 <= y{k}[{o}] <= {full}; */"
+                      for k, block in enumerate(model.blocks) for o in range(len(block.outputs))]
+            claims.append(f"the bare rule base's outputs stay in [0, {full}]"
+                          + (" (each block's)" if len(blocks) > 1 else ""))
         inputs = "any bit pattern of every input (NaN, +-inf)" if kind in FLOATING else \
             f"any {io} input"
         claims.insert(0, f"after any number of steps on {inputs} every chain output is "

@@ -331,11 +331,13 @@ class FixedChain:
             self.code.append(self.bind(s.name, value)[0])
 
     def rulebase_io(self, rb, full: int, rb_prefix: str, input_guard: int,
-                    guards: list[int]) -> list[str]:
+                    guards: list[int], suffix: str = "") -> list[str]:
         """Scale the rule-base inputs to [0, FULL] at 2^-input_guard of an LSB, call the wide
         rule base (so the chain does not round its inputs and outputs to the I/O LSB), read
-        its outputs (output o at 2^-guards[o] of an LSB)."""
-        code = [f"int64_t xg[{len(rb.inputs)}], yw[{len(rb.outputs)}];"]
+        its outputs (output o at 2^-guards[o] of an LSB); xg and yw carry `suffix` (the
+        block's number where a header has several)."""
+        xg, yw = f"xg{suffix}", f"yw{suffix}"
+        code = [f"int64_t {xg}[{len(rb.inputs)}], {yw}[{len(rb.outputs)}];"]
         input_errors = []     # in LSBs of the I/O scale, None where the engine is not clamped
         for i, var in enumerate(rb.inputs):
             self.where = f"the rule-base input `{var.name}`"
@@ -351,9 +353,9 @@ class FixedChain:
             input_errors.append(err / 2.0 ** input_guard if inside else None)
             shifted = f"(int64_t)({x.code} - {self.const(var.lo, x.frac)}) * " \
                       f"{self.const(gain, cf)}"
-            code.append(f"xg[{i}] = {self.p}sat({self.rescale(shifted, x.frac + cf, 0)}, "
+            code.append(f"{xg}[{i}] = {self.p}sat({self.rescale(shifted, x.frac + cf, 0)}, "
                         f"0, INT64_C({full << input_guard}));")
-        code.append(f"{rb_prefix}rulebase_wide(xg, yw);")
+        code.append(f"{rb_prefix}rulebase_wide({xg}, {yw});")
         rb_errors = None
         if self.rulebase_error is not None and None not in input_errors:
             rb_errors = self.rulebase_error(input_errors)     # fractions of the ranges
@@ -361,7 +363,7 @@ class FixedChain:
             # at most 31 bits, as every chain value (so the scaling product fits in int64)
             drop = max(0, (full << guards[o]).bit_length() - CHAIN_BITS)
             top = float(full << guards[o]) / 2.0 ** drop
-            raw = f"{self.p}shr(yw[{o}], {drop})" if drop else f"yw[{o}]"
+            raw = f"{self.p}shr({yw}[{o}], {drop})" if drop else f"{yw}[{o}]"
             raw_err = math.inf if rb_errors is None else \
                 rb_errors[o] * top + (0.5 if drop else 0.0)
             y = self.add([self.scale(Fx(raw, 0, 0.0, top, raw_err), (var.hi - var.lo) / top),

@@ -289,7 +289,7 @@ def output_guard(tables: FixedTables, o: int, numeric: str) -> int:
 
 
 def derived_error_bound(model: Model, numeric: str, input_error=None,
-                        wide: bool = False) -> np.ndarray | None:
+                        wide: bool = False, block: int | None = None) -> np.ndarray | None:
     """Per rule-base output, a worst-case |C - engine| as a fraction of its range, derived from
     the arithmetic (the engine at the dequantized input, clipped to the output's range), or
     None where the argument below does not apply (weights with a ratio defuzzifier, weights
@@ -297,7 +297,8 @@ def derived_error_bound(model: Model, numeric: str, input_error=None,
     more than MAX_DERIVED_CELLS cells).  With `input_error` (per
     input, in LSBs of the I/O scale) the C's inputs are that far from the engine's, which moves
     each membership by at most that over the C's narrowest piece; `wide` bounds
-    NAME_rulebase_wide, whose result keeps the guard bits (no final rounding to the LSB):
+    NAME_rulebase_wide, whose result keeps the guard bits (no final rounding to the LSB);
+    `block` names the rule block of a model of several (None: the model's one rule base):
 
     - a membership of a piece of scaled width w (input LSBs; anchor, width and break point
       rounded to r = 0.5 2^-GI LSB, GI the input guard bits; each also moved by m LSB where
@@ -324,7 +325,7 @@ def derived_error_bound(model: Model, numeric: str, input_error=None,
       and the rounding of the wide result), the final rounding 0.5 / FULL; the saturation to
       the range only brings C nearer the clipped engine.
     """
-    rb = model.rulebase
+    rb = model.rulebase if block is None else model.blocks[block]
     try:
         tables = FixedTables(rb, numeric)
     except FuzzycError:
@@ -409,8 +410,14 @@ def _ints(values) -> str:
 
 
 class FixedPointWriter:
-    def __init__(self, model: Model, numeric: str):
-        self.model, self.rb, self.numeric = model, model.rulebase, numeric
+    def __init__(self, model: Model, numeric: str, block: int | None = None):
+        """The writer of the whole header (block None), or of rule block `block`'s part of
+        it: its tables, helpers, NAME_bK_rulebase_wide and NAME_bK_rulebase, named with the
+        prefix NAME_q15_bK_; the header's chain calls each block's in order."""
+        self.model, self.numeric, self.block = model, numeric, block
+        self.block_writers = [] if block is not None or len(model.blocks) == 1 else \
+            [FixedPointWriter(model, numeric, k) for k in range(len(model.blocks))]
+        self.rb = model.blocks[block or 0]
         self.io, self.full, self.mf = FORMATS[numeric]
         rb = self.rb
         check_supported(rb)   # what the float back end cannot emit, fixed point cannot either
@@ -433,12 +440,15 @@ class FixedPointWriter:
             raise _fail(f"the {numeric} back end cannot hold the defuzzifier's numerator in "
                         f"int64: {self.tables.candidates} rules x weight x peak x 2^{self.mf} "
                         f"exceeds 2^63")
-        check_c_model_names(model)
+        if block is None:
+            check_c_model_names(model)
         self.name = c_identifier(model.name)
-        self.p, self.P = f"{self.name}_{numeric}_", f"{self.name.upper()}_{numeric.upper()}_"
+        part = "" if block is None else f"b{block}_"
+        self.p = f"{self.name}_{numeric}_{part}"
+        self.P = self.p.upper()
 
     def derived_text(self) -> str:
-        bound = derived_error_bound(self.model, self.numeric)
+        bound = derived_error_bound(self.model, self.numeric, block=self.block)
         if bound is None:
             return ("not derived (weights with a ratio defuzzifier, weights <= 0, an input "
                     "point where no rule concludes an output, a rounding that can outweigh "
@@ -486,31 +496,43 @@ class FixedPointWriter:
 
     def header(self) -> str:
         guard = f"FUZZYC_{self.name.upper()}_{self.numeric.upper()}_H"
-        which = self.distinct_inputs()
         out = [*self.comment(), f"#ifndef {guard}", f"#define {guard}", "",
-               "#include <stdint.h>", "", *self.macros()]
-        out += [line for i, k in enumerate(which) if k == i
-                for line in self.input_tables(i, self.tables.partitions[i], self.rb.inputs[i])]
-        out += self.rule_tables() + self.peak_tables()
-        out += helper_lines(self.p, self.P)
-        out += self.rulebase_wide(which) + self.rulebase_io()
+               "#include <stdint.h>", ""]
+        if self.block_writers:       # the chain's helpers, then each block under its prefix
+            out += self.format_macros() + [""] + helper_lines(self.p, self.P)
+            for k, w in enumerate(self.block_writers):
+                out += ["", f"/* Rule block {k}: {c_comment(w.rb.name)}. */", *w.rule_base()]
+        else:
+            out += self.rule_base()
         out += self.chain()
         out += ["", f"#endif /* {guard} */", ""]
         return "\n".join(out)
 
+    def rule_base(self) -> list[str]:
+        """This rule base's macros, tables, helpers, NAME_rulebase_wide and NAME_rulebase."""
+        which = self.distinct_inputs()
+        out = self.macros()
+        out += [line for i, k in enumerate(which) if k == i
+                for line in self.input_tables(i, self.tables.partitions[i], self.rb.inputs[i])]
+        out += self.rule_tables() + self.peak_tables()
+        out += helper_lines(self.p, self.P)
+        return out + self.rulebase_wide(which) + self.rulebase_io()
+
     def comment(self) -> list[str]:
         """The header's opening comment: scaling, the stated and derived error bounds."""
-        rb, m = self.rb, self.model
+        m = self.model
+        variables = list({v.name: v for rb in m.blocks for v in (*rb.inputs, *rb.outputs)}
+                         .values())
         return ["/*",
                 f" * {self.name}_{self.numeric}.h - generated by fuzzyc from "
                 f"{c_comment(m.source_path or '(built in memory)')}",
                 f" * source hash (sha256, first 16 hex): {m.source_hash}",
                 f" * numeric: {self.numeric} (integer arithmetic only, saturating)",
-                f" * inference: {rb.inference.describe()}",
+                *self.blocks_comment(),
                 " * Scaling: xq = round((x - lo) / (hi - lo) * FULL), FULL = "
                 f"{self.full}, y = lo + yq / FULL * (hi - lo), with",
                 " *   " + "; ".join(f"{c_comment(v.name)} [{v.lo:g}, {v.hi:g}]"
-                                    for v in rb.inputs + rb.outputs),
+                                    for v in variables),
                 f" * Memberships are fractions of 2^{self.mf}.  Worst-case error against the "
                 f"engine at the dequantized input: {ERROR_BOUND[self.numeric]:.3g} of each "
                 "output's range",
@@ -520,10 +542,27 @@ class FixedPointWriter:
                 "the other inputs).",
                 f" * Activations are integers of 2^-{self.mf}: below half an LSB one is 0 (the "
                 f"engine's floor, {ACTIVATION_FLOOR:g}, lies below that).",
-                " * Derived worst case (membership rounding + exact min/max + rounded "
-                + ("weighted sum" if self.weighted_sum else "COA division") + ", see",
-                " * fuzzyc.backends.c_fixed.header.derived_error_bound): "
-                + self.derived_text() + ".", *self.chain_comment(), " */"]
+                *self.derived_comment(), *self.chain_comment(), " */"]
+
+    def blocks_comment(self) -> list[str]:
+        """The opening comment's inference line, one per rule block where there are several."""
+        if not self.block_writers:
+            return [f" * inference: {self.rb.inference.describe()}"]
+        return [f" * {len(self.block_writers)} rule blocks, evaluated in this order:"] + [
+            f" *   {k}: {c_comment(w.rb.name)} ({w.p}rulebase), inference: "
+            f"{w.rb.inference.describe()}" for k, w in enumerate(self.block_writers)]
+
+    def derived_comment(self) -> list[str]:
+        """The opening comment's derived bound of the bare rule base, or of each block."""
+        lines = []
+        for k, w in enumerate(self.block_writers or [self]):
+            which = f" of block {k}" if self.block_writers else ""
+            lines += [f" * Derived worst case{which} (membership rounding + exact min/max + "
+                      "rounded " + ("weighted sum" if w.weighted_sum else "COA division")
+                      + ", see",
+                      " * fuzzyc.backends.c_fixed.header.derived_error_bound): "
+                      + w.derived_text() + "."]
+        return lines
 
     def chain_comment(self) -> list[str]:
         """The opening comment's lines on the whole chain: measured and derived bounds."""
@@ -543,11 +582,16 @@ class FixedPointWriter:
                 " * after 1 and after 10,000 steps: " + self.chain_text() + ".",
                 " * static inline: self-contained, no heap, no recursion, constant loop bounds."]
 
-    def macros(self) -> list[str]:
-        """FULL, ONE and MF (the helpers' format, see fixed_helpers.c) and the sizes."""
+    def format_macros(self) -> list[str]:
+        """FULL, ONE and MF: the helpers' format (see fixed_helpers.c)."""
         P = self.P
         return [f"#define {P}FULL {self.full}", f"#define {P}ONE {1 << self.mf}",
-                f"#define {P}MF {self.mf}", f"#define {P}N_RB_INPUTS {len(self.rb.inputs)}",
+                f"#define {P}MF {self.mf}"]
+
+    def macros(self) -> list[str]:
+        """The format and the rule base's sizes."""
+        P = self.P
+        return [*self.format_macros(), f"#define {P}N_RB_INPUTS {len(self.rb.inputs)}",
                 f"#define {P}N_RB_OUTPUTS {len(self.rb.outputs)}", ""]
 
     def distinct_inputs(self) -> list[int]:
@@ -602,8 +646,6 @@ class FixedPointWriter:
         chain = FixedChain(m, p)
         chain.io = io
         chain.steps = steps
-        chain.rulebase_error = lambda errors: derived_error_bound(m, self.numeric, errors,
-                                                                  wide=True)
         self.chain_errors = chain.output_errors
         body = []
         for k, sig in enumerate(m.signals):
@@ -613,14 +655,18 @@ class FixedPointWriter:
             body.append(chain.bind(sig.name, v)[0])
         for step in m.steps:
             body += chain.step(step)
-        body += chain.rulebase_io(self.rb, self.full, p, self.tables.input_guard, self.guard)
+        for k, w in enumerate(self.block_writers or [self]):
+            chain.rulebase_error = lambda errors, b=w.block: derived_error_bound(
+                m, self.numeric, errors, wide=True, block=b)
+            body += chain.rulebase_io(w.rb, self.full, w.p, w.tables.input_guard, w.guard,
+                                      str(k) if self.block_writers else "")
         io_max = self.full
         for k, o in enumerate(m.outputs):
             body += chain.output(k, o, io_frac(o.lo, o.hi, self.numeric), io_max)
         # A file may leave signals unused (or have no output at all): no warnings.
         body += [f"(void){chain.symbols[name].code};"
                  for name in [*(g.name for g in m.signals), *(g.name for g in m.steps),
-                              *(v.name for v in self.rb.outputs)]]
+                              *(v.name for rb in m.blocks for v in rb.outputs)]]
         if not m.outputs:
             body += ["(void)s;", "(void)out;"]
         fields, init = chain.state_fields(), chain.init_lines()
