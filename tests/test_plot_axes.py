@@ -123,8 +123,9 @@ def test_model_figures(name):
 
 
 def test_scaled_inputs_are_not_in_the_signals_unit():
-    """e1 = clamp((Yr1 - spark_freq) * GE1, -1, 1): GE1 has no declared unit, so e1's is not
-    kHz (the rule viewer said `e1 [kHz]` on [-1, 1]); milling's e and cf were `[N]`."""
+    """e1 = clamp((Yr1 - spark_freq) * GE1, -1, 1) with GE1 in kHz^-1: e1 is dimensionless, not
+    kHz (the rule viewer said `e1 [kHz]` on [-1, 1]); milling's e and cf (gains declared
+    without a unit: unknown) were `[N]`."""
     wedm = fuzzyc.load(fuzzyc.example("wedm_three_region.fz"))
     assert [v.unit for v in wedm.rulebase.inputs] == [None, None, None]
     milling = fuzzyc.plot(fuzzyc.example("milling_neurofuzzy.fz"))

@@ -65,7 +65,7 @@ def test_rule_viewer_wedm_two_rules():
     du1 = axes[2, 3]
     assert vertical_lines(du1, DEFUZZIFIED_COLOUR) == pytest.approx([0.75])
     assert flat(stems(du1)) == pytest.approx([0.5, 0.5, 1.0, 0.5])
-    # e1 = (Yr1 - spark_freq) * GE1 with a gain of no declared unit: not kHz (issue 30)
+    # e1 = (Yr1 - spark_freq) * GE1 with GE1 in kHz^-1: dimensionless, not kHz (issue 30)
     assert [ax.get_xlabel() for ax in axes[2]] == ["e1 [-]", "e2 [-]", "ce2 [-]", "du1 [-]",
                                                   "du2 [-]"]
     # each rule row: the input marked on every clause, the consequent cut at 0.5

@@ -95,3 +95,17 @@ def test_the_shipped_rule_bases_still_load_with_their_scaled_inputs_unitless():
     for name in ("wedm_three_region", "milling_neurofuzzy", "fopdt_pi"):
         model = fuzzyc.load(ROOT / "rulebases" / f"{name}.fz")
         assert [v.unit for v in model.rulebase.inputs] == [None] * len(model.rulebase.inputs)
+
+
+def test_the_wedm_gain_is_per_khz_so_its_scaled_error_is_checked(tmp_path):
+    """wedm_three_region.fz declares GE1 = 0.25 kHz^-1: declaring e1 in kHz there is an error
+    at its expression (line 33, column 29), as in the issue's rule viewer it was wrongly
+    labelled."""
+    source = (ROOT / "rulebases" / "wedm_three_region.fz").read_text()
+    assert fuzzyc.load(ROOT / "rulebases" / "wedm_three_region.fz").params["GE1"].unit == "kHz^-1"
+    path = tmp_path / "wedm.fz"
+    path.write_text(source.replace("let e1  in", "let e1 : kHz in"))
+    with pytest.raises(fuzzyc.FuzzycError) as caught:
+        fuzzyc.load(path)
+    assert caught.value.diagnostics[0].format().startswith(
+        f"{path}:33:29: error: `e1` is declared in kHz but its expression is in dimensionless")
