@@ -371,10 +371,19 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
         resolution = resolutions(rb, resolution, RESOLUTION[semantics])
         rb = linear_unclamped(fuzzylite_hedges(rb))
         acts = fuzzylite6_activations if semantics == "fuzzylite" else activations
-        if rb.inference.defuzzifier in (Defuzzifier.TSUKAMOTO, Defuzzifier.TSUKAMOTO_SUM):
-            return _tsukamoto(rb, np.atleast_2d(np.asarray(x, dtype=float)),
-                              _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse,
-                              acts, grouped=semantics == "pyfuzzylite")
+        # Tsukamoto outputs by the tool's inverses; an output of its own (FCL's METHOD, FLL's
+        # defuzzifier per output) too, beside outputs of other defuzzifiers
+        inverted = [o for o in range(len(rb.outputs))
+                    if rb.inference_of(o).defuzzifier in TSUKAMOTOS]
+        if inverted:
+            y = _tsukamoto(rb, np.atleast_2d(np.asarray(x, dtype=float)),
+                           _fuzzylite6_inverse if semantics == "fuzzylite" else _exact_inverse,
+                           acts, grouped=semantics == "pyfuzzylite")
+            if len(inverted) == len(rb.outputs):
+                return y
+            others = evaluate_as(_not_inverted(rb), x, semantics, resolution, held)
+            others[:, inverted] = y[:, inverted]
+            return others
         if semantics == "fuzzylite" and _any_center_of_area(rb):
             rb = _over_rules(rb)
         if reads_values(rb):
@@ -417,6 +426,20 @@ def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: list[int]
                                  first_plateau=semantics == "fuzzylite")
         y[:, sampled] = np.where(fired(rb, x)[:, sampled], again[:, sampled], np.nan)
     return y
+
+
+TSUKAMOTOS = (Defuzzifier.TSUKAMOTO, Defuzzifier.TSUKAMOTO_SUM)
+
+
+def _not_inverted(rb: RuleBase) -> RuleBase:
+    """rb with its Tsukamoto outputs read as weighted averages (their columns are replaced by
+    `_tsukamoto`'s): what the other outputs need of the rule base, and no Tsukamoto left."""
+    wa = Defuzzifier.WEIGHTED_AVERAGE
+    inference = rb.inference if rb.inference.defuzzifier not in TSUKAMOTOS else \
+        replace(rb.inference, defuzzifier=wa)
+    choices = {name: (agg, wa if d in TSUKAMOTOS else d)
+               for name, (agg, d) in rb.output_choices.items()}
+    return replace(rb, inference=inference, output_choices=choices)
 
 
 def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse, acts=activations,
