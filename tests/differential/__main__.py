@@ -16,7 +16,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
-from . import cases, tools
+from . import cases, toolbugs, tools
 from .compare import TOOLS
 from .judge import Verdict, judge
 from .shrink import diagnose_all, shrink_all
@@ -57,8 +57,8 @@ def report(key: str, made: list, verdicts: list[Verdict], args) -> list[str]:
     and crashes shrunk, grouped by cause (and kept with --keep)."""
     lines = [f"\n## {key}"]
     for status in ("refused", "crashed", "tool-error"):
-        grouped = collections.Counter(_unplaced(v.message) for v in verdicts
-                                      if v.status == status)
+        grouped = collections.Counter(_unplaced(v.message).split(toolbugs.EVIDENCE)[0]
+                                      for v in verdicts if v.status == status)
         lines += [f"  {status} x{n}: {message}" for message, n in grouped.most_common()]
     found = [(s, x, v) for (s, x), v in zip(made, verdicts)
              if v.status in ("disagree", "crashed")][:args.shrink]

@@ -20,6 +20,7 @@ from fuzzyc.formats import load_any
 from fuzzyc.formats.tool_semantics import Chain, fired, octave_activations
 
 OCTAVE_EMPTY_SUGENO = "next_agg_output(1,_): out of bound 0"
+EVIDENCE = " | evidence: "      # a bug's name, then this file's evidence (grouped on the name)
 
 
 def input_terms(system) -> list[tuple[str, list[tuple[str, list[float]]]]]:
@@ -75,8 +76,8 @@ def explain_disagreement(tool_key: str, inputs, x: np.ndarray, ours: np.ndarray,
         if where is None:
             return None
         evidence.append(where)
-    return (f"pyfuzzylite 8 bug: SemiEllipse membership NaN at its end (sqrt of a negative "
-            f"r^2 - (x - c)^2 by rounding) on {len(rows)} row(s), e.g. {evidence[0]}; "
+    return ("pyfuzzylite 8 bug: SemiEllipse membership NaN at its end (sqrt of a negative "
+            f"r^2 - (x - c)^2 by rounding){EVIDENCE}{len(rows)} row(s), e.g. {evidence[0]}; "
             "the other rows agree")
 
 
@@ -97,6 +98,6 @@ def explain_error(tool_key: str, message: str, path, x: np.ndarray) -> str | Non
     if not (sugeno and silent.any()):
         return None
     row = int(np.flatnonzero(silent.any(axis=1))[0])
-    return (f"Octave toolkit bug: evalfis fails where no rule fires for a Sugeno output "
-            f"(defuzzify_output_sugeno.m indexes the empty aggregate; "
-            f"{int(silent.any(axis=1).sum())} of {len(x)} rows fire nothing, e.g. row {row})")
+    return ("Octave toolkit bug: evalfis fails where no rule fires for a Sugeno output "
+            f"(defuzzify_output_sugeno.m indexes the empty aggregate){EVIDENCE}"
+            f"{int(silent.any(axis=1).sum())} of {len(x)} rows fire nothing, e.g. row {row}")
