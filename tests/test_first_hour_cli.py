@@ -82,6 +82,9 @@ def test_simulate_names_its_back_end_and_runs_a_scheduled_param_in_c(tmp_path):
     base = fuzzyc("simulate", "--scenario", "fopdt_step", "--baseline",
                   "-o", str(tmp_path / "base"))
     assert "controller: baseline; back end: Python (the scenario's baseline);" in base.stdout
+    tool = fuzzyc("simulate", "--scenario", "fopdt_step", "--semantics", "matlab",
+                  "-o", str(tmp_path / "matlab"))
+    assert "; back end: numpy engine, matlab semantics; batch 1;" in tool.stdout
 
 
 def test_scheduled_params_become_inputs_only_for_the_c_back_end():

@@ -204,9 +204,11 @@ def run(args) -> int:
     trace.to_csv(out / "trace.csv", loops=args.csv_loops)
     controller = "baseline" if args.baseline else rulebase_ref(scenario)
     backend = "baseline" if args.baseline else args.backend
+    shown = backend if args.semantics == "exact" or args.baseline else (
+        f"{BACKENDS[backend]}, {args.semantics} semantics")
     text = format_summary(scenario.title, controller, summary, trace,
                           controller_notes(scenario, args.baseline) + own_notes(scenario),
-                          args.batch, backend)
+                          args.batch, shown)
     runs = {"baseline" if args.baseline else "fuzzy": trace}
     compared = None
     if args.compare:
