@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from ..conditions import Cond, Program, premise, program_array
+from ...display import plural
 from ...errors import suggest
 from ...engine.membership import monotonic
 from ...semantics.model import (CondOp, Connective, Defuzzifier, Hedge, Inference,
@@ -327,12 +328,12 @@ class RulesBuilder:
         rows = list(lines.values())
         for row in rows:
             if len(row) != n_cols:
-                self.error(row[0].loc, f"this table row has {len(row)} cells; the table declares "
-                                       f"{n_cols} columns")
+                self.error(row[0].loc, f"this table row has {plural(len(row), 'cell')}; the "
+                                       f"table declares {plural(n_cols, 'column')}")
                 return False
         if len(rows) != n_rows:
-            self.error(s.loc, f"table `{s.data['output'].text}` has {len(rows)} rows; its "
-                              f"`rows` axis declares {n_rows}")
+            self.error(s.loc, f"table `{s.data['output'].text}` has {plural(len(rows), 'row')}; "
+                              f"its `rows` axis declares {n_rows}")
             return False
         return True
 
