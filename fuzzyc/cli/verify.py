@@ -108,9 +108,11 @@ def defaults_note(path: str, model) -> str | None:
     texts = "; ".join(p.text for p in default_properties(model))
     note = (f"{path}: declares no properties; checking the structural defaults: {texts} "
             "(write a `verify` block in a .fz to state your own)")
-    if default_level(model.rulebase) == 0:
-        note += (f"; no `covers`: with and = {model.rulebase.inference.and_.name.lower()} a "
-                 "rule fires 0 where its terms cross at 0.5, so no level can be asked")
+    for rb in model.blocks:
+        if default_level(rb) == 0:
+            where = f" in block `{rb.name}`" if len(model.blocks) > 1 else ""
+            note += (f"; no `covers`{where}: with and = {rb.inference.and_.name.lower()} a "
+                     "rule fires 0 where its terms cross at 0.5, so no level can be asked")
     return note
 
 

@@ -34,24 +34,24 @@ def output_bounded(model: Model, out: Output, lo: float, hi: float, budget: int)
         return Evidence("proof", Status.PROVED, f"saturated to [{out.lo:g}, {out.hi:g}]")
     values = _chain_values(model, out, budget)
     if values is None:
-        return Evidence("proof", Status.UNDECIDED, f"`{out.name}` depends on more than the "
-                        f"rule base's outputs and params")
-    points, y = values
+        return Evidence("proof", Status.UNDECIDED, f"`{out.name}` depends on more than one "
+                        f"rule block's outputs and params")
+    rb, points, y = values
     if out.kind == OutputKind.DIRECT:
         u = np.clip(y, out.lo, out.hi)
         bad = np.maximum(u - hi, lo - u)
         k = int(np.argmax(bad))
         if bad[k] > TOL:
             return Evidence("grid", Status.VIOLATED, f"{out.name} = {u[k]:.6g} outside "
-                            f"[{lo:g}, {hi:g}]", cases=len(u), point=_named(model, points[k]))
+                            f"[{lo:g}, {hi:g}]", cases=len(u), point=_named(rb, points[k]))
         return Evidence("grid", Status.HELD, f"{len(u)} grid points", cases=len(u))
     if out.kind == OutputKind.INCREMENT:
-        return _integrator(model, out, lo, hi, points, y)
+        return _integrator(model, rb, out, lo, hi, points, y)
     return Evidence("proof", Status.UNDECIDED, "reciprocal integrator without finite limits: "
                     "the closed loop decides")
 
 
-def _integrator(model, out, lo, hi, points, step) -> Evidence:
+def _integrator(model, rb, out, lo, hi, points, step) -> Evidence:
     """u(k) = sat(u(k-1) + step): holding the input with the largest step of the wrong sign
     reaches the bound after ceil(distance / step) samples, unless the saturation stops it."""
     for side, bound, sat, k in (("above", hi, out.hi, int(np.argmax(step))),
@@ -65,23 +65,27 @@ def _integrator(model, out, lo, hi, points, step) -> Evidence:
                         f"holding the rule base's inputs here adds {step[k]:.6g} per sample: "
                         f"{out.name} starts at {out.init:g} and passes {bound:g} {side} after "
                         f"{samples} samples{period}; its saturation is [{out.lo:g}, {out.hi:g}]",
-                        cases=len(step), point=_named(model, points[k]))
+                        cases=len(step), point=_named(rb, points[k]))
     return Evidence("grid", Status.HELD, f"no input drives {out.name} past its bound",
                     cases=len(step))
 
 
 def _chain_values(model: Model, out: Output, budget: int):
-    rb = model.rulebase
-    names = [v.name for v in rb.outputs]
+    """(the rule block, a dense grid over its inputs, the output's expression there), where
+    the expression reads the outputs of one block and params only; else None."""
     expr = out.expr.subs({sympy.Symbol(k): v for k, v in model.symbol_values().items()})
-    if not {s.name for s in expr.free_symbols} <= set(names):
+    for rb in model.blocks:
+        names = [v.name for v in rb.outputs]
+        if {s.name for s in expr.free_symbols} <= set(names):
+            break
+    else:
         return None
     points = tensor_points(dense_grid(rb, [], budget))
     y_rb = engine.evaluate(rb, points)
     f = sympy.lambdify([sympy.Symbol(n) for n in names], expr, modules="numpy")
     y = np.broadcast_to(np.asarray(f(*y_rb.T), dtype=float), (len(points),))
-    return points, y
+    return rb, points, y
 
 
-def _named(model: Model, x: np.ndarray) -> dict[str, float]:
-    return {v.name: float(x[i]) for i, v in enumerate(model.rulebase.inputs)}
+def _named(rb, x: np.ndarray) -> dict[str, float]:
+    return {v.name: float(x[i]) for i, v in enumerate(rb.inputs)}

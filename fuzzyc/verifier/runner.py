@@ -6,7 +6,7 @@ import re
 import shlex
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -86,17 +86,19 @@ def default_properties(model: Model) -> list[Property]:
     consistent; complete (every cell of input terms, every output); covers every input at
     least default_level (left out when that is 0: no positive level can be asked of such an
     AND); bounded every rule-base output in its range. Not continuous (a design style, not a
-    defect) nor monotone (needs the direction the designer intends)."""
-    rb = model.rulebase
+    defect) nor monotone (needs the direction the designer intends).  With several rule
+    blocks: consistent and complete over every block, covers per block."""
     texts = [("consistent", {}, "consistent"),
              ("complete", {"output": None}, "complete")]
-    level = default_level(rb)
-    if level > 0:
-        names = [v.name for v in rb.inputs]
-        texts.append(("covers", {"inputs": names, "level": level},
-                      f"covers {', '.join(names)} at least {level:.12g}"))
+    for rb in model.blocks:
+        level = default_level(rb)
+        if level > 0:
+            names = [v.name for v in rb.inputs]
+            texts.append(("covers", {"inputs": names, "level": level},
+                          f"covers {', '.join(names)} at least {level:.12g}"))
     texts += [("bounded", {"signal": v.name, "lo": v.lo, "hi": v.hi},
-               f"bounded {v.name} in [{v.lo:.12g}, {v.hi:.12g}]") for v in rb.outputs]
+               f"bounded {v.name} in [{v.lo:.12g}, {v.hi:.12g}]")
+              for rb in model.blocks for v in rb.outputs]
     return [Property(kind, args, None, text) for kind, args, text in texts]
 
 
@@ -138,7 +140,71 @@ def _selected(options: Options, prop: Property, parent: Property | None = None) 
 
 
 def check_property(model: Model, prop: Property, options: Options) -> list[Evidence]:
-    rb, a = model.rulebase, prop.args
+    """The evidence on one rule-base or chain property.  A rule-base property is checked on
+    the rule block it speaks of (fuzzyc.semantics.model, "Rule blocks"): the block of its
+    output, the blocks that read all its inputs (covers), every block (consistent, complete
+    or continuous without an output), each over its inputs' declared ranges, as a one-block
+    model's rule base is."""
+    a = prop.args
+    if prop.kind == "bounded" and _block_with_output(model, a["signal"]) is None:
+        return _bounded_chain(model, a["signal"], a["lo"], a["hi"], options)
+    blocks = _blocks_of(model, prop)
+    if isinstance(blocks, Evidence):
+        return [blocks]
+    if len(blocks) == 1:
+        return _check_block(model, blocks[0], prop, options)
+    return [_every_block([(rb.name, _check_block(model, rb, prop, options)) for rb in blocks])]
+
+
+def _block_with_output(model: Model, name: str) -> RuleBase | None:
+    return next((rb for rb in model.blocks if name in [v.name for v in rb.outputs]), None)
+
+
+def _blocks_of(model: Model, prop: Property) -> list[RuleBase] | Evidence:
+    """The rule blocks a rule-base property is about, or UNDECIDED evidence saying why none."""
+    if len(model.blocks) == 1:
+        return model.blocks
+    a = prop.args
+    output = a.get("output") if prop.kind != "bounded" else a["signal"]
+    if output is not None:
+        rb = _block_with_output(model, output)
+        if prop.kind == "monotone" and a["input"] not in [v.name for v in rb.inputs]:
+            return Evidence("proof", Status.UNDECIDED, f"`{output}` (block `{rb.name}`) does "
+                            f"not read `{a['input']}` itself: monotonicity through several "
+                            "rule blocks is not checked")
+        return [rb]
+    if prop.kind == "covers":
+        blocks = [rb for rb in model.blocks
+                  if set(a["inputs"]) <= {v.name for v in rb.inputs}]
+        return blocks or Evidence("proof", Status.UNDECIDED, "no one rule block reads all of "
+                                  + ", ".join(a["inputs"]) + ": covers is about one block")
+    return model.blocks
+
+
+def _every_block(parts: list[tuple[str, list[Evidence]]]) -> Evidence:
+    """One piece of evidence for a property that must hold in every block: a block's
+    violation as it is (named), else the weakest block's verdict (PROVED only if each block's
+    is), its detail naming each block's."""
+    order = [Status.PROVED, Status.HELD, Status.UNDECIDED]
+    verdicts = []
+    for name, evidence in parts:
+        statuses = {e.status for e in evidence}
+        bad = next((e for e in evidence if e.status == Status.VIOLATED), None)
+        if bad is not None:
+            return replace(bad, detail=f"block `{name}`: {bad.detail}")
+        verdicts.append(next((s for s in order if s in statuses), Status.UNDECIDED))
+    weakest = max(verdicts, key=order.index)
+    detail = "; ".join(f"block `{name}`: {v.value}" + "".join(
+        f" ({e.detail})" for e in evidence if e.status == v and e.detail)
+        for (name, evidence), v in zip(parts, verdicts))
+    method = "+".join(dict.fromkeys(e.method for _, ev in parts for e in ev
+                                    if e.status in (Status.PROVED, Status.HELD)))
+    return Evidence(method or "proof", weakest, detail,
+                    cases=sum(e.cases for _, ev in parts for e in ev if e.status == weakest))
+
+
+def _check_block(model: Model, rb: RuleBase, prop: Property, options: Options) -> list[Evidence]:
+    a = prop.args
     n, s, budget = options.max_examples, options.seed, options.grid_budget
     flat_only = _unless_flat(rb)
     if flat_only and prop.kind in ("consistent", "complete", "continuous"):
@@ -163,7 +229,7 @@ def check_property(model: Model, prop: Property, options: Options) -> list[Evide
             evidence += search.monotone(rb, *args, budget, n, s)
         return evidence
     if prop.kind == "bounded":
-        return _bounded(model, a["signal"], a["lo"], a["hi"], options)
+        return _bounded(rb, a["signal"], a["lo"], a["hi"], options)
     return [Evidence("none", Status.UNDECIDED, f"unknown property kind `{prop.kind}`")]
 
 
@@ -199,16 +265,19 @@ def _unless_beyond(rb) -> Evidence | None:
     return Evidence("proof", Status.UNDECIDED, reason + "; the search decides")
 
 
-def _bounded(model: Model, signal: str, lo: float, hi: float, options: Options):
-    rb = model.rulebase
-    if signal in [v.name for v in rb.outputs]:
-        proved = _unless_beyond(rb) or proof.prove_bounded(rb, signal, lo, hi)
-        if proved.status == Status.UNDECIDED:     # linear consequents: their corner hull
-            proved = proof.prove_bounded_linear(rb, signal, lo, hi) or proved
-        if proved.status != Status.UNDECIDED:
-            return [proved]
-        return [proved] + search.bounded(rb, signal, lo, hi, options.grid_budget,
-                                         options.max_examples, options.seed)
+def _bounded(rb: RuleBase, signal: str, lo: float, hi: float, options: Options):
+    """bounded on an output of the rule base rb."""
+    proved = _unless_beyond(rb) or proof.prove_bounded(rb, signal, lo, hi)
+    if proved.status == Status.UNDECIDED:     # linear consequents: their corner hull
+        proved = proof.prove_bounded_linear(rb, signal, lo, hi) or proved
+    if proved.status != Status.UNDECIDED:
+        return [proved]
+    return [proved] + search.bounded(rb, signal, lo, hi, options.grid_budget,
+                                     options.max_examples, options.seed)
+
+
+def _bounded_chain(model: Model, signal: str, lo: float, hi: float, options: Options):
+    """bounded on a signal of the chain: an output, or a let."""
     out = next((o for o in model.outputs if o.name == signal), None)
     if out is not None:
         return [outputs.output_bounded(model, out, lo, hi, options.grid_budget)]

@@ -35,6 +35,7 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
         self.blocks: list[BlockSpec] = []  # the named blocks, in order
         self.outputs: list[Output] = []
         self.properties: list[Property] = []
+        self.property_reads: list = []   # block outputs a property reads (check_property_inputs)
         self.notes: list[str] = []
         self.period: float | None = None
         self.declared: dict[str, SourceLoc] = {}
@@ -46,6 +47,7 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
             handler = getattr(self, f"_stmt_{stmt.kind}")
             handler(stmt)
         blocks = self._rulebases()
+        self.check_property_inputs(blocks)
         tunables = self._tunables(tree["statements"], blocks)
         self.rep.raise_if_any()
         return Model(name=tree["name"].text, title=tree["title"], blocks=blocks,

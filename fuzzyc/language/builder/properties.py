@@ -30,8 +30,28 @@ class PropertiesBuilder:
             return lines[s.loc.line - 1][s.loc.col - 1:s.end.col - 1].strip()
         return lines[s.loc.line - 1][s.loc.col - 1:].strip() + " ..."
 
+    def _property_input(self, name):
+        """A variable a property reads as an input: a rule-base input, or, in a file of rule
+        blocks, a variable one block concludes and a later one reads, which is known only once
+        the blocks are (check_property_inputs)."""
+        var = self.vars.get(name.text)
+        if var is not None and not var.is_input:
+            self.property_reads.append(name)
+            return var
+        return self._input_var(name)
+
+    def check_property_inputs(self, blocks) -> None:
+        """The error _input_var gives for a rule-base output, unless a block reads it."""
+        read = {v.name for rb in blocks for v in rb.inputs} if len(blocks) > 1 else set()
+        inputs = ", ".join(v for v, lv in self.vars.items() if lv.is_input)
+        for name in self.property_reads:
+            if name.text not in read:
+                self.error(name.loc, f"`{name.text}` is a rule-base output; conditions name "
+                                     "inputs (or, inside a `block`, outputs of earlier blocks) "
+                                     f"({inputs})")
+
     def _prop_covers(self, p: Stmt):
-        names = [self._input_var(n) for n in p.data["inputs"]]
+        names = [self._property_input(n) for n in p.data["inputs"]]
         if None in names:
             return None
         return {"inputs": [v.name for v in names], "level": p.data["level"].value}
@@ -51,7 +71,7 @@ class PropertiesBuilder:
     _prop_continuous = _optional_output
 
     def _prop_monotone(self, p: Stmt):
-        out, inp = self._output_var(p.data["output"]), self._input_var(p.data["input"])
+        out, inp = self._output_var(p.data["output"]), self._property_input(p.data["input"])
         where: dict = {}
         ok = all([self._clause(c, where, "a `where` guard") for c in p.data["where"]])
         if out is None or inp is None or not ok:
