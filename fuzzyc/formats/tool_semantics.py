@@ -456,12 +456,19 @@ def _tsukamoto(rb: RuleBase, x: np.ndarray, inverse, acts=activations,
         summed = rb.inference_of(o).defuzzifier == Defuzzifier.TSUKAMOTO_SUM
         if grouped:
             act, J = _grouped_terms(act, J, var.n_terms, rb.inference_of(o).aggregation)
-        firing = (J >= 0) & (act > 0)
+        # pyfuzzylite 8 keeps every concluded term, at degree 0 too (Consequent.modify appends
+        # each rule's): 0 times an infinite value (a Sigmoid's or Concave's at 0) is NaN there
+        firing = (J >= 0) & ((act > 0) | grouped)
         t = J.clip(0)
         params = np.broadcast_to(np.asarray(var.params, dtype=float)[t], act.shape + (4,))
         with np.errstate(invalid="ignore", divide="ignore"):
             z = inverse(np.broadcast_to(var.kinds[t], act.shape), params,
                         np.where(firing, act, 0.5), var.lo, var.hi)
+            if grouped:      # pyfuzzylite's WeightedSum: (sum w z / sum w) * sum w
+                num = np.where(firing, act * z, 0.0).sum(axis=1)
+                den = np.where(firing, act, 0.0).sum(axis=1)
+                y[:, o] = num / den * (den if summed else 1.0)
+                continue
             num = np.where(firing, act * z, 0.0).sum(axis=1)
             den = np.where(firing, act, 0.0).sum(axis=1)
             y[:, o] = np.where(den > 0, num if summed else num / np.where(den > 0, den, 1.0),
@@ -486,8 +493,26 @@ def _grouped_terms(act: np.ndarray, J: np.ndarray, n_terms: int,
 
 
 def _exact_inverse(kinds, params, w, lo, hi) -> np.ndarray:
-    """pyfuzzylite 8: the exact inverse, not clipped to the range [lo, hi]."""
-    return term_inverse(kinds, params, w)
+    """pyfuzzylite 8: its own formulas (term.py, each monotonic term's `tsukamoto`), not
+    clipped to the range [lo, hi]: exact inverses in (0, 1]; a term's rules grouped by a sum
+    may pass 1, where the formulas carry on (Ramp, Concave: past the end) or give NaN (Sigmoid,
+    SShape, ZShape: the log or square root of a negative number), as pyfuzzylite does."""
+    a, b, c, d = np.moveaxis(np.asarray(params, dtype=float), -1, 0)
+    z = term_inverse(kinds, params, np.clip(w, 0.0, 1.0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        rising = np.isfinite(a) & np.isfinite(b)            # a Ramp: trapezoid shoulders
+        start, end = np.where(rising, a, d), np.where(rising, b, c)
+        ramp = start + (end - start) * w
+        concave = (a - b) / w + 2 * b - a                   # (inflection, end)
+        sigmoid = a + np.log(1.0 / w - 1.0) / -b            # (inflection, slope)
+        low = w <= 0.5
+        s_shape = np.where(low, a + (b - a) * np.sqrt(w / 2), b - (b - a) * np.sqrt((1 - w) / 2))
+        z_shape = np.where(low, b - (b - a) * np.sqrt(w / 2), a + (b - a) * np.sqrt((1 - w) / 2))
+    for kind, value in ((TermKind.TRAPEZOID, ramp), (TermKind.CONCAVE, concave),
+                        (TermKind.SIGMOID, sigmoid), (TermKind.SSHAPE, s_shape),
+                        (TermKind.ZSHAPE, z_shape)):
+        z = np.where(kinds == kind, value, z)
+    return z
 
 
 def _fuzzylite6_inverse(kinds, params, w, lo, hi) -> np.ndarray:
