@@ -18,10 +18,10 @@ from fuzzyc.language.parser import parse
 
 from test_c_chain import CHAIN_TOLERANCE, run_chain, random_sequences
 from test_c_fixed import chain_errors, chain_runner
-from test_rule_blocks import CHAIN, M
+from test_rule_blocks import CHAIN, M, ONE
 
-# test_rule_blocks' two-block chain without its per-output defuzzifier for z (the C back end
-# emits one aggregation and defuzzifier per block): z is then centre of area too.
+# test_rule_blocks' two-block chain without its per-output defuzzifier for z (that one is
+# test_an_output_with_its_own_defuzzifier_by_hand): z is then centre of area too.
 TWO = CHAIN.replace("    inference z: defuzzify = mom\n", "")
 
 # Three blocks, each through another path of the back end: a cell-table Mamdani block with a
@@ -130,10 +130,38 @@ def test_header_runs_the_blocks_in_order_under_their_prefixes():
     assert "THREE_N_RB_INPUTS" not in header    # no one-block size where there are several
 
 
-def test_what_a_block_needs_and_c_lacks_is_refused_by_name():
-    # the per-output defuzzifier of test_rule_blocks' CHAIN (z: mean of maximum)
-    with pytest.raises(FuzzycError, match="output `z` has its own"):
-        generate_header(parse(CHAIN, "chain.fz"))
+@pytest.mark.parametrize("numeric, atol", [("float", 1e-5), ("double", 1e-12)])
+def test_an_output_with_its_own_defuzzifier_by_hand(numeric, atol):
+    # test_rule_blocks' CHAIN as written: z by mean of maximum in block `second`, which the
+    # header emits as two rule bases (y, then z; fuzzyc.backends.rule_blocks): at a = .6,
+    # b = .5, u = 10 m and w = 5 m (test_rule_blocks' arithmetic)
+    model = parse(CHAIN, "chain.fz")
+    header = generate_header(model, numeric)
+    assert " *   1: second (y) (chain_b1_rulebase)" in header
+    assert "defuzzify=mean_of_maximum" in header
+    out = CController(model, 1, numeric).step({"a": np.array([0.6]), "b": np.array([0.5])})
+    np.testing.assert_allclose([out["u"][0], out["w"][0]], [10 * M, 5 * M], atol=atol * 10)
+
+
+ONE_OUT = ONE.replace("  rule if a is L then y is lo, z is lo\n",
+                      "  rule if a is L then y is lo, z is lo\n"
+                      "  output yy in [0, 10] = y\n  output zz in [0, 10] = z\n")
+
+
+def test_one_rule_base_of_two_defuzzifiers_follows_the_engine():
+    # test_rule_blocks' ONE (y by centroid, z by sum and mean of maximum): a = .5 gives 5 and
+    # 5, a = .8 gives z = 8 (test_rule_blocks' arithmetic); every a against the engine
+    model = parse(ONE_OUT, "one.fz")
+    a = np.linspace(-0.1, 1.1, 121)
+    expected = Controller(model, len(a)).step({"a": a})
+    for numeric, tolerance in CHAIN_TOLERANCE.items():
+        got = CController(model, len(a), numeric).step({"a": a})
+        for name in ("yy", "zz"):
+            np.testing.assert_allclose(got[name], expected[name], atol=tolerance * 10)
+        np.testing.assert_allclose([got["yy"][60], got["zz"][60], got["zz"][90]], [5, 5, 8],
+                                   atol=tolerance * 10)
+    with pytest.raises(FuzzycError, match="has no one NAME_rulebase"):
+        CController(model).evaluate([[0.5]])
 
 
 @pytest.mark.skipif(frama_c() is None, reason="frama-c not installed (Debian: frama-c-base)")

@@ -62,10 +62,8 @@ FIXED = ("q15", "q31")
 # partitions with center of area or weighted sums; float C takes min/product, max/probsum
 # and no z/s-shapes; the LUT one rule block per header.
 REFUSED = {
-    # C takes several blocks, not z's own defuzzifier (nor centroid in fixed point); the
-    # lookup table takes one block
-    "blocks_mamdani_sugeno.fll": (KINDS, "2 rule blocks|output `z` has its own|`centroid` is "
-                                         "not supported"),
+    # C takes several blocks (fixed point not the centroid); the lookup table takes one
+    "blocks_mamdani_sugeno.fll": (("lut", *FIXED), "2 rule blocks|`centroid` is not supported"),
     "blocks_tipper_fan.fcl::fan": (FIXED, "`centroid` is not supported"),
     "ramp.fll": (FIXED, "`bisector` is not supported"),
     "shapes_tsk.fll": (("float", "double", *FIXED), "einstein_product"),

@@ -28,9 +28,11 @@ class CChain:
     prefix `p` (`p`clamp), rule-base sizes with `P`, names spelled by `symbol`."""
 
     def __init__(self, model: Model, real: RealType, p: str, P: str,
-                 symbol: Callable[[str], str], blocks: list[tuple[str, str]]):
+                 symbol: Callable[[str], str], blocks: list[tuple]):
         self.model, self.real, self.p, self.P, self.symbol = model, real, p, P, symbol
-        self.blocks = blocks          # per rule block, the prefixes of its rulebase and sizes
+        # per emitted rule base (fuzzyc.backends.rule_blocks): it, the prefixes of its
+        # rulebase function and of its sizes
+        self.blocks = blocks
         self.lit, self.t = real.lit, real.name
         self.printer = ExprPrinter(real, symbol, p)
         self.code: list[str] = []
@@ -143,7 +145,7 @@ class CChain:
         x, its rulebase, its outputs named; x and y numbered where there are several."""
         t, symbol = self.t, self.symbol
         many = len(self.blocks) > 1
-        for k, (rb, (p, P)) in enumerate(zip(self.model.blocks, self.blocks)):
+        for k, (rb, p, P) in enumerate(self.blocks):
             x, y = (f"x{k}", f"y{k}") if many else ("x", "y")
             self.code += [f"{t} {x}[{P}N_RB_INPUTS], {y}[{P}N_RB_OUTPUTS];"]
             if k == 0:

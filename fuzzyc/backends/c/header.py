@@ -29,6 +29,7 @@ from .cells import active_codes, cell_row_c, cell_table, cell_table_c, index_typ
 from .centroid import CentroidEmitter, area_segments, supported
 from .chain import CChain
 from .expressions import REAL_TYPES, RealType
+from ..rule_blocks import emitted_blocks
 from .guard import checked_header
 from .helpers import helper_lines
 from .rule_items import ItemWriter, per_item
@@ -163,9 +164,10 @@ class HeaderWriter:
         self.name = c_identifier(model.name) + ("" if block is None else f"_b{block}")
         # a model of several blocks: one writer per block under its own prefix; the header's
         # chain calls each block's rulebase in order (fuzzyc.semantics.model, "Rule blocks")
-        self.block_writers = [] if block is not None or len(model.blocks) == 1 else \
-            [HeaderWriter(model, real, k) for k in range(len(model.blocks))]
-        self.rb = model.blocks[block or 0]
+        emitted = emitted_blocks(model)
+        self.block_writers = [] if block is not None or len(emitted) == 1 else \
+            [HeaderWriter(model, real, k) for k in range(len(emitted))]
+        self.rb = emitted[block or 0]
         check_supported(self.rb)
         self.p = self.name + "_"
         self.P = self.name.upper() + "_"
@@ -537,7 +539,7 @@ class HeaderWriter:
 
     def chain(self) -> CChain:
         """The chain walk's C domain for this header (fuzzyc.backends.c.chain)."""
-        blocks = [(w.p, w.P) for w in self.block_writers] or [(self.p, self.P)]
+        blocks = [(w.rb, w.p, w.P) for w in self.block_writers] or [(self.rb, self.p, self.P)]
         return CChain(self.model, self.real, self.p, self.P, self.symbol, blocks)
 
     def state_struct(self) -> None:

@@ -24,6 +24,7 @@ import numpy as np
 from ...errors import Diagnostic, FuzzycError
 from ...semantics.model import Model
 from ...escape import c_identifier
+from ..rule_blocks import emitted_blocks
 from . import header as c_backend   # looked up at each call (a test may patch generate_header)
 
 STRICT_FLAGS = ("-std=c99", "-O2", "-Wall", "-Wextra", "-Wpedantic", "-Wconversion",
@@ -139,7 +140,7 @@ def shim_prefix(model: Model) -> str:
 def controller_sources(model: Model, numeric: str) -> dict[str, str]:
     """The files CController compiles: NAME.h and the batch shim, shim.c, that includes it."""
     name = c_identifier(model.name)
-    text = SHIM + (SHIM_RULEBASE if len(model.blocks) == 1 else "")
+    text = SHIM + (SHIM_RULEBASE if len(emitted_blocks(model)) == 1 else "")
     shim = text.format(name=name, P=name.upper() + "_", real=REAL_OF[numeric],
                        entry=shim_prefix(model),
                        n_in=len(model.signals), n_out=len(model.outputs))
@@ -159,7 +160,8 @@ class CController:
         self._step, self._init = (getattr(lib, f"{entry}_{f}") for f in ("step", "init"))
         dptr = ctypes.POINTER(ctypes.c_double)
         self._step.argtypes = [ctypes.c_void_p, ctypes.c_int, dptr, dptr]
-        if len(model.blocks) == 1:    # evaluate() reads model.rulebase, which refuses several
+        self._rulebase = None         # a header of several rule bases has no NAME_rulebase
+        if len(emitted_blocks(model)) == 1:
             self._rulebase = lib[f"{entry}_rulebase"]
             self._rulebase.argtypes = [ctypes.c_int, dptr, dptr]
         self._init.argtypes = [ctypes.c_void_p, ctypes.c_int]
@@ -197,6 +199,10 @@ class CController:
     def evaluate(self, x: np.ndarray) -> np.ndarray:
         """The bare rule base: x (N, I) -> y (N, O), like `fuzzyc.engine.inference.evaluate`."""
         rb = self.model.rulebase
+        if self._rulebase is None:
+            raise FuzzycError([Diagnostic(None, f"the header of `{self.model.name}` splits its "
+                                                "rule base by its outputs' own defuzzifiers "
+                                                "and has no one NAME_rulebase; step the chain")])
         x = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=float)))
         if x.shape[1] != len(rb.inputs):
             raise ValueError(f"expected {len(rb.inputs)} input columns, got {x.shape[1]}")

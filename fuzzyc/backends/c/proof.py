@@ -33,6 +33,7 @@ from pathlib import Path
 from ...errors import Diagnostic, FuzzycError
 from ...escape import c_identifier
 from ...semantics.model import Model
+from ..rule_blocks import emitted_blocks
 
 KINDS = ("float", "double", "q15", "q31", "lut")     # every header fuzzyc compile writes
 FLOATING = ("float", "double")
@@ -110,8 +111,9 @@ def harness(model: Model, kind: str, header_name: str) -> tuple[str, list[str]]:
         P = p.upper()
         io = {"q15": "int16_t", "q31": "int32_t"}.get(kind, kind)
         # each rule block's bare rulebase on any input too (NAME_bK_ in a header of several)
-        blocks = [(p, P)] if len(model.blocks) == 1 else \
-            [(f"{p}b{k}_", f"{P}B{k}_") for k in range(len(model.blocks))]
+        emitted = emitted_blocks(model)
+        blocks = [(p, P)] if len(emitted) == 1 else \
+            [(f"{p}b{k}_", f"{P}B{k}_") for k in range(len(emitted))]
         lines += [f"    {p}state s;",
                   f"    {io} in[{P}N_SIGNALS], out[{P}N_OUTPUTS];",
                   *(f"    {io} x{k}[{bP}N_RB_INPUTS], y{k}[{bP}N_RB_OUTPUTS];"
@@ -132,7 +134,7 @@ def harness(model: Model, kind: str, header_name: str) -> tuple[str, list[str]]:
             from ..c_fixed.header import FORMATS
             full = FORMATS[kind][1]
             lines += [f"    /*@ assert 0 <= y{k}[{o}] <= {full}; */"
-                      for k, block in enumerate(model.blocks) for o in range(len(block.outputs))]
+                      for k, block in enumerate(emitted) for o in range(len(block.outputs))]
             claims.append(f"the bare rule base's outputs stay in [0, {full}]"
                           + (" (each block's)" if len(blocks) > 1 else ""))
         inputs = "any bit pattern of every input (NaN, +-inf)" if kind in FLOATING else \

@@ -45,6 +45,7 @@ from ...semantics.model import (ACTIVATION_FLOOR, Aggregation, Connective, Defuz
                      RuleBase, TermKind, TNorm)
 from ...semantics.operators import AGGREGATIONS, DEFUZZIFIERS, T_NORMS, emitted_in_fixed, names
 from ...escape import c_comment, c_identifier
+from ..rule_blocks import emitted_blocks
 from ...semantics.shapes import SHAPES
 from ..c.header import check_c_model_names, check_supported
 from ..c.cells import active_codes, cell_row_c, cell_table, cell_table_c
@@ -325,7 +326,9 @@ def derived_error_bound(model: Model, numeric: str, input_error=None,
       and the rounding of the wide result), the final rounding 0.5 / FULL; the saturation to
       the range only brings C nearer the clipped engine.
     """
-    rb = model.rulebase if block is None else model.blocks[block]
+    rb = model.rulebase if block is None else emitted_blocks(model)[block]
+    if block is None and rb.output_choices:     # the header splits it (rule_blocks)
+        return None
     try:
         tables = FixedTables(rb, numeric)
     except FuzzycError:
@@ -415,9 +418,10 @@ class FixedPointWriter:
         it: its tables, helpers, NAME_bK_rulebase_wide and NAME_bK_rulebase, named with the
         prefix NAME_q15_bK_; the header's chain calls each block's in order."""
         self.model, self.numeric, self.block = model, numeric, block
-        self.block_writers = [] if block is not None or len(model.blocks) == 1 else \
-            [FixedPointWriter(model, numeric, k) for k in range(len(model.blocks))]
-        self.rb = model.blocks[block or 0]
+        emitted = emitted_blocks(model)
+        self.block_writers = [] if block is not None or len(emitted) == 1 else \
+            [FixedPointWriter(model, numeric, k) for k in range(len(emitted))]
+        self.rb = emitted[block or 0]
         self.io, self.full, self.mf = FORMATS[numeric]
         rb = self.rb
         check_supported(rb)   # what the float back end cannot emit, fixed point cannot either
