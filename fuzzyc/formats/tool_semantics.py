@@ -370,7 +370,7 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
     if semantics in ("fuzzylite", "pyfuzzylite"):
         resolution = resolutions(rb, resolution, RESOLUTION[semantics])
         rb = linear_unclamped(fuzzylite_hedges(rb))
-        acts = fuzzylite6_activations if semantics == "fuzzylite" else activations
+        acts = fuzzylite6_activations if semantics == "fuzzylite" else pyfuzzylite_activations
         # Tsukamoto outputs by the tool's inverses; an output of its own (FCL's METHOD, FLL's
         # defuzzifier per output) too, beside outputs of other defuzzifiers
         inverted = [o for o in range(len(rb.outputs))
@@ -390,6 +390,8 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
             return _in_order(rb, x, semantics, resolution, held)
         y = evaluate_sampled(rb, x, resolution, first_plateau=semantics == "fuzzylite",
                              activations=acts)
+        if semantics == "pyfuzzylite":
+            y = _vanishing(rb, np.atleast_2d(np.asarray(x, dtype=float)), y)
         return np.where(fired(rb, x, acts), y, np.nan)
     if semantics == "octave":
         rb = octave_dsigmf(rb)
@@ -429,6 +431,39 @@ def _in_order(rb: RuleBase, x: np.ndarray, semantics: str, resolution: list[int]
 
 
 TSUKAMOTOS = (Defuzzifier.TSUKAMOTO, Defuzzifier.TSUKAMOTO_SUM)
+SUMMED = (Defuzzifier.WEIGHTED_SUM, Defuzzifier.GROUPED_SUM)
+
+
+def pyfuzzylite_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
+    """The rules' activations as pyfuzzylite 8 uses them: every activation above 0 counts
+    (no ACTIVATION_FLOOR; Rule.trigger keeps any degree), after the weights."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    mus = [memberships(var, x[:, i]) for i, var in enumerate(rb.inputs)]
+    act = flat_activations(rb, mus, mus, x.shape[0])
+    for r, program in rb.conditions.items():
+        act[:, r] = run_condition(rb, program, x)
+    return act * rb.weights
+
+
+def _vanishing(rb: RuleBase, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """y with the peak-based outputs recomputed where every rule concluding them fires below
+    the engine's ACTIVATION_FLOOR but above 0 (pyfuzzylite 8 defuzzifies there: a weighted
+    average of activations of 1e-20 is the average of the values).  There the rules' weights
+    are scaled so that the largest activation is 1: a weighted average and a grouped maximum
+    do not change, a weighted sum is divided back by the scale."""
+    raw = pyfuzzylite_activations(rb, x)
+    kept = firing(raw)
+    for o in range(len(rb.outputs)):
+        method = rb.inference_of(o).defuzzifier
+        if method not in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.CENTER_OF_AREA, *SUMMED):
+            continue
+        concluding = rb.consequents[:, o] >= 0
+        lost = (raw[:, concluding] > 0).any(axis=1) & ~(kept[:, concluding] > 0).any(axis=1)
+        for row in np.flatnonzero(lost):
+            scale = 1.0 / raw[row, concluding].max()
+            value = evaluate(replace(rb, weights=rb.weights * scale), x[row:row + 1])[0, o]
+            y[row, o] = value / scale if method in SUMMED else value
+    return y
 
 
 def _not_inverted(rb: RuleBase) -> RuleBase:
