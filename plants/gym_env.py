@@ -11,6 +11,8 @@
       action: push                # the controller output(s) that make the action
       discrete: {0: -1, 1: 1}     # Discrete actions: action n where the output is nearest to
                                   # its value (default: the output is the action number)
+      units: {theta: rad}         # the observations' and actions' units, for plot axes (an
+                                  # environment declares none); `-` for a dimensionless one
 
 A batch of N loops is one `gymnasium.vector.SyncVectorEnv` of N copies; each period is one
 `step` of every copy with the controller outputs of the previous period (the plant contract of
@@ -18,7 +20,8 @@ fuzzyc.runtime). Loop i's environment is reset with its own seed, drawn from the
 and put on the bus as `env_seed` (reset an environment with it to replay the loop).
 
 Besides the observations the plant writes `reward`, `return` (the reward summed over the
-episode), `terminated` and `truncated` (0/1, on from the period the episode ended). The loop
+episode), `terminated` and `truncated` (0/1, on from the period the episode ended): all four
+dimensionless (a reward is a score), `-` on a plot's axis. The loop
 runs one episode: once it has ended, that loop's signals hold their last values and its
 reward is 0 (the vector environment resets the copy underneath; nothing of the next episode
 reaches the bus).
@@ -37,8 +40,9 @@ from .registry import ALLOW_HINT, allowed_module
 from .scenario_schema import finite_number, shown
 
 MODEL = "gymnasium"
-KEYS = {"model", "env", "kwargs", "observations", "action", "discrete"}
+KEYS = {"model", "env", "kwargs", "observations", "action", "discrete", "units"}
 EPISODE = ("reward", "return", "terminated", "truncated", "env_seed")
+SCORES = ("reward", "return", "terminated", "truncated")     # dimensionless episode signals
 CLASS_REF = re.compile(r"([A-Za-z_][A-Za-z0-9_.]*):([A-Za-z_][A-Za-z0-9_]*)")
 NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
 SEEDS = 10 ** 9
@@ -55,6 +59,7 @@ class GymParams:
     # a gymnasium.Env subclass passed from Python (fuzzyc.verify's scenarios=): `env` is then
     # its name, for messages; a file can only name one (a string), never pass one
     env_class: type | None = None
+    units: dict[str, str] = field(default_factory=dict)         # signal -> unit, for plots
 
 
 def gymnasium():
@@ -77,6 +82,8 @@ class GymPlant:
         self.params, self.error, self.allow_import = params, error, allow_import
         self.INPUTS = self.REQUIRED_INPUTS = tuple(params.action)
         self.OUTPUTS = (*params.observations.values(), *EPISODE)
+        # what a plant module's UNITS holds (runtime.simulate.signal_units reads it)
+        self.UNITS = {**{name: "-" for name in SCORES}, **params.units}
 
     # --- the plant contract ------------------------------------------------------------------
     def initial_state(self, params: GymParams, batch: int, rng=None) -> dict[str, Any]:
@@ -261,6 +268,12 @@ def from_scenario(scenario) -> GymPlant:
             _integer(k) and finite_number(v) for k, v in discrete.items()), "discrete",
             "a mapping {action number: output value}")
         discrete = {int(k): float(v) for k, v in discrete.items()}
+    units = spec.get("units") or {}
+    signals = {*observations.values(), *action}
+    need(isinstance(units, dict) and all(
+        k in signals and isinstance(v, str) and 0 < len(v) <= 32 and v.isprintable()
+        for k, v in units.items()), "units",
+        "a mapping {observation or action: unit text} (`-` for a dimensionless one)")
     clash = sorted(set(observations.values()) & set(EPISODE))
     if clash:
         raise err("plant.observations", f"`{clash[0]}` is a signal the plant writes itself "
@@ -270,7 +283,7 @@ def from_scenario(scenario) -> GymPlant:
     if twice:
         raise err("plant.observations", f"`{twice[0]}` names two observations")
     return GymPlant(GymParams(env, dict(kwargs), observations, list(action), discrete,
-                              env_class), err, allow)
+                              env_class, dict(units)), err, allow)
 
 
 def _own_class(env, err) -> type | None:

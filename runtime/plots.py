@@ -49,6 +49,7 @@ def draw_runs(runs: dict[str, Trace], signals: list[str] | None = None,
                 colour = f"C{k}" if several else f"C{loop % 10}"
                 legend = plot_text(label or "run") if loop == 0 else None
                 ax.plot(trace.time[kept], shown[:, loop], color=colour, label=legend, **style)
+        _running_mean(ax, first, name, end)
         ref = references.get(name)
         if isinstance(ref, str) and ref in first:
             kept = first.time <= end
@@ -67,6 +68,28 @@ def draw_runs(runs: dict[str, Trace], signals: list[str] | None = None,
         axes[0, 0].set_title(plot_text(title), fontsize=9)
     fig.tight_layout()
     return fig
+
+
+CHATTER = 0.3        # mean |step| over the range: a signal above it fills a band
+MEAN_WINDOW = 0.5    # s: such a signal is shown with its running mean over this window
+
+
+def _running_mean(ax, trace: Trace, name: str, end: float) -> None:
+    """Over a signal that chatters, its lines filling a band (CartPole's push jumps by about
+    half its range every 20-ms step: 0.48; its pole angle 0.18, the cart 0.016), the first
+    loop's centred running mean over MEAN_WINDOW, labelled: what it does on average."""
+    kept = trace.time <= end
+    y = trace[name][kept, 0] if name in trace else np.zeros(0)
+    if len(y) < 8 or not np.all(np.isfinite(y)) or np.ptp(y) == 0:
+        return
+    dt = float(np.median(np.diff(trace.time[kept])))
+    window = int(round(MEAN_WINDOW / dt)) if dt > 0 else 0
+    if np.mean(np.abs(np.diff(y))) <= CHATTER * np.ptp(y) or not 2 <= window < len(y):
+        return
+    mean = np.convolve(y, np.ones(window) / window, mode="valid")
+    t = trace.time[kept][window // 2: window // 2 + len(mean)]
+    ax.plot(t, mean, color="k", lw=1.2, zorder=5,
+            label=f"running mean over {MEAN_WINDOW:g} s")
 
 
 def _time_span(traces, names: list[str]) -> tuple[float, float]:

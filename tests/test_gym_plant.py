@@ -175,6 +175,10 @@ def test_mistakes_in_a_gym_plant_are_located(gym, tmp_path):
         (TANK + "\n  discrete: {0: 1" + "0" * 400 + "}", "toy.yaml:7", "action number"),
         (TANK + "\n  randomize: {rate: 0.1}", "toy.yaml:7", "unknown key"),
         (TANK.replace("action: inflow", "action: [inflow, 3]"), "toy.yaml:6", "output name"),
+        # units: of an observation or an action, as short printable text
+        (TANK + "\n  units: {levle: m}", "toy.yaml:7", "observation or action: unit text"),
+        (TANK + "\n  units: {level: 3}", "toy.yaml:7", "observation or action: unit text"),
+        (TANK + "\n  units: {level: \"m\\nx\"}", "toy.yaml:7", "unit text"),
     ]
     for plant, where, what in cases:
         message = error(toy_scenario(tmp_path, plant), *run, allow=TOY + allowed)
@@ -182,6 +186,18 @@ def test_mistakes_in_a_gym_plant_are_located(gym, tmp_path):
     # not allowed: refused at the key, naming the option (tests/test_security_scenarios.py)
     message = error(toy_scenario(tmp_path, TANK), *run, allow=())
     assert "toy.yaml:3" in message and "--allow-import" in message
+
+
+def test_units_of_the_plants_signals_for_the_plots(gym, tmp_path):
+    # the scenario's units, and the episode's scores dimensionless (`-`); env_seed has none
+    from fuzzyc.runtime.simulate import signal_units
+    sc = scenarios.load(toy_scenario(tmp_path, TANK + "\n  units: {level: m, inflow: m/s}"),
+                        allow_import=TOY)
+    units = signal_units(sc)
+    assert {k: units.get(k) for k in ("level", "inflow", "level10", "return", "reward",
+                                      "terminated", "truncated", "env_seed")} == {
+        "level": "m", "inflow": "m/s", "level10": None, "return": "-", "reward": "-",
+        "terminated": "-", "truncated": "-", "env_seed": None}
 
 
 def test_a_nan_action_stops_the_run_with_a_message(gym, tmp_path):

@@ -230,11 +230,20 @@ def test_learning_plot():
     check_figure(fuzzyc.plot(learned)["pi"])
 
 
-@pytest.mark.xfail(strict=True, reason="open (issue 30): a Gymnasium plant declares no units "
-                   "and the examples' rule files none for cos_th, theta_dot, force, return")
-@pytest.mark.parametrize("name", ["pendulum", "cartpole"])
-def test_gymnasium_traces(name):
+@pytest.mark.parametrize("name, labels", [
+    ("pendulum", ["cos_th [-]", "theta_dot [rad/s]", "torque [N*m]", "return [-]"]),
+    ("cartpole", ["theta [rad]", "x [m]", "force [-]", "return [-]"])])
+def test_gymnasium_traces(name, labels):
+    # the units come from the scenario's plant `units:` (an environment declares none) and
+    # the rule file; the episode's return is a score, dimensionless
     pytest.importorskip("gymnasium")
     sim = fuzzyc.simulate(fuzzyc.example(f"{name}.yaml"), fuzzyc.example(f"{name}.fz"),
                           settings={"duration": 6})
-    check_figure(fuzzyc.plot(sim)["trace"])
+    fig = fuzzyc.plot(sim)["trace"]
+    check_figure(fig)
+    assert [ax.get_ylabel() for ax in fig.axes] == labels
+    # CartPole's push jumps by about half its range every step (its lines fill a band): its
+    # panel, and only its, adds the running mean
+    means = [ax.get_ylabel() for ax in fig.axes
+             if any(line.get_label().startswith("running mean") for line in ax.lines)]
+    assert means == (["force [-]"] if name == "cartpole" else [])
