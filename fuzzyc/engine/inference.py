@@ -64,11 +64,12 @@ def activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
 
 
 def flat_activations(rb: RuleBase, mus: list[np.ndarray], negated_mus: list[np.ndarray],
-                     n: int) -> np.ndarray:
+                     n: int, tables: tuple[dict, dict] | None = None) -> np.ndarray:
     """The matrix rules' truth (N, R) before weights, from each input's memberships mus[i]
     (N, T_i); a negated clause reads negated_mus instead (1 - hedge of it). Every norm and
     hedge is monotone, so the set-valued proofs get bounds of the truth by passing (lower,
-    upper) and (upper, lower) membership bounds."""
+    upper) and (upper, lower) membership bounds.  `tables`: the norms' functions in place of
+    the model's (norms.combine)."""
     conj = rb.connective == Connective.AND
     clauses = []
     for i, var in enumerate(rb.inputs):
@@ -86,13 +87,15 @@ def flat_activations(rb: RuleBase, mus: list[np.ndarray], negated_mus: list[np.n
         clauses.append(np.where(cols >= 0, g, np.where(conj, 1.0, 0.0)))
     if not clauses:
         return np.ones((n, rb.n_rules))
-    act = np.where(conj, combine(clauses, rb.inference.and_, True),
-                   combine(clauses, rb.inference.or_, False))
+    act = np.where(conj, combine(clauses, rb.inference.and_, True, tables),
+                   combine(clauses, rb.inference.or_, False, tables))
     return np.where(np.all(rb.antecedents < 0, axis=1), 1.0, act)
 
 
-def run_condition(rb: RuleBase, program: np.ndarray, x: np.ndarray) -> np.ndarray:
-    """x (N, I) -> the truth (N,) of one rule's clause program (see `fuzzyc.semantics.model`)."""
+def run_condition(rb: RuleBase, program: np.ndarray, x: np.ndarray,
+                  tables: tuple[dict, dict] | None = None) -> np.ndarray:
+    """x (N, I) -> the truth (N,) of one rule's clause program (see `fuzzyc.semantics.model`);
+    `tables` as for flat_activations."""
     stack: list[np.ndarray] = []
     for op, i, t, h in program.tolist():
         if op == CondOp.CLAUSE:
@@ -111,7 +114,7 @@ def run_condition(rb: RuleBase, program: np.ndarray, x: np.ndarray) -> np.ndarra
         else:
             b, a = stack.pop(), stack.pop()
             norm = rb.inference.and_ if op == CondOp.AND else rb.inference.or_
-            stack.append(combine([a, b], norm, op == CondOp.AND))
+            stack.append(combine([a, b], norm, op == CondOp.AND, tables))
     return stack.pop()
 
 

@@ -21,9 +21,12 @@ def implied(level: np.ndarray, mu: np.ndarray, implication) -> np.ndarray:
     return T_NORMS[TNorm(int(implication))](level, mu)
 
 
-def combine(values: list[np.ndarray], norm: TNorm | SNorm, conjunction: bool) -> np.ndarray:
-    """values[0] (norm) values[1] (norm) ..., left to right."""
-    op = T_NORMS[TNorm(int(norm))] if conjunction else S_NORMS[SNorm(int(norm))]
+def combine(values: list[np.ndarray], norm: TNorm | SNorm, conjunction: bool,
+            tables: tuple[dict, dict] | None = None) -> np.ndarray:
+    """values[0] (norm) values[1] (norm) ..., left to right; `tables`: (t-norms, s-norms)
+    functions by enum in place of the model's (a tool's own arithmetic, tool_semantics)."""
+    t_norms, s_norms = tables or (T_NORMS, S_NORMS)
+    op = t_norms[TNorm(int(norm))] if conjunction else s_norms[SNorm(int(norm))]
     out = values[0]
     for v in values[1:]:
         out = op(out, v)

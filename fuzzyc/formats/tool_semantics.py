@@ -392,6 +392,8 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
                              activations=acts)
         if semantics == "pyfuzzylite":
             y = _vanishing(rb, np.atleast_2d(np.asarray(x, dtype=float)), y)
+        elif _FL6_T.keys() & {rb.inference.and_} or _FL6_S.keys() & {rb.inference.or_}:
+            y = _peaks_from(rb, np.atleast_2d(np.asarray(x, dtype=float)), y, acts)
         return np.where(fired(rb, x, acts), y, np.nan)
     if semantics == "octave":
         rb = octave_dsigmf(rb)
@@ -701,14 +703,64 @@ def _term_values(var, x: np.ndarray) -> np.ndarray:
     return np.where(var.kinds == TermKind.LINEAR, linear, var.peaks())
 
 
+def _fl_eq(a, b):
+    """fuzzylite 6's Op::isEq: equal within its macheps 1e-6 (FL_EPSILON)."""
+    return (a == b) | (np.abs(a - b) < FL_EPSILON)
+
+
+# fuzzylite 6's norms where they differ from the model's: their comparisons are Op::isEq,
+# isGt, isLt, within 1e-6 (norm/t/DrasticProduct.cpp, NilpotentMinimum.cpp, HamacherProduct.cpp,
+# norm/s/DrasticSum.cpp, NilpotentMaximum.cpp, HamacherSum.cpp); pyfuzzylite 8 compares exactly
+_FL6_T = {TNorm.DRASTIC_PRODUCT: lambda a, b: np.where(_fl_eq(np.maximum(a, b), 1.0),
+                                                       np.minimum(a, b), 0.0),
+          TNorm.NILPOTENT_MIN: lambda a, b: np.where((a + b > 1.0) & ~_fl_eq(a + b, 1.0),
+                                                     np.minimum(a, b), 0.0),
+          TNorm.HAMACHER_PRODUCT: lambda a, b: np.where(
+              _fl_eq(a + b, 0.0), 0.0, a * b / np.where(_fl_eq(a + b, 0.0), 1.0, a + b - a * b))}
+_FL6_S = {SNorm.DRASTIC_SUM: lambda a, b: np.where(_fl_eq(np.minimum(a, b), 0.0),
+                                                   np.maximum(a, b), 1.0),
+          SNorm.NILPOTENT_MAX: lambda a, b: np.where((a + b < 1.0) & ~_fl_eq(a + b, 1.0),
+                                                     np.maximum(a, b), 1.0),
+          SNorm.HAMACHER_SUM: lambda a, b: np.where(
+              _fl_eq(a * b, 1.0), 1.0,
+              (a + b - 2.0 * a * b) / np.where(_fl_eq(a * b, 1.0), 1.0, 1.0 - a * b))}
+
+
+def fuzzylite6_norms() -> tuple[dict, dict]:
+    """(t-norms, s-norms) by enum as fuzzylite 6 computes them (engine.norms.combine)."""
+    from ..engine.norms import S_NORMS, T_NORMS
+    return {**T_NORMS, **_FL6_T}, {**S_NORMS, **_FL6_S}
+
+
 def fuzzylite6_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
-    """The rules' activations as fuzzylite 6 triggers them: Rule::trigger fires a rule only
-    where Op::isGt(activation, 0), which is false within its 1e-6 (FL_EPSILON) of 0, so an
-    activation below 1e-6 (or NaN) is 0: it adds nothing to the output's fuzzy set, and an
-    output whose rules all stay below it takes its default (measured: the fuzzylite 6 CLI;
-    pyfuzzylite 8 fires every rule above 0)."""
-    act = activations(rb, x)
+    """The rules' activations as fuzzylite 6 triggers them: its norms (`fuzzylite6_norms`),
+    and Rule::trigger fires a rule only where Op::isGt(activation, 0), which is false within its
+    1e-6 (FL_EPSILON) of 0, so an activation below 1e-6 (or NaN) is 0: it adds nothing to the
+    output's fuzzy set, and an output whose rules all stay below it takes its default
+    (measured: the fuzzylite 6 CLI; pyfuzzylite 8 fires every rule above 0)."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    tables = fuzzylite6_norms()
+    mus = [memberships(var, x[:, i]) for i, var in enumerate(rb.inputs)]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        act = flat_activations(rb, mus, mus, x.shape[0], tables)
+        for r, program in rb.conditions.items():
+            act[:, r] = run_condition(rb, program, x, tables)
+    act = act * rb.weights
     return np.where(act >= FL_EPSILON, act, 0.0)
+
+
+def _peaks_from(rb: RuleBase, x: np.ndarray, y: np.ndarray, acts) -> np.ndarray:
+    """y with the peak-based outputs (weighted average, sum, center of area) computed from the
+    tool's activations `acts` (the engine computes its own, the model's norms)."""
+    from ..engine.defuzz import OutputDefuzzifier
+    act = acts(rb, x)
+    for o, var in enumerate(rb.outputs):
+        inference = rb.inference_of(o)
+        if inference.defuzzifier not in (Defuzzifier.WEIGHTED_AVERAGE,
+                                         Defuzzifier.CENTER_OF_AREA, *SUMMED):
+            continue
+        y[:, o] = OutputDefuzzifier(var, inference, rb.inputs)(act, rb.consequents[:, o], x)
+    return y
 
 
 def fired(rb: RuleBase, x: np.ndarray, acts=activations) -> np.ndarray:
