@@ -13,6 +13,7 @@ import logging
 from dataclasses import dataclass
 from typing import Any, Callable, Iterator, Sequence
 
+from fuzzyc.display import plural
 from fuzzyc.language.limits import MAX_WORKERS
 
 from .progress import Progress
@@ -111,7 +112,7 @@ def map_chunks(task: Callable[[Any], Any], items: Sequence, cluster: Cluster,
                label: str = "chunks") -> list:
     """[task(item) for item in items], in order, run where `cluster` says. `task` and the
     items travel to the workers by (cloud)pickle: module-level functions and plain data."""
-    bar = Progress(len(items), cluster.progress, label=f"{label} ({len(items)} tasks)")
+    bar = Progress(len(items), cluster.progress, label=f"{label} ({plural(len(items), 'task')})")
     if cluster.local:
         results = []
         for item in items:

@@ -167,3 +167,23 @@ def test_progress_bar_only_on_a_terminal_and_never_with_no_progress(tmp_path):
     assert both.returncode == 2 and "not allowed with" in both.stderr
     verify = fuzzyc("verify", FOPDT_PI, "--only", "consistent", "--no-progress")
     assert verify.returncode == 0 and verify.stderr == ""
+
+
+def test_a_campaign_bar_counts_its_tasks_in_agreement(monkeypatch):
+    import fuzzyc.runtime.campaign as campaign
+    labels = []
+
+    class Bar:
+        def __init__(self, total, enabled, label):
+            labels.append(label)
+
+        def update(self, done):
+            pass
+
+        def close(self):
+            pass
+    monkeypatch.setattr(campaign, "Progress", Bar)
+    cluster = campaign.Cluster(None, None, 10000)
+    assert campaign.map_chunks(abs, [-3], cluster) == [3]
+    assert campaign.map_chunks(abs, [-1, 2], cluster) == [1, 2]
+    assert labels == ["chunks (1 task)", "chunks (2 tasks)"]
