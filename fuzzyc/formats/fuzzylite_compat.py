@@ -141,6 +141,8 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
     a = act[:, rules, None]                                                          # (N, R, 1)
     if first_plateau and inf.implication == TNorm.DRASTIC_PRODUCT:
         clipped = fuzzylite6_drastic_product(a, mu)
+    elif first_plateau and inf.implication in FL6_T:      # fuzzylite 6's, within 1e-6
+        clipped = FL6_T[inf.implication](a, mu)
     else:
         clipped = implied(a, mu, inf.implication)
     if first_plateau and inf.aggregation == Aggregation.DRASTIC_SUM:
@@ -153,7 +155,8 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
                                rules.size == rb.n_rules and not any(merged_rows(rb)))
     else:
         m = AGGREGATE[inf.aggregation](clipped) if inf.aggregation in AGGREGATE else \
-            _fold(clipped, aggregation_snorm(inf.aggregation))
+            _fold(clipped, aggregation_snorm(inf.aggregation),
+                  FL6_S if first_plateau else None)
     if octave:
         return _octave_defuzzify(m, u, w, inf.defuzzifier)
     total = m.sum(axis=1)
@@ -235,6 +238,29 @@ def _octave_bisector_index(m: np.ndarray, u: np.ndarray) -> np.ndarray:
     return midpoint.astype(float)
 
 
+def _fl_eq(a, b):
+    """fuzzylite 6's Op::isEq: equal within its macheps 1e-6 (FL_EPSILON)."""
+    return (a == b) | (np.abs(a - b) < FL_EPSILON)
+
+
+# fuzzylite 6's norms where they differ from the model's: their comparisons are Op::isEq,
+# isGt, isLt, within 1e-6 (norm/t/DrasticProduct.cpp, NilpotentMinimum.cpp, HamacherProduct.cpp,
+# norm/s/DrasticSum.cpp, NilpotentMaximum.cpp, HamacherSum.cpp); pyfuzzylite 8 compares exactly
+FL6_T = {TNorm.DRASTIC_PRODUCT: lambda a, b: np.where(_fl_eq(np.maximum(a, b), 1.0),
+                                                       np.minimum(a, b), 0.0),
+          TNorm.NILPOTENT_MIN: lambda a, b: np.where((a + b > 1.0) & ~_fl_eq(a + b, 1.0),
+                                                     np.minimum(a, b), 0.0),
+          TNorm.HAMACHER_PRODUCT: lambda a, b: np.where(
+              _fl_eq(a + b, 0.0), 0.0, a * b / np.where(_fl_eq(a + b, 0.0), 1.0, a + b - a * b))}
+FL6_S = {SNorm.DRASTIC_SUM: lambda a, b: np.where(_fl_eq(np.minimum(a, b), 0.0),
+                                                   np.maximum(a, b), 1.0),
+          SNorm.NILPOTENT_MAX: lambda a, b: np.where((a + b < 1.0) & ~_fl_eq(a + b, 1.0),
+                                                     np.maximum(a, b), 1.0),
+          SNorm.HAMACHER_SUM: lambda a, b: np.where(
+              _fl_eq(a * b, 1.0), 1.0,
+              (a + b - 2.0 * a * b) / np.where(_fl_eq(a * b, 1.0), 1.0, 1.0 - a * b))}
+
+
 def fuzzylite6_drastic_product(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """fuzzylite 6's DrasticProduct (norm/t/DrasticProduct.cpp): min(a, b) where max(a, b)
     is 1 within its 1e-6 (Op::isEq), else 0; its DrasticSum likewise takes the max where the
@@ -267,10 +293,17 @@ def octave_drastic_sum(clipped: np.ndarray, firing: np.ndarray, every_rule: bool
     return np.where(some_zero, top, 1.0)
 
 
-def _fold(g: np.ndarray, norm: SNorm) -> np.ndarray:
-    """g (N, R, K) folded over the rules (axis 1) with the s-norm; 0 when there is no rule."""
-    return combine([g[:, r] for r in range(g.shape[1])], norm, False) if g.shape[1] \
-        else np.zeros((g.shape[0], g.shape[2]))
+def _fold(g: np.ndarray, norm: SNorm, own: dict | None = None) -> np.ndarray:
+    """g (N, R, K) folded over the rules (axis 1) with the s-norm (`own`: a tool's s-norms
+    where they differ, FL6_S); 0 when there is no rule."""
+    if not g.shape[1]:
+        return np.zeros((g.shape[0], g.shape[2]))
+    if own and norm in own:
+        out = g[:, 0]
+        for r in range(1, g.shape[1]):
+            out = own[norm](out, g[:, r])
+        return out
+    return combine([g[:, r] for r in range(g.shape[1])], norm, False)
 
 
 def _fuzzylite6_bisector(m: np.ndarray, lo: float, hi: float) -> np.ndarray:

@@ -53,10 +53,10 @@ from ..engine.membership import (HEDGE_EXPONENT, apply_hedges, linear_coefficien
                                  pointwise, term_inverse)
 from ..semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Model,
                                RuleBase, SNorm, TermKind, TNorm, Variable, aggregation_snorm)
-from ..engine.norms import combine, firing
+from ..engine.norms import S_NORMS, T_NORMS, combine, firing
 from ..engine.formula import parse_formula
 from ..engine.held_outputs import POLICIES, Held, reads_values
-from .fuzzylite_compat import FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
+from .fuzzylite_compat import FL6_S, FL6_T, FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
 
 SEMANTICS = ("exact", "fuzzylite", "pyfuzzylite", "matlab", "octave")
 RESOLUTION = {"fuzzylite": 100, "pyfuzzylite": 1000}
@@ -392,7 +392,7 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
                              activations=acts)
         if semantics == "pyfuzzylite":
             y = _vanishing(rb, np.atleast_2d(np.asarray(x, dtype=float)), y)
-        elif _FL6_T.keys() & {rb.inference.and_} or _FL6_S.keys() & {rb.inference.or_}:
+        elif FL6_T.keys() & {rb.inference.and_} or FL6_S.keys() & {rb.inference.or_}:
             y = _peaks_from(rb, np.atleast_2d(np.asarray(x, dtype=float)), y, acts)
         return np.where(fired(rb, x, acts), y, np.nan)
     if semantics == "octave":
@@ -703,33 +703,9 @@ def _term_values(var, x: np.ndarray) -> np.ndarray:
     return np.where(var.kinds == TermKind.LINEAR, linear, var.peaks())
 
 
-def _fl_eq(a, b):
-    """fuzzylite 6's Op::isEq: equal within its macheps 1e-6 (FL_EPSILON)."""
-    return (a == b) | (np.abs(a - b) < FL_EPSILON)
-
-
-# fuzzylite 6's norms where they differ from the model's: their comparisons are Op::isEq,
-# isGt, isLt, within 1e-6 (norm/t/DrasticProduct.cpp, NilpotentMinimum.cpp, HamacherProduct.cpp,
-# norm/s/DrasticSum.cpp, NilpotentMaximum.cpp, HamacherSum.cpp); pyfuzzylite 8 compares exactly
-_FL6_T = {TNorm.DRASTIC_PRODUCT: lambda a, b: np.where(_fl_eq(np.maximum(a, b), 1.0),
-                                                       np.minimum(a, b), 0.0),
-          TNorm.NILPOTENT_MIN: lambda a, b: np.where((a + b > 1.0) & ~_fl_eq(a + b, 1.0),
-                                                     np.minimum(a, b), 0.0),
-          TNorm.HAMACHER_PRODUCT: lambda a, b: np.where(
-              _fl_eq(a + b, 0.0), 0.0, a * b / np.where(_fl_eq(a + b, 0.0), 1.0, a + b - a * b))}
-_FL6_S = {SNorm.DRASTIC_SUM: lambda a, b: np.where(_fl_eq(np.minimum(a, b), 0.0),
-                                                   np.maximum(a, b), 1.0),
-          SNorm.NILPOTENT_MAX: lambda a, b: np.where((a + b < 1.0) & ~_fl_eq(a + b, 1.0),
-                                                     np.maximum(a, b), 1.0),
-          SNorm.HAMACHER_SUM: lambda a, b: np.where(
-              _fl_eq(a * b, 1.0), 1.0,
-              (a + b - 2.0 * a * b) / np.where(_fl_eq(a * b, 1.0), 1.0, 1.0 - a * b))}
-
-
 def fuzzylite6_norms() -> tuple[dict, dict]:
     """(t-norms, s-norms) by enum as fuzzylite 6 computes them (engine.norms.combine)."""
-    from ..engine.norms import S_NORMS, T_NORMS
-    return {**T_NORMS, **_FL6_T}, {**S_NORMS, **_FL6_S}
+    return {**T_NORMS, **FL6_T}, {**S_NORMS, **FL6_S}
 
 
 def fuzzylite6_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
