@@ -10,6 +10,7 @@ from ..formats.tool_semantics import with_tool_semantics
 from .common import RULE_FILE_HELP, add_semantics, check_output, whole_number
 
 NUMERIC = ("float", "double", "q15", "q31")
+LUT_HINT = 1e-3     # a lookup table's error above this fraction of the range names --resolution
 
 
 def add_parser(subparsers) -> None:
@@ -35,11 +36,15 @@ def add_parser(subparsers) -> None:
 def _print_fixed_point_bounds(model, numeric: str) -> None:
     """The derived worst cases the header states, as fractions of each output's range."""
     from ..backends.c_fixed.header import CHAIN_STEPS, chain_error_bound, derived_error_bound
-    rb_bound = derived_error_bound(model, numeric)
-    if rb_bound is not None:
-        print("derived worst case of the rule base: " + ", ".join(
-            f"{v.name} {e:.3g}" for v, e in zip(model.rulebase.outputs, rb_bound))
-            + " of the output's range")
+    from ..backends.rule_blocks import emitted_blocks
+    emitted = emitted_blocks(model)
+    for k, rb in enumerate(emitted):
+        rb_bound = derived_error_bound(model, numeric, block=k if len(emitted) > 1 else None)
+        if rb_bound is not None:
+            which = f"rule block {k} ({rb.name})" if len(emitted) > 1 else "the rule base"
+            print(f"derived worst case of {which}: " + ", ".join(
+                f"{v.name} {e:.3g}" for v, e in zip(rb.outputs, rb_bound))
+                + " of the output's range")
     after_one = chain_error_bound(model, numeric, 1)
     after_run = chain_error_bound(model, numeric, CHAIN_STEPS)
     print(f"derived worst case of the chain after 1 / {CHAIN_STEPS:,} steps: " + ", ".join(
@@ -69,6 +74,28 @@ def _check_file_name(file: str, model_name: str, filename: str) -> None:
         None if where is None else where[1])])
 
 
+def _at_defuzzify(diag: Diagnostic, file: str) -> Diagnostic:
+    """A back end's refusal of a defuzzifier (`... `centroid` is not supported`), placed at
+    the file's `defuzzify = centroid` where the file says it so (a .fz); others as they are."""
+    import re
+    from ..formats import split_block
+    from ..language.limits import read_rule_file
+    word = re.search(r"`(\w+)` is not supported", diag.message)
+    if diag.loc is not None or word is None:
+        return diag
+    path = split_block(file)[0]
+    try:
+        lines = source_lines(read_rule_file(path))
+    except (FuzzycError, OSError):
+        return diag
+    pattern = re.compile(rf"\bdefuzzify\s*=\s*({re.escape(word.group(1))})\b")
+    for n, line in enumerate(lines, 1):
+        found = pattern.search(line.split("#", 1)[0])
+        if found:
+            return Diagnostic(SourceLoc(str(path), n, found.start(1) + 1), diag.message, line)
+    return diag
+
+
 def run(args) -> int:
     from ..api import compile_c, compile_lut, load
     from ..backends.c.load import STRICT_FLAGS, footprint, measured_entry_points
@@ -89,9 +116,14 @@ def run(args) -> int:
         for var in model.rulebase.outputs:
             e = header.max_error[var.name]
             print(f"lookup table max error {var.name}: {e:.4g} "
-                  f"({e / (var.hi - var.lo):.3e} of its range)")
+                  f"({e / (var.hi - var.lo):.3e} of its range)"
+                  + (f"; a finer grid lowers it (--resolution, now {args.resolution})"
+                     if e > LUT_HINT * (var.hi - var.lo) else ""))
     else:
-        header = compile_c(model, args.numeric)
+        try:
+            header = compile_c(model, args.numeric)
+        except FuzzycError as exc:
+            raise FuzzycError([_at_defuzzify(d, args.file) for d in exc.diagnostics]) from None
         if args.numeric in ("q15", "q31"):
             _print_fixed_point_bounds(model, args.numeric)
     path = Path(args.output) / header.filename

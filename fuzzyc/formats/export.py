@@ -15,8 +15,10 @@ import numpy as np
 import sympy
 
 from ..errors import Diagnostic, FuzzycError
+from ..display import plural
 from ..escape import name_problems
-from ..semantics.model import CondOp, Hedge, Model, OutputKind, TermKind, Variable
+from ..semantics.model import (CondOp, Hedge, Model, OutputKind, TermKind, Variable,
+                               chain_output_names)
 from .blocks import file_variables
 
 
@@ -72,7 +74,14 @@ def left_out(model: Model) -> list[str]:
     unused = sorted(signals - {v.name for v in inputs})
     if unused:
         lost.append(f"raw inputs not read by the rule base: {', '.join(unused)}")
+    # a plain output read back is named by the importers' convention (y -> y_out)
+    read_back = dict(zip([v.name for v in outputs], chain_output_names(
+        [v.name for v in outputs], [v.name for v in (*inputs, *outputs)])))
     for out in model.outputs:
+        if _is_plain_output(out, outputs) and out.name != read_back[out.expr.name]:
+            lost.append(f"output {out.name} is the rule-base output {out.expr.name} under "
+                        f"another name: the file names it {out.expr.name} (read back, "
+                        f"{read_back[out.expr.name]})")
         if not _is_plain_output(out, outputs):
             kind = {OutputKind.INCREMENT: "integrate", OutputKind.RECIPROCAL_INCREMENT:
                     "1/integrate"}.get(out.kind, "")
@@ -84,7 +93,8 @@ def left_out(model: Model) -> list[str]:
         if v.learnable is not None and np.any(v.learnable):
             lost.append(f"the learnable flags of `{v.name}`'s terms")
     if model.properties:
-        lost.append(f"{len(model.properties)} verify properties")
+        lost.append(f"{plural(len(model.properties), 'verify property', 'verify properties')}"
+                    " dropped: the format has no place for them (verify the .fz)")
     if model.period is not None:
         lost.append(f"the sample period {model.period:g} s")
     return lost

@@ -106,8 +106,13 @@ FIXED_DEFUZZIFIERS = emitted_in_fixed(DEFUZZIFIERS)
 assert all(defines(T_NORMS[t].fixed) for t in FIXED_TNORMS)
 
 
+FLOAT_HINT = ("; the float and double headers (`--numeric float`, the default, or `double`) "
+              "and the lookup table (`--target lut`) take what fixed point does not")
+
+
 def _fail(message: str) -> FuzzycError:
-    return FuzzycError([Diagnostic(None, message)])
+    """What the q15/q31 back end cannot emit, and what can."""
+    return FuzzycError([Diagnostic(None, message + FLOAT_HINT)])
 
 
 def _snapped(var):
