@@ -34,12 +34,33 @@ def add_parser(subparsers) -> None:
     p.set_defaults(run=run)
 
 
+def fcl_summaries(path: str) -> list[str] | None:
+    """An .fcl file named without `::NAME` is checked whole: every FUNCTION_BLOCK, and a block
+    without outputs (a membership demo) by its inputs and terms; None for other files."""
+    from ..formats import split_block
+    from ..language.limits import read_rule_file
+    from ..formats.fcl import check_fcl
+    file, block = split_block(path)
+    if block is not None or file.suffix.lower() != ".fcl":
+        return None
+    lines = []
+    for label, read in check_fcl(read_rule_file(file), str(file)):
+        if isinstance(read, Model):
+            lines.append(summary(read))
+        else:
+            ins = ", ".join(f"{v.name}({len(v.terms)})" for v in read)
+            lines.append(f"{label}: inputs {ins}; no outputs (membership functions only: "
+                         "checked, nothing to evaluate)")
+    return lines
+
+
 def run(args) -> int:
     from ..api import load
     status = 0
     for path in args.files:
         try:
-            print(summary(load(path)))
+            lines = fcl_summaries(str(path))
+            print("\n".join(lines) if lines is not None else summary(load(path)))
         except FuzzycError as exc:
             for diagnostic in exc.diagnostics:
                 print(diagnostic.format(), file=sys.stderr)

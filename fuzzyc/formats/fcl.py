@@ -74,6 +74,11 @@ class _FclReader:
         self.block_settings: list[tuple[str, dict[str, tuple[str, SourceLoc]]]] = []
         self.output_settings: dict[str, dict[str, tuple[str, SourceLoc]]] = {}
         self.rule_block: list[int] = []           # the block of each rule read
+        # jFuzzyLogic: each variable's universe as jFuzzyLogic estimates it from each term
+        # (None where a term gives none), for a variable declared without RANGE
+        self.universe: dict[str, list[tuple[float, float] | None]] = {}
+        # jFuzzyLogic's FUNCTION terms (Sugeno values) per output: their places
+        self.jfl_functions: dict[str, list[SourceLoc]] = {}
 
     def loc(self, token: Token) -> SourceLoc:
         return self.rep.loc(token.line, token.column)
@@ -95,8 +100,28 @@ class _FclReader:
                 if item.data == kind:
                     getattr(self, "_" + kind)(item)
         self._inference()
+        self._universes()
         # The model remembers which block it is, in the syntax that loads it again.
         return self.got.model(self.path if wanted is None else f"{self.path}::{wanted}", text)
+
+    def memberships(self, text: str, wanted: str | None) -> list[VarSpec]:
+        """The chosen block read as `read` does, for a block that declares inputs and no output
+        (a membership demo, as jFuzzyLogic's examples have): its declarations and terms
+        checked, the inputs returned; nothing to evaluate."""
+        tree = fcl_lark().parse(text, start="start")
+        block = self._select(tree.children, wanted)
+        self.rep.raise_if_any()
+        items = [c for c in block.children if isinstance(c, Tree)]
+        for kind in ("var_input", "var_output", "fuzzify", "defuzzify", "ruleblock"):
+            for item in items:
+                if item.data == kind:
+                    getattr(self, "_" + kind)(item)
+        self._universes()
+        self.got.check_ranges()
+        if not self.got.inputs:
+            self.rep.error(self.rep.loc(1, 1), "the block declares no input variable")
+        self.rep.raise_if_any()
+        return list(self.got.inputs.values())
 
     def _where(self, tree: Tree) -> SourceLoc:
         return self.rep.loc(tree.meta.line, tree.meta.column)
@@ -208,7 +233,16 @@ class _FclReader:
                 if body.data == "formula":
                     self._formula(var, term_name, body.children[0])
                     continue
+                if body.data == "jfl_formula":
+                    self._jfl_formula(var, is_input, term_name, body.children[0])
+                    continue
+                if body.data == "named_shape" and len(body.children) == 1 and \
+                        body.children[0].value in self.declared:
+                    self._variable_singleton(var, is_input, term_name, body.children[0])
+                    continue
+                self._term_universe = None
                 made = self._shape(body)
+                self.universe.setdefault(var.name, []).append(self._term_universe)
                 if made is not None:
                     kind, params, *coefficients = made
                     var.add(TermSpec(term_name.value, kind, params, self.loc(term_name),
@@ -228,38 +262,152 @@ class _FclReader:
     def _interval(self, tree: Tree) -> tuple[float, float]:
         return tuple(float(n.children[0]) for n in tree.children)
 
+    def _numbers(self, atoms: list, what: str) -> list[float] | None:
+        """The parameters as numbers; one that names a variable (jFuzzyLogic's Value of type
+        VAR_REFERENCE: the term moves with that variable's value at every evaluation) is
+        refused where it stands: a term of the model has a fixed shape."""
+        values = []
+        for atom in atoms:
+            if atom.data == "var_ref":
+                token = atom.children[0]
+                self.rep.error(self.loc(token), f"{what} parameter `{token}` names a variable: "
+                               "jFuzzyLogic moves the term with that variable's value at every "
+                               "evaluation; a fuzzyc term has a fixed shape, so this has no "
+                               "meaning here (write the number)")
+                return None
+            values.append(float(atom.children[0]))
+        return values
+
     def _shape(self, body: Tree):
         loc = self._where(body)
         if body.data == "singleton":
-            return shape(TermKind.SINGLETON, float(body.children[0].children[0]))
+            value = float(body.children[0].children[0])
+            self._term_universe = (value, value)
+            return shape(TermKind.SINGLETON, value)
         if body.data == "named_shape":
             word, *numbers = body.children
             return fuzzylite_shape(word.value, [float(n.children[0]) for n in numbers], loc,
                                    self.rep)
+        if body.data == "singletons":
+            self.rep.error(loc, "SINGLETONS (jFuzzyLogic's generic singleton, several points "
+                                "in one term) is not read: a fuzzyc term is one singleton; "
+                                "write one TERM per point")
+            return None
         if body.data == "function":
-            word, *numbers = body.children
-            v = [float(n.children[0]) for n in numbers]
-            return self._function(word.value.upper(), v, loc)
-        points = [tuple(float(n.children[0]) for n in p.children) for p in body.children]
+            word, *atoms = body.children
+            v = self._numbers(atoms, word.value.upper())
+            return None if v is None else self._function(word.value.upper(), v, loc)
+        points = []
+        for p in body.children:
+            xy = self._numbers(p.children, "point")
+            if xy is None:
+                return None
+            points.append(tuple(xy))
+        if points:      # jFuzzyLogic's universe of a point list: its first and last x
+            self._term_universe = (points[0][0], points[-1][0])
+        if len(points) > 1 and len({x for x, _ in points}) == 1 and \
+                [y for _, y in points] in ([0.0, 1.0, 0.0], [0.0, 1.0], [1.0, 0.0]):
+            return shape(TermKind.SINGLETON, points[0][0])      # a spike of width 0
         # a triangle, trapezoid or shoulder stays one (the engine integrates those exactly)
         return _points_to_trapezoid(points) or discrete_or_none(
             [v for point in points for v in point], loc, self.rep)
 
     def _function(self, word: str, v: list[float], loc: SourceLoc):
-        arity = {"TRIAN": 3, "TRAPE": 4, "GAUSS": 2, "GBELL": 3, "SIGM": 2}[word]
+        arity = {"TRIAN": 3, "TRAPE": 4, "GAUSS": 2, "GBELL": 3, "SIGM": 2, "COSINE": 2,
+                 "DSIGM": 4, "GAUSS2": 4}[word]
         if len(v) != arity:
             self.rep.error(loc, f"{word} takes {arity} numbers, got {len(v)}")
             return None
+        if word in ("DSIGM", "GAUSS2"):
+            why = {"DSIGM": "jFuzzyLogic's difference of sigmoids is max(0, s1 - s2); fuzzyc's "
+                            "sigmoid difference is |s1 - s2|, another shape where s2 > s1",
+                   "GAUSS2": "jFuzzyLogic's two-sided Gaussian is not read (its definition is "
+                             "not documented beside the grammar)"}[word]
+            self.rep.error(loc, f"{word} is not read: {why}")
+            return None
+        # jFuzzyLogic's universe of each shape (MembershipFunction*.estimateUniverse)
+        a = v[0]
+        self._term_universe = {
+            "TRIAN": lambda: (v[0], v[2]), "TRAPE": lambda: (v[0], v[3]),
+            "GAUSS": lambda: (v[0] - 4 * v[1], v[0] + 4 * v[1]),
+            "GBELL": lambda: (v[2] - 999 ** (1 / (2 * v[1])) * a, v[2] + 999 ** (1 / (2 * v[1])) * a)
+            if v[1] > 0 else None,
+            "SIGM": lambda: (v[1] - 9 / abs(v[0]), v[1] + 9 / abs(v[0])) if v[0] != 0 else None,
+            "COSINE": lambda: (v[1] - v[0], v[1] + v[0])}[word]()
+        if word == "TRIAN" and v[0] == v[1] == v[2] or word == "TRAPE" and len(set(v)) == 1:
+            # jFuzzyLogic: 1 at the peak itself (`in == mid`), 0 elsewhere: a singleton
+            return shape(TermKind.SINGLETON, v[0])
         made = {"TRIAN": lambda: trapezoid_or_none(v[0], v[1], v[1], v[2]),
                 "TRAPE": lambda: trapezoid_or_none(*v),
                 "GAUSS": lambda: shape(TermKind.GAUSSIAN, *v) if v[1] > 0 else None,
                 # jFuzzyLogic: GBELL a b mean (width, slope, centre); SIGM gain centre
                 "GBELL": lambda: shape(TermKind.BELL, v[2], v[0], v[1]) if v[0] > 0 and v[1] > 0
                 else None,
-                "SIGM": lambda: shape(TermKind.SIGMOID, v[1], v[0]) if v[0] != 0 else None}[word]()
+                "SIGM": lambda: shape(TermKind.SIGMOID, v[1], v[0]) if v[0] != 0 else None,
+                # jFuzzyLogic: COSINE net_max offset, (1 + cos(pi (x - offset) / net_max)) / 2
+                # on offset -+ net_max: the cosine of centre offset, width 2 net_max
+                "COSINE": lambda: shape(TermKind.COSINE, v[1], 2 * v[0]) if v[0] > 0 else None,
+                }[word]()
         if made is None:
             self.rep.error(loc, f"degenerate {word} ({' '.join(f'{p:g}' for p in v)})")
         return made
+
+    def _variable_singleton(self, var: VarSpec, is_input: bool, name: Token,
+                            ref: Token) -> None:
+        """jFuzzyLogic's `TERM t := x;`: a singleton at variable x's value.  On an output
+        that is a Takagi-Sugeno value (the function term `x`, read by COGS/COGF); on an
+        input a membership that moves with another variable, which the model has not."""
+        if is_input:
+            self.rep.error(self.loc(ref), f"term `{name}` is a singleton at variable `{ref}`'s "
+                           "value: jFuzzyLogic moves it with that value; an input's terms have "
+                           "fixed shapes in fuzzyc, so this has no meaning here")
+            return
+        self._jfl_formula(var, is_input, name, ref, text=f"FUNCTION {ref.value}",
+                          offset=-len("FUNCTION "))
+
+    def _jfl_formula(self, var: VarSpec, is_input: bool, name: Token, token: Token,
+                     text: str | None = None, offset: int = 0) -> None:
+        """jFuzzyLogic's `TERM t := FUNCTION expr;`: a singleton at the value of expr, an
+        arithmetic of numbers and input variables (+ - * / ^ %, exp ln sin cos tan abs); a
+        Takagi-Sugeno consequent (METHOD COGS or COGF).  Read as a fuzzyc Function term over
+        the inputs, its text rewritten with jFuzzyLogic's precedence made explicit."""
+        text = token.value if text is None else text
+        loc = self.loc(token)
+        if is_input:
+            self.rep.error(loc, f"term `{name}` is a FUNCTION: in jFuzzyLogic a singleton at a "
+                                "computed place, a Takagi-Sugeno consequent; an input has no "
+                                "such term")
+            return
+        body = text[len("FUNCTION"):]
+        try:
+            formula = _JflExpression(body, set(self.got.inputs), set(self.got.outputs)).parse()
+        except _JflError as exc:
+            at = _offset_loc(loc, text, len("FUNCTION") + exc.offset + offset)
+            self.rep.error(at, f"FUNCTION of term `{name}`: {exc}")
+            return
+        term = function_term(name.value, formula, self.loc(name), loc, self.rep)
+        if term is not None:
+            var.add(term, self.rep)
+            self.jfl_functions.setdefault(var.name, []).append(self.loc(name))
+        self.universe.setdefault(var.name, []).append(None)
+
+    def _universes(self) -> None:
+        """A variable declared without RANGE takes the universe jFuzzyLogic estimates
+        (Variable.estimateUniverse): the smallest and largest of its terms' own universes
+        (TRIAN a..c, TRAPE a..d, a point list its first..last x, a singleton its place,
+        GAUSS mean -+ 4 stdev, GBELL mean -+ 999^(1/2b) a, SIGM t0 -+ 9/|gain|, COSINE
+        offset -+ net_max).  Where a term gives none (fuzzylite's shapes, functions), the
+        terms' break points as before (Collected.check_ranges)."""
+        for name, var in (*self.got.inputs.items(), *self.got.outputs.items()):
+            spans = self.universe.get(name, [])
+            if var.lo is not None or not spans or None in spans:
+                continue
+            # a single point (one singleton) passes for a Takagi-Sugeno output only
+            # (Collected.check_ranges: an empty range is refused elsewhere)
+            var.lo = min(s[0] for s in spans)
+            var.hi = max(s[1] for s in spans)
+            self.got.notes.append(f"`{name}` has no RANGE: took [{var.lo:g}, {var.hi:g}], the "
+                                  "universe jFuzzyLogic estimates from its terms")
 
     # ------------------------------------------------------------------ rules
     def _ruleblock(self, tree: Tree) -> None:
@@ -340,6 +488,14 @@ class _FclReader:
         method, loc = settings.get("METHOD", ("COG", var.loc))
         if "METHOD" not in settings:
             self.got.notes.append(f"METHOD not given for `{var.name}`: COG assumed")
+        if method == "COGF":
+            # jFuzzyLogic's centre of gravity of functions: sum x acc / sum acc over the
+            # singletons its FUNCTION terms evaluate to, as COGS over singletons
+            method = "COGS"
+        elif var.name in self.jfl_functions and method not in ("COGS", "COGSS"):
+            for where in self.jfl_functions[var.name]:
+                self.rep.error(where, f"a FUNCTION term (a singleton at a computed place) needs "
+                                      f"METHOD COGF or COGS; `{var.name}` has {method}")
         if accu is not None and accu[0] not in OPERATORS["accu"][2]:
             self.rep.error(accu[1], f"ACCU {accu[0]} is not supported: the model has "
                                     + ", ".join(OPERATORS["accu"][2]))
@@ -380,6 +536,97 @@ class _FclReader:
                 self.rep.error(term.loc, f"{method} needs singleton{kinds} terms {what}")
 
 
+class _JflError(ValueError):
+    def __init__(self, message: str, offset: int):
+        super().__init__(message)
+        self.offset = offset
+
+
+class _JflExpression:
+    """jFuzzyLogic's FUNCTION grammar (Fcl.g: fun_pm, fun_md, fun_mp, fun_atom): + - over
+    * / over ^ % (left to right, one level), atoms a number, a variable, or exp ln log sin cos
+    tan abs of a parenthesised expression; written back fully parenthesised in fuzzyc's
+    formula syntax (`%` as fmod: Java's remainder keeps the dividend's sign; ln as log)."""
+    FUNCTIONS = {"exp": "exp", "ln": "log", "sin": "sin", "cos": "cos", "tan": "tan",
+                 "abs": "abs"}
+
+    def __init__(self, text: str, inputs: set[str], outputs: set[str]):
+        import re
+        self.text, self.inputs, self.outputs = text, inputs, outputs
+        self.tokens = [(m.group(), m.start()) for m in re.finditer(
+            r"[0-9]+(?:\.[0-9]+)?(?:[eE][+-]?[0-9]+)?|[A-Za-z_][A-Za-z0-9_]*|\S", text)]
+        self.at = 0
+
+    def _peek(self) -> str | None:
+        return self.tokens[self.at][0] if self.at < len(self.tokens) else None
+
+    def _offset(self) -> int:
+        return self.tokens[self.at][1] if self.at < len(self.tokens) else len(self.text)
+
+    def _take(self) -> str:
+        self.at += 1
+        return self.tokens[self.at - 1][0]
+
+    def parse(self) -> str:
+        if not self.tokens:
+            raise _JflError("an expression is needed", 0)
+        out = self._level(0)
+        if self._peek() is not None:
+            raise _JflError(f"unexpected `{self._peek()}`", self._offset())
+        return out
+
+    LEVELS = (("+", "-"), ("*", "/"), ("^", "%"))
+
+    def _level(self, k: int) -> str:
+        if k == len(self.LEVELS):
+            return self._atom()
+        out = self._level(k + 1)
+        while self._peek() in self.LEVELS[k]:
+            op = self._take()
+            right = self._level(k + 1)
+            out = f"fmod({out}, {right})" if op == "%" else f"({out} {op} {right})"
+        return out
+
+    def _atom(self) -> str:
+        word, offset = self._peek(), self._offset()
+        if word is None:
+            raise _JflError("the expression ends early", offset)
+        self._take()
+        if word == "-":                      # a signed number (jFuzzyLogic's REAL)
+            return f"(-{self._atom()})"
+        if word == "(":
+            return self._closed(self._level(0))
+        if word[0].isdigit():
+            return word
+        if word.lower() in self.FUNCTIONS and self._peek() == "(":
+            self._take()
+            return f"{self.FUNCTIONS[word.lower()]}{self._closed(self._level(0))}"
+        if word.lower() == "log" and self._peek() == "(":
+            raise _JflError("jFuzzyLogic's `log` is not read (its base is not documented): "
+                            "write ln(...) or divide by ln(10)", offset)
+        if word in self.inputs:
+            return word
+        if word in self.outputs:
+            raise _JflError(f"`{word}` is an output: jFuzzyLogic refuses it in a FUNCTION "
+                            "(a race between outputs); use inputs", offset)
+        raise _JflError(f"`{word}` is not an input variable", offset)
+
+    def _closed(self, inner: str) -> str:
+        if self._peek() != ")":
+            raise _JflError("`)` expected", self._offset())
+        self._take()
+        return f"({inner})"
+
+
+def _offset_loc(loc: SourceLoc, text: str, offset: int) -> SourceLoc:
+    """The place `offset` characters into `text`, which starts at `loc`."""
+    before = text[:max(offset, 0)]
+    lines = before.count("\n")
+    if lines:
+        return replace(loc, line=loc.line + lines, col=len(before) - before.rfind("\n"))
+    return replace(loc, col=loc.col + len(before))
+
+
 def _block_name(block: Tree) -> Token | None:
     return next((c for c in block.children if isinstance(c, Token)), None)
 
@@ -417,6 +664,46 @@ def read_fcl(text: str, path: str = "<string>", block: str | None = None) -> Mod
     (declarations, terms, rules, operators) run on the chosen block only: a block that is not
     chosen may hold what the model cannot carry."""
     return _FclReader(text, path).read(text.lstrip("\ufeff"), block)
+
+
+def fcl_block_names(text: str, path: str = "<string>") -> list[str | None]:
+    """The names of the file's FUNCTION_BLOCKs in order (None for a nameless one); a syntax
+    error anywhere is raised, located."""
+    reader = _FclReader(text, path)
+    try:
+        tree = fcl_lark().parse(text.lstrip("\ufeff"), start="start")
+    except UnexpectedInput as exc:
+        syntax_error(exc, reader.rep, reader.rep.loc(exc.line, exc.column))
+        reader.rep.raise_if_any()
+    return [None if t is None else t.value for t in map(_block_name, tree.children)]
+
+
+def check_fcl(text: str, path: str = "<string>") -> list[tuple[str, object]]:
+    """Every FUNCTION_BLOCK of the file checked (jFuzzyLogic's files may hold several):
+    (`FILE.fcl::NAME`, its Model or, for a block with inputs and no outputs, the list of its
+    input VarSpecs: a membership demo) per block; FuzzycError with every block's diagnostics."""
+    from ..errors import FuzzycError
+    from ..language.limits import check_model
+    names = fcl_block_names(text, path)
+    refs = [None] if len(names) == 1 else names
+    if len(names) > 1 and None in names:        # the reader says where, naming the others
+        read_fcl(text, path)
+    out, diagnostics = [], []
+    for name in refs:
+        label = path if name is None else f"{path}::{name}"
+        try:
+            model = read_fcl(text, path, name)
+            check_model(model)
+            out.append((label, model))
+        except FuzzycError as exc:
+            if [d.message for d in exc.diagnostics] == ["the file declares no output variable"]:
+                out.append((label, _FclReader(text, path).memberships(
+                    text.lstrip("\ufeff"), name)))
+            else:
+                diagnostics += exc.diagnostics
+    if diagnostics:
+        raise FuzzycError(diagnostics)
+    return out
 
 
 # ---------------------------------------------------------------------- export

@@ -1,0 +1,373 @@
+"""FCL as jFuzzyLogic writes it (issue 28): each construct of its dialect in a small hand-written
+file (inline: nothing here is copied from jFuzzyLogic's files) with a hand-computed number, the
+arithmetic in a comment, or the located refusal.  What jFuzzyLogic means was read from its
+grammar (Fcl.g) and sources (MembershipFunction*.estimateUniverse, RuleBlock, the
+defuzzifiers); docs/formats.md, "jFuzzyLogic's FCL", says what is read and what is refused."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from fuzzyc.cli import main
+from fuzzyc.engine.inference import evaluate
+from fuzzyc.errors import FuzzycError
+from fuzzyc.formats import read_fcl
+from fuzzyc.formats.fcl import check_fcl
+from fuzzyc.semantics.model import Aggregation, Defuzzifier, TermKind
+
+
+def messages(exc: pytest.ExceptionInfo) -> list[str]:
+    return [d.format().splitlines()[0] for d in exc.value.diagnostics]
+
+
+def value(model, *inputs: float) -> float:
+    return float(evaluate(model.rulebase, np.array([inputs], dtype=float))[0, 0])
+
+
+# x in [0, 10]: low (10 - x) / 10, mid TRIAN 0 5 10, high x / 10
+INPUT = """
+VAR_INPUT
+  x : REAL;
+END_VAR
+FUZZIFY x
+  TERM low := TRIAN 0 0 10;
+  TERM mid := TRIAN 0 5 10;
+  TERM high := TRIAN 0 10 10;
+  RANGE := (0 .. 10);
+END_FUZZIFY
+"""
+
+
+def mamdani(defuzzify: str, rules: str) -> str:
+    return f"""FUNCTION_BLOCK m
+{INPUT}
+VAR_OUTPUT
+  y : REAL;
+END_VAR
+DEFUZZIFY y
+  TERM p := TRAPE 0 0 6 6;
+  TERM q := TRAPE 4 4 10 10;
+  TERM c := TRIAN 0 5 10;
+  {defuzzify}
+  RANGE := (0 .. 10);
+END_DEFUZZIFY
+RULEBLOCK r
+  {rules}
+END_RULEBLOCK
+END_FUNCTION_BLOCK
+"""
+
+
+# ---------------------------------------------------------------------- RANGE left out
+def test_universe_from_the_terms_as_jfuzzylogic_estimates_it():
+    text = """FUNCTION_BLOCK u
+VAR_INPUT
+  x : REAL;
+END_VAR
+VAR_OUTPUT
+  y : REAL;
+END_VAR
+FUZZIFY x
+  TERM low := TRIAN 0 0 4;
+  TERM high := GAUSS 6 1;
+END_FUZZIFY
+DEFUZZIFY y
+  TERM a := 2;
+  TERM b := 8;
+  METHOD : COGS;
+END_DEFUZZIFY
+RULEBLOCK r
+  AND : MIN;
+  ACCU : MAX;
+  RULE 1 : IF x IS low THEN y IS a;
+  RULE 2 : IF x IS high THEN y IS b;
+END_RULEBLOCK
+END_FUNCTION_BLOCK
+"""
+    model = read_fcl(text, "u.fcl")
+    x, = model.rulebase.inputs
+    y, = model.rulebase.outputs
+    # x: TRIAN 0 0 4 spans [0, 4], GAUSS 6 1 spans 6 -+ 4*1 = [2, 10]: [min 0, max 10]
+    assert (x.lo, x.hi) == (0.0, 10.0)
+    # y: the singletons' places, [2, 8]
+    assert (y.lo, y.hi) == (2.0, 8.0)
+    assert any("no RANGE: took [0, 10]" in n for n in model.notes)
+    # x = 6: low 0, high 1 -> y = 8
+    assert value(model, 6.0) == pytest.approx(8.0, abs=1e-12)
+
+
+def test_universe_of_the_smooth_shapes():
+    text = """FUNCTION_BLOCK u
+VAR_INPUT
+  a : REAL; b : REAL; c : REAL; d : REAL;
+END_VAR
+VAR_OUTPUT y : REAL; END_VAR
+FUZZIFY a TERM t := GBELL 2 1 5; END_FUZZIFY
+FUZZIFY b TERM t := SIGM 3 1; END_FUZZIFY
+FUZZIFY c TERM t := COSINE 2 3; END_FUZZIFY
+FUZZIFY d TERM t := (1, 0) (2, 1) (7, 0); END_FUZZIFY
+DEFUZZIFY y TERM one := 1; TERM two := 2; METHOD : COGS; END_DEFUZZIFY
+RULEBLOCK r ACCU : MAX; RULE 1 : IF a IS t THEN y IS one; END_RULEBLOCK
+END_FUNCTION_BLOCK
+"""
+    inputs = {v.name: v for v in read_fcl(text, "u.fcl").rulebase.inputs}
+    # GBELL a=2 b=1 mean=5: 5 -+ 999^(1/(2*1)) * 2 = 5 -+ 31.60696 * 2 = 5 -+ 63.21392
+    assert inputs["a"].lo == pytest.approx(5 - 2 * math.sqrt(999))
+    assert inputs["a"].hi == pytest.approx(5 + 2 * math.sqrt(999))
+    # SIGM gain 3, t0 1: 1 -+ 9/3 = [-2, 4]
+    assert (inputs["b"].lo, inputs["b"].hi) == pytest.approx((-2.0, 4.0))
+    # COSINE net_max 2, offset 3: 3 -+ 2 = [1, 5]
+    assert (inputs["c"].lo, inputs["c"].hi) == (1.0, 5.0)
+    # a point list: its first and last x
+    assert (inputs["d"].lo, inputs["d"].hi) == (1.0, 7.0)
+
+
+def test_range_after_the_declaration():
+    # jFuzzyLogic's `x : REAL; RANGE := (a .. b);`
+    text = mamdani("METHOD : COG; ACCU : MAX;", "RULE 1 : IF x IS low THEN y IS c;").replace(
+        "  x : REAL;\n", "  x : REAL; RANGE := (0 .. 20);\n").replace("  RANGE := (0 .. 10);\nEND_FUZZIFY", "END_FUZZIFY")
+    x, = read_fcl(text, "r.fcl").rulebase.inputs
+    assert (x.lo, x.hi) == (0.0, 20.0)
+
+
+# ---------------------------------------------------------------------- several blocks, no outputs
+TWO_BLOCKS = """FUNCTION_BLOCK first
+VAR_INPUT x : REAL; RANGE := (0 .. 10); END_VAR
+VAR_OUTPUT y : REAL; RANGE := (0 .. 10); END_VAR
+FUZZIFY x TERM low := TRIAN 0 0 10; END_FUZZIFY
+DEFUZZIFY y TERM one := 1; TERM nine := 9; METHOD : COGS; END_DEFUZZIFY
+RULEBLOCK r ACCU : MAX; RULE 1 : IF x IS low THEN y IS one; END_RULEBLOCK
+END_FUNCTION_BLOCK
+
+FUNCTION_BLOCK second
+VAR_INPUT x : REAL; RANGE := (0 .. 10); END_VAR
+FUZZIFY x TERM low := TRIAN 0 0 10; TERM high := TRIAN 0 10 10; END_FUZZIFY
+END_FUNCTION_BLOCK
+"""
+
+
+def test_several_blocks_checked_whole_and_a_block_without_outputs():
+    checked = check_fcl(TWO_BLOCKS, "two.fcl")
+    assert [label for label, _ in checked] == ["two.fcl::first", "two.fcl::second"]
+    first, second = (read for _, read in checked)
+    # first: x = 4, low 0.6 -> y = one = 1 (one rule fired)
+    assert value(first, 4.0) == pytest.approx(1.0)
+    # second has no output: a membership demo, its inputs and terms checked
+    assert [(v.name, len(v.terms), v.lo, v.hi) for v in second] == [("x", 2, 0.0, 10.0)]
+
+
+def test_several_blocks_each_error_reported(tmp_path, capsys):
+    bad = TWO_BLOCKS.replace("THEN y IS one", "THEN y IS two").replace(
+        "TERM high := TRIAN 0 10 10", "TERM high := TRIAN 0 11 10")
+    path = tmp_path / "two.fcl"
+    path.write_text(bad)
+    assert main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    # one error in each block, each at its line:col
+    lines = bad.splitlines()
+    two = lines[5].index("two") + 1
+    trian = lines[10].index("TRIAN 0 11") + 1
+    assert f"two.fcl:6:{two}: error: `y` has no term `two`" in err
+    assert f"two.fcl:11:{trian}: error: degenerate TRIAN (0 11 10)" in err
+
+
+def test_check_cli_membership_demo(tmp_path, capsys):
+    path = tmp_path / "demo.fcl"
+    path.write_text(TWO_BLOCKS[TWO_BLOCKS.index("FUNCTION_BLOCK second"):])
+    assert main(["check", str(path)]) == 0
+    assert "inputs x(2); no outputs (membership functions only" in capsys.readouterr().out
+
+
+# ---------------------------------------------------------------------- DEFUZZIFY, ACT, ACCU
+# low -> p (rectangle [0, 6]), mid -> q (rectangle [4, 10]).  At x = 2.5: low 0.75, mid 0.5.
+# The aggregated set is 0.75 on [0, 4], v = ACCU(0.75, 0.5) on [4, 6], 0.5 on [6, 10]:
+# area 0.75*4 + 2v + 0.5*4 = 5 + 2v, moment 0.75*4*2 + v*(36-16)/2 + 0.5*(100-36)/2 = 22 + 10v
+ACCU_RULES = "ACT : MIN;\n  RULE 1 : IF x IS low THEN y IS p;\n  RULE 2 : IF x IS mid THEN y IS q;"
+
+
+@pytest.mark.parametrize("accu, v, aggregation", [
+    ("MAX", 0.75, Aggregation.MAX),
+    ("SUM", 1.25, Aggregation.SUM),                 # unbounded
+    ("BSUM", 1.0, Aggregation.BOUNDED_SUM),         # min(1, a + b)
+    ("NSUM", 1.0, Aggregation.BOUNDED_SUM),         # (a + b) / max(1, a + b), folded: min(1, a+b)
+    ("PROBOR", 0.875, Aggregation.PROBSUM),         # 0.75 + 0.5 - 0.375
+])
+def test_accu_variants_centroid(accu, v, aggregation):
+    for where in ("rules", "defuzzify"):      # jFuzzyLogic: in the RULEBLOCK; fuzzylite: DEFUZZIFY
+        if where == "rules":
+            text = mamdani("METHOD : COG;", f"ACCU : {accu};\n  {ACCU_RULES}")
+        else:
+            text = mamdani(f"METHOD : COG; ACCU : {accu};", ACCU_RULES)
+        model = read_fcl(text, "a.fcl")
+        assert model.rulebase.inference.aggregation == aggregation
+        # MAX 29.5/6.5 = 4.53846, SUM 34.5/7.5 = 4.6, BSUM 32/7 = 4.571429, PROBOR 30.75/6.75
+        assert value(model, 2.5) == pytest.approx((22 + 10 * v) / (5 + 2 * v), abs=1e-9)
+
+
+def test_method_coa_is_the_bisector():
+    model = read_fcl(mamdani("METHOD : COA;", f"ACCU : MAX;\n  {ACCU_RULES}"), "a.fcl")
+    assert model.rulebase.inference.defuzzifier == Defuzzifier.BISECTOR
+    # area 6.5, half 3.25: [0, 4] holds 3, then 0.25 more at height 0.75 -> 4 + 1/3
+    assert value(model, 2.5) == pytest.approx(4 + 1 / 3, abs=1e-6)
+
+
+# high -> c (TRIAN 0 5 10) at x = 5: activation 0.5.  ACT MIN clips c to a plateau of 0.5 on
+# [2.5, 7.5]; ACT PROD scales it, one peak at 5.
+@pytest.mark.parametrize("method, act, expected", [
+    ("LM", "MIN", 2.5), ("RM", "MIN", 7.5), ("MM", "MIN", 5.0),
+    ("LM", "PROD", 5.0), ("RM", "PROD", 5.0), ("MM", "PROD", 5.0),
+    ("COG", "MIN", 5.0), ("COG", "PROD", 5.0),
+])
+def test_methods_and_act(method, act, expected):
+    text = mamdani(f"METHOD : {method};", f"ACT : {act}; ACCU : MAX;\n"
+                                          "  RULE 1 : IF x IS high THEN y IS c;")
+    assert value(read_fcl(text, "m.fcl"), 5.0) == pytest.approx(expected, abs=1e-6)
+
+
+def test_cogs_over_singletons():
+    text = sugeno("TERM s1 := 2; TERM s2 := 8;", "RULE 1 : IF x IS low THEN y IS s1;\n"
+                  "  RULE 2 : IF x IS high THEN y IS s2;", method="COGS").replace(
+        "ACCU : SUM;", "ACCU : MAX;")
+    # x = 2.5: low 0.75, high 0.25: (0.75*2 + 0.25*8) / (0.75 + 0.25) = 3.5
+    assert value(read_fcl(text, "s.fcl"), 2.5, 0.0) == pytest.approx(3.5, abs=1e-12)
+
+
+def test_default_value():
+    text = mamdani("METHOD : COG; DEFAULT := 7;", "ACCU : MAX;\n  RULE 1 : IF x IS mid THEN y IS c;")
+    # x = 10: mid 0, no rule fires: the DEFAULT
+    assert value(read_fcl(text, "d.fcl"), 10.0) == pytest.approx(7.0)
+
+
+# ---------------------------------------------------------------------- Takagi-Sugeno
+def sugeno(terms: str, rules: str, method: str = "COGF") -> str:
+    return f"""FUNCTION_BLOCK ts
+{INPUT}
+VAR_INPUT z : REAL; RANGE := (0 .. 4); END_VAR
+VAR_OUTPUT y : REAL; RANGE := (0 .. 100); END_VAR
+FUZZIFY z TERM any := TRAPE 0 0 4 4; END_FUZZIFY
+DEFUZZIFY y
+  {terms}
+  METHOD : {method};
+END_DEFUZZIFY
+RULEBLOCK r
+  ACCU : SUM;
+  {rules}
+END_RULEBLOCK
+END_FUNCTION_BLOCK
+"""
+
+
+def test_function_consequent_cogf():
+    text = sugeno("TERM f := FUNCTION 2 * x + z ^ 2 * 3; TERM g := 10;",
+                  "RULE 1 : IF x IS low THEN y IS f;\n  RULE 2 : IF x IS high THEN y IS g;")
+    model = read_fcl(text, "ts.fcl")
+    y, = model.rulebase.outputs
+    assert TermKind(int(y.kinds[0])) == TermKind.FUNCTION
+    # x = 2.5, z = 2: f = 2*2.5 + (2^2)*3 = 5 + 12 = 17 (^ binds before *, * before +);
+    # low 0.75, high 0.25: (0.75*17 + 0.25*10) / 1 = 12.75 + 2.5 = 15.25
+    assert value(model, 2.5, 2.0) == pytest.approx(15.25, abs=1e-12)
+
+
+def test_function_precedence_and_remainder():
+    # jFuzzyLogic: ^ and % on one level, left to right: 2 ^ 3 % 5 = (2^3) % 5 = 3;
+    # ln(exp(z)) = z; abs(z - 4) at z = 1 is 3.  f = 3 + 1 + 3 = 7
+    text = sugeno("TERM f := FUNCTION 2 ^ 3 % 5 + ln(exp(z)) + abs(z - 4);",
+                  "RULE 1 : IF x IS low THEN y IS f;")
+    assert value(read_fcl(text, "ts.fcl"), 2.5, 1.0) == pytest.approx(7.0, abs=1e-12)
+
+
+def test_term_naming_a_variable_on_an_output_is_its_value():
+    # `TERM v := z;`: a singleton at z's value.  x = 2.5, z = 3: low 0.75 -> v = 3,
+    # high 0.25 -> g = 10: (0.75*3 + 0.25*10) / 1 = 4.75
+    text = sugeno("TERM v := z; TERM g := 10;",
+                  "RULE 1 : IF x IS low THEN y IS v;\n  RULE 2 : IF x IS high THEN y IS g;",
+                  method="COGS")
+    assert value(read_fcl(text, "ts.fcl"), 2.5, 3.0) == pytest.approx(4.75, abs=1e-12)
+
+
+@pytest.mark.parametrize("terms, method, message", [
+    ("TERM f := FUNCTION 2 * y;", "COGF", "`y` is an output: jFuzzyLogic refuses it"),
+    ("TERM f := FUNCTION log(x);", "COGF", "jFuzzyLogic's `log` is not read"),
+    ("TERM f := FUNCTION 2 * w;", "COGF", "`w` is not an input variable"),
+    ("TERM f := FUNCTION 2 * x;", "COG", "needs METHOD COGF or COGS; `y` has COG"),
+])
+def test_function_refusals(terms, method, message):
+    with pytest.raises(FuzzycError) as exc:
+        read_fcl(sugeno(terms, "RULE 1 : IF x IS low THEN y IS f;", method), "ts.fcl")
+    assert any(message in m and m.startswith("ts.fcl:") for m in messages(exc))
+
+
+def test_function_refusal_is_located_at_the_name():
+    text = sugeno("TERM f := FUNCTION 2 * w;", "RULE 1 : IF x IS low THEN y IS f;")
+    with pytest.raises(FuzzycError) as exc:
+        read_fcl(text, "ts.fcl")
+    line = next(n for n, l in enumerate(text.splitlines(), 1) if "FUNCTION 2 * w" in l)
+    col = text.splitlines()[line - 1].index("w;") + 1
+    assert messages(exc)[0].startswith(f"ts.fcl:{line}:{col}: error: FUNCTION of term `f`")
+
+
+# ---------------------------------------------------------------------- parameters naming variables
+@pytest.mark.parametrize("term, word", [
+    ("TERM mid2 := TRIAN 0 z 10;", "TRIAN parameter `z`"),
+    ("TERM mid2 := (0, 0) (z, 1) (10, 0);", "point parameter `z`"),
+    ("TERM mid2 := z;", "singleton at variable `z`"),
+])
+def test_parameter_naming_a_variable_on_an_input_is_refused(term, word):
+    text = sugeno("TERM g := 10;", "RULE 1 : IF x IS low THEN y IS g;").replace(
+        "TERM high := TRIAN 0 10 10;", "TERM high := TRIAN 0 10 10;\n  " + term)
+    with pytest.raises(FuzzycError) as exc:
+        read_fcl(text, "p.fcl")
+    line = next(n for n, l in enumerate(text.splitlines(), 1) if "mid2" in l)
+    col = text.splitlines()[line - 1].index("z", text.splitlines()[line - 1].index(":=")) + 1
+    first = messages(exc)[0]
+    assert first.startswith(f"p.fcl:{line}:{col}: error:") and word in first
+
+
+# ---------------------------------------------------------------------- degenerate shapes
+@pytest.mark.parametrize("term", ["TRIAN 5 5 5", "TRAPE 5 5 5 5", "(5, 0) (5, 1) (5, 0)"])
+def test_degenerate_triangle_is_a_singleton(term):
+    text = sugeno(f"TERM s := {term}; TERM g := 10;",
+                  "RULE 1 : IF x IS low THEN y IS s;\n  RULE 2 : IF x IS high THEN y IS g;",
+                  method="COGS")
+    y, = read_fcl(text, "d.fcl").rulebase.outputs
+    assert TermKind(int(y.kinds[0])) == TermKind.SINGLETON and y.params[0, 0] == 5.0
+    # x = 2.5: (0.75*5 + 0.25*10) / 1 = 6.25
+    assert value(read_fcl(text, "d.fcl"), 2.5, 0.0) == pytest.approx(6.25, abs=1e-12)
+
+
+def test_degenerate_triangle_on_an_input_is_one_at_its_point():
+    # jFuzzyLogic's TRIAN 3 3 3 is 1 where x == 3 exactly, else 0
+    text = sugeno("TERM g := 10;", "RULE 1 : IF x IS three THEN y IS g;", "COGS").replace(
+        "TERM high := TRIAN 0 10 10;", "TERM high := TRIAN 0 10 10; TERM three := TRIAN 3 3 3;")
+    model = read_fcl(text.replace("DEFUZZIFY y", "DEFUZZIFY y\n  DEFAULT := 0;"), "d.fcl")
+    assert value(model, 3.0, 0.0) == 10.0 and value(model, 3.001, 0.0) == 0.0
+
+
+def test_cosine_membership():
+    # COSINE net_max 4, offset 5: (1 + cos(pi (x - 5) / 4)) / 2; at x = 6:
+    # (1 + cos(pi/4)) / 2 = (1 + 0.7071068) / 2 = 0.8535534 -> COGS of one singleton 10 is 10
+    # whatever the degree, so read the degree through a weighted pair: c -> 10, low -> 0
+    text = sugeno("TERM g := 10; TERM zero := 0;",
+                  "RULE 1 : IF x IS bump THEN y IS g;\n  RULE 2 : IF x IS low THEN y IS zero;",
+                  "COGS").replace("TERM high := TRIAN 0 10 10;",
+                                  "TERM high := TRIAN 0 10 10; TERM bump := COSINE 4 5;")
+    # x = 6: bump 0.8535534, low 0.4: y = 10 * 0.8535534 / (0.8535534 + 0.4)
+    bump = (1 + math.cos(math.pi / 4)) / 2
+    assert value(read_fcl(text, "c.fcl"), 6.0, 0.0) == pytest.approx(10 * bump / (bump + 0.4))
+
+
+@pytest.mark.parametrize("term, message", [
+    ("DSIGM 2 3 2 7", "DSIGM is not read: jFuzzyLogic's difference of sigmoids is max(0"),
+    ("GAUSS2 3 1 5 1", "GAUSS2 is not read"),
+    ("SINGLETONS (1, 0.5) (2, 1)", "SINGLETONS (jFuzzyLogic's generic singleton"),
+])
+def test_shapes_refused(term, message):
+    text = sugeno("TERM g := 10;", "RULE 1 : IF x IS low THEN y IS g;", "COGS").replace(
+        "TERM high := TRIAN 0 10 10;", f"TERM high := TRIAN 0 10 10; TERM odd := {term};")
+    with pytest.raises(FuzzycError) as exc:
+        read_fcl(text, "s.fcl")
+    line = next(n for n, l in enumerate(text.splitlines(), 1) if "odd :=" in l)
+    col = text.splitlines()[line - 1].index(term.split()[0]) + 1
+    assert messages(exc)[0].startswith(f"s.fcl:{line}:{col}: error: {message}")
