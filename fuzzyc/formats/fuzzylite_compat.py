@@ -157,6 +157,8 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
         m = AGGREGATE[inf.aggregation](clipped) if inf.aggregation in AGGREGATE else \
             _fold(clipped, aggregation_snorm(inf.aggregation),
                   FL6_S if first_plateau else None)
+    if octave and rb.n_rules == 1 and rules.size == 1 and not any(merged_rows(rb)):
+        m = _octave_one_rule(clipped[:, 0, :], inf.aggregation)
     if octave:
         return _octave_defuzzify(m, u, w, inf.defuzzifier)
     total = m.sum(axis=1)
@@ -291,6 +293,23 @@ def octave_drastic_sum(clipped: np.ndarray, firing: np.ndarray, every_rule: bool
         return top
     some_zero = (clipped == 0.0).any(axis=1) | ~firing.all(axis=1)[:, None]
     return np.where(some_zero, top, 1.0)
+
+
+def _octave_one_rule(g: np.ndarray, aggregation: Aggregation) -> np.ndarray:
+    """The Octave toolkit's aggregate of a FIS of one rule (aggregate_output_mamdani.m): it
+    applies AggMethod to the rules' columns transposed, which for one rule is a row vector,
+    so max.m, sum.m, bounded_sum.m ... reduce it over the samples: the set is that one
+    number at every sample (defuzz.m then gives the middle for centroid and mom, the ends
+    for som and lom).  g (N, K): the rule's implied set."""
+    if aggregation == Aggregation.MAX:
+        c = g.max(axis=1)
+    elif aggregation == Aggregation.SUM:
+        c = g.sum(axis=1)
+    elif aggregation == Aggregation.DRASTIC_SUM:         # drastic_sum.m's vector_arg
+        c = np.where(g.min(axis=1) == 0.0, g.max(axis=1), 1.0)
+    else:                                                # the s-norm folded from 0
+        c = _fold(g[:, :, None], aggregation_snorm(aggregation))[:, 0]
+    return np.repeat(c[:, None], g.shape[1], axis=1)
 
 
 def _fold(g: np.ndarray, norm: SNorm, own: dict | None = None) -> np.ndarray:
