@@ -84,14 +84,21 @@ def scheduled_params_as_inputs(model, scenario) -> list[str]:
     engine instead follows the param, ControllerBlock.param_inputs). The input's range is the
     schedule's values and the param's own (the C reads inputs as they come: the range is
     documentation, no clamp)."""
+    return params_as_inputs(model, {name: [v for _, v in points]
+                                    for name, points in scenario.schedules.items()})
+
+
+def params_as_inputs(model, values: dict[str, list[float]]) -> list[str]:
+    """Each param of `values` (name -> the values the loop gives it) as an input signal of the
+    model, in place (see scheduled_params_as_inputs); the names turned."""
     from fuzzyc.semantics.model import Signal
     turned = []
-    for name, points in scenario.schedules.items():
+    for name, given in values.items():
         param = model.params.get(name)
         if param is None:
             continue
-        values = [float(v) for _, v in points] + [float(param.value)]
-        model.signals.append(Signal(name, min(values), max(values), param.unit, param.loc))
+        span = [float(v) for v in given] + [float(param.value)]
+        model.signals.append(Signal(name, min(span), max(span), param.unit, param.loc))
         del model.params[name]
         turned.append(name)
     return turned

@@ -70,3 +70,14 @@ def test_q15_of_several_blocks_states_each_blocks_bound(tmp_path, capsys):
     assert "derived worst case of rule block 0 (first): g " in out
     assert "derived worst case of rule block 1 (second): du " in out
     assert (tmp_path / "fx_q15.h").exists()
+
+
+def test_closed_loop_counts_agree_with_their_noun():
+    # a Gymnasium loop with nothing to vary runs as few as one environment
+    from fuzzyc.semantics.model import Property
+    from fuzzyc.verifier.result import Evidence, Result, Status
+    prop = Property("closed_loop", {}, None, "closed_loop x")
+
+    def summary(n):
+        return Result(prop, "x", [Evidence("closed-loop", Status.HELD, "", cases=n)]).summary()
+    assert (summary(1), summary(2)) == ("held: 1 closed loop", "held: 2 closed loops")

@@ -172,3 +172,18 @@ def test_edm_sign_error_in_vmax_is_caught_on_the_sinking_scenario():
     # every gap fails, so one shrinking round lands on the scenario's nominal 0.08 mm
     assert settles.violation.trace["case"] == {"plant.gap0": 0.08}
     assert settles.violation.trace["violated_at"] == pytest.approx(1.0)
+
+
+def test_c_backend_runs_a_scenario_that_schedules_a_set_point():
+    # fopdt_step schedules the fuzzy PI's param r (the set point); the C header compiles params
+    # in, so r becomes an input of the C controller fed from the schedule: the verdicts and
+    # their details are the numpy engine's (it refused before: issue 30)
+    pytest.importorskip("fuzzyc.backends.c.load")
+    from fuzzyc.language.parser import load
+    model = load(f"{ROOT}/rulebases/fopdt_pi.fz")
+    options = dict(max_examples=4, seed=0, shrink_rounds=1, only="closed_loop")
+    numpy_side = verify_model(model, Options(**options))
+    c_side = verify_model(model, Options(backend="c", **options))
+    assert [r.status for r in c_side] == [r.status for r in numpy_side] != []
+    assert all(r.status != Status.UNDECIDED for r in c_side)
+    assert [r.evidence[0].detail for r in c_side] == [r.evidence[0].detail for r in numpy_side]

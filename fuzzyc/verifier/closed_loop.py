@@ -21,6 +21,7 @@ from collections.abc import Mapping
 import numpy as np
 from hypothesis import HealthCheck, Phase, given, seed as hseed, settings, strategies as st
 
+from ..display import plural
 from ..escape import OutputFolder
 from ..semantics.model import Model, Property
 from .draws import without_local_constants
@@ -65,7 +66,7 @@ def check(model: Model, prop: Property, checks: list[Property], options) -> list
     results, plots = [], OutputFolder(options.report_dir or ".")
     for i, (c, (violated, _)) in enumerate(zip(checks, verdicts)):
         if i not in shrunk:
-            held = Evidence("closed-loop", Status.HELD, f"{len(cases)} loops of "
+            held = Evidence("closed-loop", Status.HELD, f"{plural(len(cases), 'loop')} of "
                             f"{a['duration']:g} s on scenario {scen.name}{learned}",
                             cases=len(cases))
             results.append(proofs[i] + [held])
@@ -182,9 +183,6 @@ def _unsupported(scen, args: dict, backend: str) -> str:
                 f"{scen.name} has {', '.join(sorted(outputs))}")
     if backend != "c":
         return ""
-    if setpoints:
-        return (f"--backend c compiles `{setpoints[0]}` in; a set point that varies per loop "
-                f"needs --backend numpy")
     try:
         from fuzzyc.backends.c.load import CController  # noqa: F401
     except ImportError as exc:
@@ -267,6 +265,11 @@ class _Loop:
         model = self._controller_model()
         if self.backend == "c":
             from fuzzyc.backends.c.load import CController
+            # the header compiles params in: a set point the loop moves (a schedule, a drawn
+            # value, a step) becomes an input, read from the bus as the numpy engine follows it
+            from fuzzyc.runtime.simulate import params_as_inputs, scheduled_params_as_inputs
+            scheduled_params_as_inputs(model, self.scen)
+            params_as_inputs(model, self._set_point_values(cases))
             controller = CController(model, batch)
         else:
             from fuzzyc.engine.chain import Controller
@@ -278,6 +281,18 @@ class _Loop:
             _, theirs = self._run_with(baseline, cases, follow=False)
             signals.update({BASELINE + name: v for name, v in theirs.items()})
         return time, signals
+
+    def _set_point_values(self, cases: list[dict]) -> dict[str, list[float]]:
+        """name -> every value the cases give a set point (drawn, or stepped to)."""
+        values: dict[str, list[float]] = {}
+        for case in cases:
+            for key, value in _values(case).items():
+                if key.startswith("controller."):
+                    values.setdefault(key.split(".", 1)[1], []).append(float(value))
+            step = case.get("step")
+            if step and step[0].startswith("controller."):
+                values.setdefault(step[0].split(".", 1)[1], []).append(float(step[2]))
+        return values
 
     def _run_with(self, controller, cases: list[dict], follow: bool):
         """One batch: plant parameters per loop; a schedule block per stepped or varied key
@@ -305,7 +320,7 @@ class _Loop:
             blocks.insert(k, _schedule(key, cases, self.nominal_value(key)))
         c = next(i for i, b in enumerate(blocks) if isinstance(b, ControllerBlock))
         unfollowed = sorted(drawn - set(blocks[c].param_inputs))
-        if follow and unfollowed:
+        if follow and unfollowed and hasattr(controller, "params"):   # C: inputs already
             blocks[c] = dataclasses.replace(blocks[c],
                                             param_inputs=blocks[c].param_inputs + unfollowed)
         trace = run(blocks, self.scen.period, self.duration, batch,

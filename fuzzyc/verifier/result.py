@@ -21,6 +21,7 @@ from dataclasses import dataclass, field
 from enum import Enum
 from typing import Any
 
+from ..display import plural
 from ..semantics.model import Property
 
 
@@ -92,6 +93,8 @@ class Result:
 
 
 def _cases(e: Evidence) -> str:
-    unit = {"grid": "grid {} points", "hypothesis": "search {} examples",
-            "closed-loop": "{} closed loops"}.get(e.method, e.method + " {} cases")
+    if e.method == "closed-loop":
+        return plural(e.cases, "closed loop")
+    unit = {"grid": "grid {} points", "hypothesis": "search {} examples"}.get(
+        e.method, e.method + " {} cases")
     return unit.format(e.cases)
