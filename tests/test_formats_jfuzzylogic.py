@@ -371,3 +371,52 @@ def test_shapes_refused(term, message):
     line = next(n for n, l in enumerate(text.splitlines(), 1) if "odd :=" in l)
     col = text.splitlines()[line - 1].index(term.split()[0]) + 1
     assert messages(exc)[0].startswith(f"s.fcl:{line}:{col}: error: {message}")
+
+
+# ---------------------------------------------------------------------- jFuzzyLogic's defaults
+# A block is read with jFuzzyLogic's defaults where the file uses a construct only its dialect
+# has (TRIAN, TRAPE, GAUSS, GBELL, SIGM, COSINE, FUNCTION, COGF, a term naming a variable,
+# RANGE after a declaration); an IEC file (point lists) keeps IEC's reading.
+def test_accu_default_sum_in_jfuzzylogic_dialect_max_in_iec():
+    jfl = mamdani("METHOD : COG;", ACCU_RULES)
+    # SUM: v = 0.75 + 0.5 = 1.25 on [4, 6]: (22 + 12.5) / (5 + 2.5) = 34.5 / 7.5 = 4.6
+    model = read_fcl(jfl, "j.fcl")
+    assert model.rulebase.inference.aggregation == Aggregation.SUM
+    assert value(model, 2.5) == pytest.approx(4.6, abs=1e-9)
+    assert any("ACCU not given for `y`: SUM, jFuzzyLogic's default" in n for n in model.notes)
+    iec = jfl.replace("TRAPE 0 0 6 6", "(0, 1) (6, 1) (6, 0)").replace(
+        "TRAPE 4 4 10 10", "(4, 0) (4, 1) (10, 1)").replace("TRIAN 0 5 10", "(0, 0) (5, 1) (10, 0)")
+    for word in ("TRIAN 0 0 10", "TRIAN 0 5 10", "TRIAN 0 10 10"):
+        iec = iec.replace(word, {"TRIAN 0 0 10": "(0, 1) (10, 0)", "TRIAN 0 5 10":
+                                 "(0, 0) (5, 1) (10, 0)", "TRIAN 0 10 10": "(0, 0) (10, 1)"}[word])
+    # MAX: v = 0.75: 29.5 / 6.5
+    model = read_fcl(iec, "i.fcl")
+    assert model.rulebase.inference.aggregation == Aggregation.MAX
+    assert value(model, 2.5) == pytest.approx(29.5 / 6.5, abs=1e-9)
+
+
+OR_RULES = ("RULE 1 : IF x IS low OR x IS mid THEN y IS s1;\n"
+            "  RULE 2 : IF x IS high THEN y IS s2;")
+
+
+@pytest.mark.parametrize("operators, strength", [
+    ("AND : PROD;", 0.875),                 # OR is PROD's pair ASUM: 0.75 + 0.5 - 0.375
+    ("AND : MIN;", 0.75),                   # OR MAX
+    ("AND : PROD; OR : MAX;", 0.75),        # the later line, OR MAX, sets AND MIN too
+    ("OR : MAX; AND : PROD;", 0.875),       # the later line, AND PROD, sets OR ASUM
+    ("OR : BSUM;", 1.0),                    # min(1, 0.75 + 0.5)
+])
+def test_and_or_set_as_a_pair(operators, strength):
+    text = sugeno("TERM s1 := 2; TERM s2 := 8;", f"{operators}\n  {OR_RULES}", "COGS")
+    # x = 2.5: low 0.75, mid 0.5 -> rule 1 at OR(0.75, 0.5); high 0.25 -> rule 2.
+    # y = (2 s + 0.25*8) / (s + 0.25)
+    assert value(read_fcl(text, "p.fcl"), 2.5, 0.0) == pytest.approx(
+        (2 * strength + 2) / (strength + 0.25), abs=1e-12)
+
+
+def test_no_default_is_nan_noted():
+    text = mamdani("METHOD : COG; ACCU : MAX;", "RULE 1 : IF x IS mid THEN y IS c;")
+    model = read_fcl(text, "n.fcl")
+    # jFuzzyLogic gives NaN where no rule fires; the model needs a number and says so
+    assert any("`y` default nan" in n for n in model.notes)
+    assert value(model, 10.0) == 0.0

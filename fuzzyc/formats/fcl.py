@@ -79,6 +79,13 @@ class _FclReader:
         self.universe: dict[str, list[tuple[float, float] | None]] = {}
         # jFuzzyLogic's FUNCTION terms (Sugeno values) per output: their places
         self.jfl_functions: dict[str, list[SourceLoc]] = {}
+        # the first construct only jFuzzyLogic's dialect has (its word and place): the block
+        # then takes jFuzzyLogic's defaults (ACCU SUM; AND and OR set as a pair)
+        self.jfl: tuple[str, SourceLoc] | None = None
+        self.defaults: set[str] = set()           # the outputs with a DEFAULT
+
+    def _jfl_seen(self, word: str, loc: SourceLoc) -> None:
+        self.jfl = self.jfl or (word, loc)
 
     def loc(self, token: Token) -> SourceLoc:
         return self.rep.loc(token.line, token.column)
@@ -101,6 +108,10 @@ class _FclReader:
                     getattr(self, "_" + kind)(item)
         self._inference()
         self._universes()
+        for name, var in self.got.outputs.items() if self.jfl is not None else ():
+            if name not in self.defaults:
+                # jFuzzyLogic: no DEFAULT is NaN where no rule fires (fuzzylite's `nan`)
+                var.default = nan_default(var, self.got.notes)
         # The model remembers which block it is, in the syntax that loads it again.
         return self.got.model(self.path if wanted is None else f"{self.path}::{wanted}", text)
 
@@ -174,8 +185,11 @@ class _FclReader:
                 self.rep.error(self.loc(type_), f"`{name}` is {type_}: fuzzy variables are REAL")
             var = self.got.declare(VarSpec(name.value, self.loc(name)), is_input)
             self.declared[name.value] = is_input
-            if rng:
-                var.lo, var.hi = self._interval(rng[0].children[0])
+            for item in rng:
+                if item.data == "jfl_range":
+                    self._jfl_seen("RANGE after the declaration", self._where(item))
+                    item = item.children[0]
+                var.lo, var.hi = self._interval(item.children[0])
 
     def _variable(self, name: Token, is_input: bool) -> VarSpec | None:
         table = self.got.inputs if is_input else self.got.outputs
@@ -194,9 +208,12 @@ class _FclReader:
             return
         for item in tree.children[1:]:
             if item.data == "method":
+                if item.children[0].value.upper() == "COGF":
+                    self._jfl_seen("COGF", self.loc(item.children[0]))
                 self._choose(self.output_settings.setdefault(var.name, {}), "METHOD",
                              item.children[0])
             elif item.data == "default":
+                self.defaults.add(var.name)
                 value = item.children[0]
                 # NC, or `nan | NC`: keep the last output (fuzzylite's lock-previous)
                 var.lock_previous = isinstance(item.children[-1], Token) and \
@@ -270,6 +287,10 @@ class _FclReader:
         for atom in atoms:
             if atom.data == "var_ref":
                 token = atom.children[0]
+                if token.value not in self.declared:        # `1_0`: a number's slip
+                    self.rep.error(self.loc(token), f"unexpected `{token}`: expected a number "
+                                   "(or, in jFuzzyLogic's dialect, a declared variable)")
+                    return None
                 self.rep.error(self.loc(token), f"{what} parameter `{token}` names a variable: "
                                "jFuzzyLogic moves the term with that variable's value at every "
                                "evaluation; a fuzzyc term has a fixed shape, so this has no "
@@ -295,6 +316,7 @@ class _FclReader:
             return None
         if body.data == "function":
             word, *atoms = body.children
+            self._jfl_seen(word.value.upper(), self.loc(word))
             v = self._numbers(atoms, word.value.upper())
             return None if v is None else self._function(word.value.upper(), v, loc)
         points = []
@@ -373,6 +395,9 @@ class _FclReader:
         the inputs, its text rewritten with jFuzzyLogic's precedence made explicit."""
         text = token.value if text is None else text
         loc = self.loc(token)
+        self._jfl_seen("FUNCTION" if text.upper().startswith("FUNCTION ") and
+                       token.value.upper().startswith("FUNCTION") else "a term naming a variable",
+                       loc)
         if is_input:
             self.rep.error(loc, f"term `{name}` is a FUNCTION: in jFuzzyLogic a singleton at a "
                                 "computed place, a Takagi-Sugeno consequent; an input has no "
@@ -456,6 +481,8 @@ class _FclReader:
     def _operators(self, settings: dict, rules: list, outputs: list) -> Inference:
         """A RULEBLOCK's AND, OR and ACT; a note for each it needs and lacks."""
         inf = Inference()
+        if self.jfl is not None:
+            settings = self._jfl_pair(settings)
         used = set().union(*(r.connectives() for r in rules))
         integral = any(d not in (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.TSUKAMOTO,
                                  Defuzzifier.TSUKAMOTO_SUM, Defuzzifier.CENTER_OF_AREA)
@@ -473,6 +500,35 @@ class _FclReader:
                 default = next(k for k, v in table.items() if v == getattr(inf, field))
                 self.got.notes.append(f"{key} not given: {default} assumed")
         return inf
+
+    def _jfl_pair(self, settings: dict) -> dict:
+        """jFuzzyLogic (RuleBlock.fclTree) sets AND and OR together, as a De Morgan pair (MIN
+        MAX, PROD ASUM, BDIF BSUM, DMIN DMAX, NIPMIN NIPMAX, HAMACHER EINSTEIN): the later of
+        the two lines sets both.  Its words for the drastic, nilpotent and Hamacher norms are
+        read as fuzzylite's (DPROD DSUM, NMIN NMAX, HPROD ESUM)."""
+        pairs = [("MIN", "MAX"), ("PROD", "ASUM"), ("BDIF", "BSUM"), ("DPROD", "DSUM"),
+                 ("NMIN", "NMAX"), ("HPROD", "ESUM")]
+        words = {"DMIN": "DPROD", "DMAX": "DSUM", "NIPMIN": "NMIN", "NIPMAX": "NMAX",
+                 "HAMACHER": "HPROD", "EINSTEIN": "ESUM"}
+        given = {key: (words.get(settings[key][0], settings[key][0]), settings[key][1])
+                 for key in ("AND", "OR") if key in settings}
+        if not given:
+            return settings
+        key, (word, loc) = max(given.items(), key=lambda kv: (kv[1][1].line, kv[1][1].col))
+        pair = next((p for p in pairs if p[key == "OR"] == word), None)
+        if pair is None:
+            return {**settings, **given}
+        other = "OR" if key == "AND" else "AND"
+        derived = pair[key == "AND"]
+        if other in given and given[other][0] != derived:
+            self.got.notes.append(f"{other} {given[other][0]} at line {given[other][1].line} "
+                                  f"is replaced by {derived}: jFuzzyLogic's {key} {word} at line "
+                                  f"{loc.line} sets both (a De Morgan pair)")
+        elif other not in given:
+            self.got.notes.append(f"{other} not given: {derived}, the pair of {key} {word} "
+                                  f"(jFuzzyLogic's dialect: {self.jfl[0]} at line "
+                                  f"{self.jfl[1].line})")
+        return {**settings, key: (word, loc), other: (derived, loc)}
 
     def _output_choice(self, var: VarSpec, block: dict) -> tuple[Aggregation, Defuzzifier]:
         """An output's aggregation and defuzzifier: its METHOD, and its ACCU or its block's.
@@ -501,8 +557,17 @@ class _FclReader:
                                     + ", ".join(OPERATORS["accu"][2]))
         elif accu is not None:
             inf.aggregation = OPERATORS["accu"][2][accu[0]]
+        elif self.jfl is not None:
+            # jFuzzyLogic's default accumulation (RuleBlock.fclTree) is the unbounded SUM
+            inf.aggregation = Aggregation.SUM
+            if method not in ("COGS", "COGSS", "COGF"):
+                self.got.notes.append(f"ACCU not given for `{var.name}`: SUM, jFuzzyLogic's "
+                                      f"default (its dialect: {self.jfl[0]} at line "
+                                      f"{self.jfl[1].line})")
         elif method not in ("COGS", "COGSS"):    # weighted: the rules, not a fuzzy set
-            self.got.notes.append(f"ACCU not given for `{var.name}`: MAX assumed")
+            self.got.notes.append(f"ACCU not given for `{var.name}`: MAX assumed (IEC "
+                                  "61131-7 and fuzzylite; jFuzzyLogic's files, recognised by "
+                                  "its constructs, take SUM)")
         if method not in METHODS:
             self.rep.error(loc, f"METHOD {method} is not supported: the model has "
                                 + ", ".join(METHODS))

@@ -121,7 +121,16 @@ def _rule_seeds(suffix: str):
 
 def _rule_commands(draw, path: Path, tmp: Path, _context) -> list[list[str]]:
     def more():
-        model = _load(path)   # `check` passed, so this loads
+        from fuzzyc.errors import FuzzycError
+        try:
+            model = _load(path)   # `check` passed, so this loads
+        except FuzzycError:
+            if path.suffix != ".fcl":
+                raise
+            # `check` reads an .fcl whole: several FUNCTION_BLOCKs, blocks without outputs
+            # (jFuzzyLogic's files); the other commands take one block with outputs and
+            # refuse the file with a located message
+            return [["eval", str(path)], ["convert", str(path), str(tmp / "converted.fz")]]
         table = tmp / "points.csv"
         table.write_text(_csv_over_range(model), encoding="utf-8")
         other = draw(st.sampled_from(RULE_SUFFIXES))
