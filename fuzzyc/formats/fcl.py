@@ -24,7 +24,13 @@ Not carried, reported: other point lists,
 fuzzylite's dialect also: METHOD COGSS (WeightedSum), `LOCK : PREVIOUS, RANGE` in DEFUZZIFY
   (lock-previous; the range clip under fuzzylite's semantics), `inf` / `-inf` as numbers.
 Several RULEBLOCKs are merged when their operators agree.  Of several FUNCTION_BLOCKs one is
-read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_fcl`).
+read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_fcl`);
+`check_fcl` checks every block, and a block without outputs (a membership demo).
+jFuzzyLogic's dialect (docs/formats.md, "jFuzzyLogic's FCL"): a block using a construct only
+it has takes its defaults (ACCU SUM, AND/OR as a pair, no DEFAULT as nan); variables without
+RANGE take its estimated universe; COSINE, FUNCTION terms (Takagi-Sugeno values, COGF), a
+degenerate TRIAN as a singleton; parameters naming variables, DSIGM, GAUSS2 and SINGLETONS
+refused where they stand.
 """
 from __future__ import annotations
 
