@@ -50,7 +50,8 @@ def test_recorded(path, record):
         why = toolbugs.explain_disagreement(
             {"pyfuzzylite": "pyfuzzylite-fll"}.get(record["tool"], record["tool"]),
             toolbugs.fll_input_terms(path.read_text()), x, got.y, tool_y, tolerance,
-            disagreeing_rows(got.y, tool_y, tolerance))
+            disagreeing_rows(got.y, tool_y, tolerance),
+            toolbugs.fll_output_defaults(path.read_text()))
         assert why and why.startswith(record["tool_bug"]), why
         return
     far = worst(got.y, tool_y, np.array(record["tolerance"]))

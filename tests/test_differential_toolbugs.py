@@ -86,3 +86,28 @@ def test_octave_empty_sugeno_live():
                                         (EMPTY, np.array([[1.0], [3.0], [8.0]]), ["x"], ["y"])])
     assert isinstance(fails, Exception) and OCTAVE_ERROR in str(fails)
     assert np.allclose(works[:, 0], [0.2, 0.2, 0.9])
+
+
+SEMI_DEFAULT = FILES / "pyfuzzylite_semiellipse_end_default.fll"
+
+
+def test_semi_ellipse_end_with_a_numeric_default():
+    # pyfuzzylite replaces the NaN by the output's default (3.3): the same bug, its evidence
+    x = np.array([[7.651], [9.0], [10.99]])
+    got = ours(SEMI_DEFAULT, x, "pyfuzzylite")
+    tool = got.y.copy()
+    tool[2, 0] = 3.3
+    tolerance = np.array([1e-5])
+    rows = disagreeing_rows(got.y, tool, tolerance)
+    text = SEMI_DEFAULT.read_text()
+    assert toolbugs.fll_output_defaults(text) == [3.3]
+    why = toolbugs.explain_disagreement("pyfuzzylite-fll", toolbugs.fll_input_terms(text), x,
+                                        got.y, tool, tolerance, rows,
+                                        toolbugs.fll_output_defaults(text))
+    assert why and "x = 10.99" in why
+    # without the default the same number is a disagreement
+    assert toolbugs.explain_disagreement("pyfuzzylite-fll", toolbugs.fll_input_terms(text), x,
+                                         got.y, tool, tolerance, rows) is None
+    if tools.available("pyfuzzylite") is None:        # the live tool says so too
+        (live,) = tools.run("pyfuzzylite", [(SEMI_DEFAULT, x, ["x"], ["y"])])
+        assert live[2, 0] == 3.3 and np.allclose(live[:2], got.y[:2])

@@ -66,9 +66,10 @@ def _verdict(system: System, path: Path, x: np.ndarray, mine: Ours, tool_y,
     tool_y = tool_y[:, [[v.name for v in system.outputs].index(n) for n in mine.outputs]]
     far = worst(mine.y, tool_y, tolerance)
     status = "agree" if far <= 1 else "disagree"
-    bug = toolbugs.explain_disagreement(tool_key, toolbugs.input_terms(system), x, mine.y, tool_y, tolerance,
-                                        disagreeing_rows(mine.y, tool_y, tolerance)) \
-        if status == "disagree" else None
+    defaults = [next(v for v in system.outputs if v.name == n).default for n in mine.outputs]
+    bug = toolbugs.explain_disagreement(
+        tool_key, toolbugs.input_terms(system), x, mine.y, tool_y, tolerance,
+        disagreeing_rows(mine.y, tool_y, tolerance), defaults) if status == "disagree" else None
     if bug:
         return Verdict("tool-error", bug, text, x, mine.y, tool_y, tolerance, far)
     return Verdict(status, f"{far:.3g} tolerances apart", text, x, mine.y, tool_y, tolerance,

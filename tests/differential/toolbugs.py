@@ -43,6 +43,17 @@ def fll_input_terms(text: str) -> list[tuple[str, list[tuple[str, list[float]]]]
     return inputs
 
 
+def fll_output_defaults(text: str) -> list[float]:
+    """The outputs' `default:` values of an FLL file, in order (NaN where none)."""
+    defaults = []
+    for line in text.splitlines():
+        if line.startswith("OutputVariable:"):
+            defaults.append(float("nan"))
+        elif line.strip().startswith("default:") and defaults:
+            defaults[-1] = float(line.split(":", 1)[1])
+    return defaults
+
+
 def _semi_ellipse_nan(inputs, x_row: np.ndarray) -> str | None:
     """The first input at a SemiEllipse end where pyfuzzylite's formula gives NaN."""
     for i, (name, terms) in enumerate(inputs):
@@ -60,10 +71,15 @@ def _semi_ellipse_nan(inputs, x_row: np.ndarray) -> str | None:
 
 
 def explain_disagreement(tool_key: str, inputs, x: np.ndarray, ours: np.ndarray,
-                         tool: np.ndarray, tolerance: np.ndarray, rows: np.ndarray) -> str | None:
+                         tool: np.ndarray, tolerance: np.ndarray, rows: np.ndarray,
+                         defaults=None) -> str | None:
     """The tool bug that explains every disagreeing row (each output apart there is NaN in
-    the tool only, and the bug's evidence holds at the row), or None.  `inputs`: the file's
-    inputs as (name, [(shape, params)]) (`input_terms`, `fll_input_terms`)."""
+    the tool only, or the output's numeric default, which the tool gives for a NaN, and the
+    bug's evidence holds at the row), or None.  `inputs`: the file's inputs as (name,
+    [(shape, params)]) (`input_terms`, `fll_input_terms`); `defaults`: the outputs' defaults
+    in the columns' order (NaN: none)."""
+    defaults = np.full(tool.shape[1], np.nan) if defaults is None else \
+        np.asarray(defaults, dtype=float)
     if tool_key != "pyfuzzylite-fll" or not len(rows):
         return None
     evidence = []
@@ -71,7 +87,7 @@ def explain_disagreement(tool_key: str, inputs, x: np.ndarray, ours: np.ndarray,
         with np.errstate(invalid="ignore"):
             apart = ~((np.abs(ours[r] - tool[r]) <= tolerance)
                       | (np.isnan(ours[r]) & np.isnan(tool[r])))
-        nan_only_there = np.isnan(tool[r]) & ~np.isnan(ours[r])
+        nan_only_there = (np.isnan(tool[r]) | (tool[r] == defaults)) & ~np.isnan(ours[r])
         where = _semi_ellipse_nan(inputs, x[r]) if np.all(nan_only_there[apart]) else None
         if where is None:
             return None
