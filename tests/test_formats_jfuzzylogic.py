@@ -6,6 +6,8 @@ defuzzifiers); docs/formats.md, "jFuzzyLogic's FCL", says what is read and what 
 from __future__ import annotations
 
 import math
+import shutil
+import subprocess
 
 import numpy as np
 import pytest
@@ -420,3 +422,57 @@ def test_no_default_is_nan_noted():
     # jFuzzyLogic gives NaN where no rule fires; the model needs a number and says so
     assert any("`y` default nan" in n for n in model.notes)
     assert value(model, 10.0) == 0.0
+
+
+# ---------------------------------------------------------------------- fuzzylite as a second oracle
+# Where jFuzzyLogic's and IEC's meanings agree and fuzzylite reads the file (point lists, ACCU
+# in DEFUZZIFY where fuzzylite takes it, lower-case rule words, one declaration a line), the
+# fuzzylite 6 CLI gives the hand-computed numbers of test_accu_variants_centroid.
+ORACLE = """FUNCTION_BLOCK m
+VAR_INPUT
+  x : REAL;
+END_VAR
+VAR_OUTPUT
+  y : REAL;
+END_VAR
+FUZZIFY x
+  TERM low := (0, 1) (10, 0);
+  TERM mid := (0, 0) (5, 1) (10, 0);
+  RANGE := (0 .. 10);
+END_FUZZIFY
+DEFUZZIFY y
+  TERM p := (0, 1) (6, 1) (6, 0);
+  TERM q := (4, 0) (4, 1) (10, 1);
+  METHOD : COG;
+  ACCU : {accu};
+  DEFAULT := 0;
+  RANGE := (0 .. 10);
+END_DEFUZZIFY
+RULEBLOCK r
+  AND : MIN;
+  OR : MAX;
+  ACT : MIN;
+  RULE 1 : if x is low then y is p;
+  RULE 2 : if x is mid then y is q;
+END_RULEBLOCK
+END_FUNCTION_BLOCK
+"""
+
+
+@pytest.mark.parametrize("accu, v", [("MAX", 0.75), ("BSUM", 1.0), ("NSUM", 1.0),
+                                     ("ASUM", 0.875)])
+def test_fuzzylite_cli_agrees_on_the_accu_variants(tmp_path, accu, v):
+    if shutil.which("fuzzylite") is None:
+        pytest.skip("the fuzzylite CLI is not installed (Debian package fuzzylite)")
+    text = ORACLE.format(accu=accu)
+    (tmp_path / "o.fcl").write_text(text)
+    (tmp_path / "in.fld").write_text("2.5\n")
+    subprocess.run(["fuzzylite", "-i", str(tmp_path / "o.fcl"), "-of", "fld", "-d",
+                    str(tmp_path / "in.fld"), "-o", str(tmp_path / "out.fld"),
+                    "-decimals", "9"], check=True, capture_output=True)
+    theirs = float((tmp_path / "out.fld").read_text().split("\n")[1].split()[-1])
+    hand = (22 + 10 * v) / (5 + 2 * v)         # as in test_accu_variants_centroid
+    ours = value(read_fcl(text, "o.fcl"), 2.5)
+    # fuzzylite samples the centroid on 100 points; on these rectangles it is exact
+    assert ours == pytest.approx(hand, abs=1e-9)
+    assert theirs == pytest.approx(hand, abs=1e-6)
