@@ -194,10 +194,11 @@ AGGREGATIONS: dict[Aggregation, AggregationOp] = {
                                    "{acc} = {p}greater({acc}, {x});",
                                    "{acc} = {acc} > {x} ? {acc} : {x};",
                                    snorm=SNorm.MAX, exact=True),
-    # fuzzylite 6's FCL has no word for it: its FclExporter writes the class name
-    Aggregation.SUM: AggregationOp("sum", np.add, True, "UnboundedSum", "SUM", "sum",
+    # FCL: fuzzylite 6 has no word for it (its FclExporter writes the class name, and its
+    # FclImporter reads no `SUM`): written so; jFuzzyLogic's `SUM` is read
+    Aggregation.SUM: AggregationOp("sum", np.add, True, "UnboundedSum", "UnboundedSum", "sum",
                                    "{acc} += {x};", "{acc} += {x};",
-                                   also=(("fcl", "UnboundedSum"),), exact=True),
+                                   also=(("fcl", "SUM"), ("fcl", "UnboundedSum")), exact=True),
     Aggregation.PROBSUM: AggregationOp("probsum", _fold(SNorm.PROBSUM), True, "AlgebraicSum",
                                        "PROBOR", "probor",
                                        also=(("fz", "probabilistic_sum"), ("fcl", "ASUM"),
