@@ -476,3 +476,14 @@ def test_fuzzylite_cli_agrees_on_the_accu_variants(tmp_path, accu, v):
     # fuzzylite samples the centroid on 100 points; on these rectangles it is exact
     assert ours == pytest.approx(hand, abs=1e-9)
     assert theirs == pytest.approx(hand, abs=1e-6)
+
+
+# ---------------------------------------------------------------------- rules
+def test_rule_names_and_not_without_parentheses():
+    # jFuzzyLogic's grammar: `RULE name :` (an ID or a number), `NOT x IS a` without brackets.
+    # x = 2.5: low 0.75, so NOT x IS low = 0.25 -> s2 = 8; x IS low -> s1 = 2:
+    # (0.75*2 + 0.25*8) / (0.75 + 0.25) = 3.5
+    text = sugeno("TERM s1 := 2; TERM s2 := 8;",
+                  "RULE first : IF x IS low THEN y IS s1;\n"
+                  "  RULE second : IF NOT x IS low AND z IS any THEN y IS s2;", "COGS")
+    assert value(read_fcl(text, "n.fcl"), 2.5, 1.0) == pytest.approx(3.5, abs=1e-12)
