@@ -487,3 +487,25 @@ def test_rule_names_and_not_without_parentheses():
                   "RULE first : IF x IS low THEN y IS s1;\n"
                   "  RULE second : IF NOT x IS low AND z IS any THEN y IS s2;", "COGS")
     assert value(read_fcl(text, "n.fcl"), 2.5, 1.0) == pytest.approx(3.5, abs=1e-12)
+
+
+@pytest.mark.parametrize("term, message", [
+    ("FUNCTION " + "(" * 200 + "x" + ")" * 200, "brackets nested deeper than 64"),
+    ("FUNCTION " + "x + " * 600 + "x", "longer than 2000 characters"),
+    ("FUNCTION ", "an expression is needed"),
+    ("FUNCTION (x + 1", "`)` expected"),
+])
+def test_hostile_functions_are_refused_not_crashed(term, message):
+    text = sugeno(f"TERM f := {term};", "RULE 1 : IF x IS low THEN y IS f;")
+    with pytest.raises(FuzzycError) as exc:
+        read_fcl(text, "h.fcl")
+    assert message in messages(exc)[0]
+
+
+def test_bell_universe_of_a_tiny_slope_is_no_crash():
+    # GBELL 1 0.0001 5: 999^(1/0.0002) overflows; the universe falls back to the break points
+    text = sugeno("TERM g := 10;", "RULE 1 : IF x IS low THEN y IS g;", "COGS").replace(
+        "  RANGE := (0 .. 10);\nEND_FUZZIFY", "END_FUZZIFY").replace(
+        "TERM high := TRIAN 0 10 10;", "TERM high := TRIAN 0 10 10; TERM b := GBELL 1 0.0001 5;")
+    x = read_fcl(text, "b.fcl").rulebase.inputs[0]
+    assert (x.lo, x.hi) == (0.0, 10.0)

@@ -358,8 +358,7 @@ class _FclReader:
         self._term_universe = {
             "TRIAN": lambda: (v[0], v[2]), "TRAPE": lambda: (v[0], v[3]),
             "GAUSS": lambda: (v[0] - 4 * v[1], v[0] + 4 * v[1]),
-            "GBELL": lambda: (v[2] - 999 ** (1 / (2 * v[1])) * a, v[2] + 999 ** (1 / (2 * v[1])) * a)
-            if v[1] > 0 else None,
+            "GBELL": lambda: _bell_universe(*v),
             "SIGM": lambda: (v[1] - 9 / abs(v[0]), v[1] + 9 / abs(v[0])) if v[0] != 0 else None,
             "COSINE": lambda: (v[1] - v[0], v[1] + v[0])}[word]()
         if word == "TRIAN" and v[0] == v[1] == v[2] or word == "TRAPE" and len(set(v)) == 1:
@@ -607,6 +606,18 @@ class _FclReader:
                 self.rep.error(term.loc, f"{method} needs singleton{kinds} terms {what}")
 
 
+def _bell_universe(a: float, b: float, mean: float) -> tuple[float, float] | None:
+    """jFuzzyLogic's GBELL universe, mean -+ 999^(1/2b) a (where the bell is 0.001); None
+    where that is no finite number (b <= 0, a huge power)."""
+    if not b > 0:
+        return None
+    try:
+        delta = math.pow(999.0, 1.0 / (2.0 * b)) * a
+    except OverflowError:
+        return None
+    return (mean - delta, mean + delta) if math.isfinite(delta) else None
+
+
 class _JflError(ValueError):
     def __init__(self, message: str, offset: int):
         super().__init__(message)
@@ -639,8 +650,16 @@ class _JflExpression:
         return self.tokens[self.at - 1][0]
 
     def parse(self) -> str:
+        from ..engine.formula import MAX_DEPTH, MAX_TEXT
         if not self.tokens:
             raise _JflError("an expression is needed", 0)
+        if len(self.text) > MAX_TEXT:
+            raise _JflError(f"longer than {MAX_TEXT} characters", 0)
+        depth = 0
+        for token, offset in self.tokens:      # the parser recurses per bracket: bounded
+            depth += (token == "(") - (token == ")")
+            if depth > MAX_DEPTH:
+                raise _JflError(f"brackets nested deeper than {MAX_DEPTH}", offset)
         out = self._level(0)
         if self._peek() is not None:
             raise _JflError(f"unexpected `{self._peek()}`", self._offset())
