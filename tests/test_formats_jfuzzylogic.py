@@ -509,3 +509,12 @@ def test_bell_universe_of_a_tiny_slope_is_no_crash():
         "TERM high := TRIAN 0 10 10;", "TERM high := TRIAN 0 10 10; TERM b := GBELL 1 0.0001 5;")
     x = read_fcl(text, "b.fcl").rulebase.inputs[0]
     assert (x.lo, x.hi) == (0.0, 10.0)
+
+
+def test_rule_weight_scales_the_degree_of_support():
+    # jFuzzyLogic's Rule.evaluate: degreeOfSupport *= weight.  x = 2.5: rule 1 0.75*0.5 = 0.375
+    # on s1 = 2, rule 2 0.25 on s2 = 8: (0.375*2 + 0.25*8) / (0.375 + 0.25) = 2.75/0.625 = 4.4
+    text = sugeno("TERM s1 := 2; TERM s2 := 8;",
+                  "RULE 1 : IF x IS low THEN y IS s1 WITH 0.5;\n"
+                  "  RULE 2 : IF x IS high THEN y IS s2;", "COGS")
+    assert value(read_fcl(text, "w.fcl"), 2.5, 1.0) == pytest.approx(4.4, abs=1e-12)
