@@ -518,3 +518,39 @@ def test_rule_weight_scales_the_degree_of_support():
                   "RULE 1 : IF x IS low THEN y IS s1 WITH 0.5;\n"
                   "  RULE 2 : IF x IS high THEN y IS s2;", "COGS")
     assert value(read_fcl(text, "w.fcl"), 2.5, 1.0) == pytest.approx(4.4, abs=1e-12)
+
+
+def test_function_output_without_range_is_refused_where_declared():
+    text = sugeno("TERM f := FUNCTION 2 * x;", "RULE 1 : IF x IS low THEN y IS f;").replace(
+        "VAR_OUTPUT y : REAL; RANGE := (0 .. 100); END_VAR", "VAR_OUTPUT y : REAL; END_VAR")
+    with pytest.raises(FuzzycError) as exc:
+        read_fcl(text, "r.fcl")
+    line = next(n for n, l in enumerate(text.splitlines(), 1) if l.startswith("VAR_OUTPUT"))
+    assert messages(exc) == [f"r.fcl:{line}:12: error: `y` has no RANGE and FUNCTION terms: "
+                             "jFuzzyLogic estimates no universe for them and does not clip a "
+                             "COGF output; a fuzzyc output saturates to its range: declare a "
+                             "RANGE"]
+
+
+def test_a_jfuzzylogic_file_through_fll_and_fcl_gives_the_same_numbers(tmp_path):
+    # COSINE, FUNCTION, a variable singleton, AND PROD (OR its pair ASUM), NOT, a weight:
+    # x = 2.5, z = 2: rule 1 0.75 * 1 on f = 2*2.5 + 2^2*3 = 17; rule 2 high 0.25 ASUM
+    # bump (1 + cos(-2.5 pi/4))/2 = 0.3086583 -> 0.25 + 0.3086583 - 0.0771646 = 0.4814937 on 10;
+    # rule 3 (1 - 0.75) * 0.5 = 0.125 on v = z = 2:
+    # y = (12.75 + 4.814937 + 0.25) / (0.75 + 0.4814937 + 0.125) = 17.814937 / 1.3564937
+    text = sugeno("TERM f := FUNCTION 2 * x + z ^ 2 * 3; TERM g := 10; TERM v := z;",
+                  "AND : PROD;\n  RULE 1 : IF x IS low AND z IS any THEN y IS f;\n"
+                  "  RULE 2 : IF x IS high OR x IS bump THEN y IS g;\n"
+                  "  RULE r3 : IF NOT x IS low THEN y IS v WITH 0.5;").replace(
+        "TERM high := TRIAN 0 10 10;", "TERM high := TRIAN 0 10 10; TERM bump := COSINE 4 5;"
+    ).replace("ACCU : SUM;\n", "")
+    bump = (1 + math.cos(-2.5 * math.pi / 4)) / 2
+    s2 = 0.25 + bump - 0.25 * bump
+    hand = (0.75 * 17 + s2 * 10 + 0.125 * 2) / (0.75 + s2 + 0.125)
+    model = read_fcl(text, "t.fcl")
+    assert value(model, 2.5, 2.0) == pytest.approx(hand, abs=1e-12)
+    from fuzzyc.formats import WRITERS, load_any
+    for suffix in (".fll", ".fcl"):
+        path = tmp_path / f"again{suffix}"
+        path.write_text(WRITERS[suffix](model, []))
+        assert value(load_any(path), 2.5, 2.0) == pytest.approx(hand, abs=1e-12)

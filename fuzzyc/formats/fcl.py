@@ -430,6 +430,13 @@ class _FclReader:
         terms' break points as before (Collected.check_ranges)."""
         for name, var in (*self.got.inputs.items(), *self.got.outputs.items()):
             spans = self.universe.get(name, [])
+            if var.lo is None and name in self.jfl_functions:
+                self.rep.error(var.loc, f"`{name}` has no RANGE and FUNCTION terms: jFuzzyLogic "
+                                        "estimates no universe for them and does not clip a "
+                                        "COGF output; a fuzzyc output saturates to its range: "
+                                        "declare a RANGE")
+                var.lo, var.hi = 0.0, 1.0         # said once, here
+                continue
             if var.lo is not None or not spans or None in spans:
                 continue
             # a single point (one singleton) passes for a Takagi-Sugeno output only
