@@ -362,7 +362,7 @@ def test_cosine_membership():
 
 @pytest.mark.parametrize("term, message", [
     ("DSIGM 2 3 2 7", "DSIGM is not read: jFuzzyLogic's difference of sigmoids is max(0"),
-    ("GAUSS2 3 1 5 1", "GAUSS2 is not read"),
+    ("GAUSS2 5 1 3 1", "degenerate GAUSS2 (5 1 3 1)"),     # meanl > meanr: jFuzzyLogic refuses
     ("SINGLETONS (1, 0.5) (2, 1)", "SINGLETONS (jFuzzyLogic's generic singleton"),
 ])
 def test_shapes_refused(term, message):
@@ -554,3 +554,19 @@ def test_a_jfuzzylogic_file_through_fll_and_fcl_gives_the_same_numbers(tmp_path)
         path = tmp_path / f"again{suffix}"
         path.write_text(WRITERS[suffix](model, []))
         assert value(load_any(path), 2.5, 2.0) == pytest.approx(hand, abs=1e-12)
+
+
+def test_gauss2_membership_and_universe():
+    # GAUSS2 meanl 3 sdl 1 meanr 5 sdr 2: at x = 1, exp(-(1-3)^2 / 2) = exp(-2) = 0.1353353;
+    # 1 on [3, 5].  Universe 3 - 4*1 = -1 .. 5 + 4*2 = 13.  Through COGS against `low`:
+    # x = 1: g2 0.1353353 on 10, low 0.9 on 0 -> 10 * 0.1353353 / (0.1353353 + 0.9)
+    text = sugeno("TERM g := 10; TERM zero := 0;",
+                  "RULE 1 : IF x IS g2 THEN y IS g;\n  RULE 2 : IF x IS low THEN y IS zero;",
+                  "COGS").replace("TERM high := TRIAN 0 10 10;",
+                                  "TERM high := TRIAN 0 10 10; TERM g2 := GAUSS2 3 1 5 2;")
+    g2 = math.exp(-2)
+    assert value(read_fcl(text, "g.fcl"), 1.0, 0.0) == pytest.approx(10 * g2 / (g2 + 0.9))
+    assert value(read_fcl(text, "g.fcl"), 4.0, 0.0) == pytest.approx(10 * 1 / (1 + 0.6))
+    lone = text.replace("  RANGE := (0 .. 10);\nEND_FUZZIFY", "END_FUZZIFY", 1)
+    x = read_fcl(lone, "g.fcl").rulebase.inputs[0]
+    assert (x.lo, x.hi) == (-1.0, 13.0)

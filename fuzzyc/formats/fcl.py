@@ -29,7 +29,7 @@ read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_
 jFuzzyLogic's dialect (docs/formats.md, "jFuzzyLogic's FCL"): a block using a construct only
 it has takes its defaults (ACCU SUM, AND/OR as a pair, no DEFAULT as nan); variables without
 RANGE take its estimated universe; COSINE, FUNCTION terms (Takagi-Sugeno values, COGF), a
-degenerate TRIAN as a singleton; parameters naming variables, DSIGM, GAUSS2 and SINGLETONS
+degenerate TRIAN as a singleton, GAUSS2; parameters naming variables, DSIGM and SINGLETONS
 refused where they stand.
 """
 from __future__ import annotations
@@ -346,21 +346,19 @@ class _FclReader:
         if len(v) != arity:
             self.rep.error(loc, f"{word} takes {arity} numbers, got {len(v)}")
             return None
-        if word in ("DSIGM", "GAUSS2"):
-            why = {"DSIGM": "jFuzzyLogic's difference of sigmoids is max(0, s1 - s2); fuzzyc's "
-                            "sigmoid difference is |s1 - s2|, another shape where s2 > s1",
-                   "GAUSS2": "jFuzzyLogic's two-sided Gaussian is not read (its definition is "
-                             "not documented beside the grammar)"}[word]
-            self.rep.error(loc, f"{word} is not read: {why}")
+        if word == "DSIGM":
+            self.rep.error(loc, "DSIGM is not read: jFuzzyLogic's difference of sigmoids is "
+                                "max(0, s1 - s2); fuzzyc's sigmoid difference is |s1 - s2|, "
+                                "another shape where s2 > s1")
             return None
         # jFuzzyLogic's universe of each shape (MembershipFunction*.estimateUniverse)
-        a = v[0]
         self._term_universe = {
             "TRIAN": lambda: (v[0], v[2]), "TRAPE": lambda: (v[0], v[3]),
             "GAUSS": lambda: (v[0] - 4 * v[1], v[0] + 4 * v[1]),
             "GBELL": lambda: _bell_universe(*v),
             "SIGM": lambda: (v[1] - 9 / abs(v[0]), v[1] + 9 / abs(v[0])) if v[0] != 0 else None,
-            "COSINE": lambda: (v[1] - v[0], v[1] + v[0])}[word]()
+            "COSINE": lambda: (v[1] - v[0], v[1] + v[0]),
+            "GAUSS2": lambda: (v[0] - 4 * v[1], v[2] + 4 * v[3])}[word]()
         if word == "TRIAN" and v[0] == v[1] == v[2] or word == "TRAPE" and len(set(v)) == 1:
             # jFuzzyLogic: 1 at the peak itself (`in == mid`), 0 elsewhere: a singleton
             return shape(TermKind.SINGLETON, v[0])
@@ -374,6 +372,10 @@ class _FclReader:
                 # jFuzzyLogic: COSINE net_max offset, (1 + cos(pi (x - offset) / net_max)) / 2
                 # on offset -+ net_max: the cosine of centre offset, width 2 net_max
                 "COSINE": lambda: shape(TermKind.COSINE, v[1], 2 * v[0]) if v[0] > 0 else None,
+                # jFuzzyLogic: GAUSS2 meanl sdl meanr sdr, a Gaussian left of meanl, 1 between,
+                # a Gaussian right of meanr (meanl <= meanr): the Gaussian product's shape
+                "GAUSS2": lambda: shape(TermKind.GAUSSIAN_PRODUCT, *v)
+                if v[1] > 0 and v[3] > 0 and v[0] <= v[2] else None,
                 }[word]()
         if made is None:
             self.rep.error(loc, f"degenerate {word} ({' '.join(f'{p:g}' for p in v)})")
