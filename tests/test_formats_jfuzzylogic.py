@@ -361,7 +361,8 @@ def test_cosine_membership():
 
 
 @pytest.mark.parametrize("term, message", [
-    ("DSIGM 2 3 2 7", "DSIGM is not read: jFuzzyLogic's difference of sigmoids is max(0"),
+    ("DSIGM 2 3 1 7", "DSIGM is read where s1 >= s2 everywhere"),     # unequal gains
+    ("DSIGM 2 7 2 3", "DSIGM is read where s1 >= s2 everywhere"),     # s2 ahead of s1
     ("GAUSS2 5 1 3 1", "degenerate GAUSS2 (5 1 3 1)"),     # meanl > meanr: jFuzzyLogic refuses
     ("SINGLETONS (1, 0.5) (2, 1)", "SINGLETONS (jFuzzyLogic's generic singleton"),
 ])
@@ -570,3 +571,15 @@ def test_gauss2_membership_and_universe():
     lone = text.replace("  RANGE := (0 .. 10);\nEND_FUZZIFY", "END_FUZZIFY", 1)
     x = read_fcl(lone, "g.fcl").rulebase.inputs[0]
     assert (x.lo, x.hi) == (-1.0, 13.0)
+
+
+def test_dsigm_a_bump_of_equal_gains():
+    # DSIGM 2 3 2 7: s1 = 1/(1+exp(-2(x-3))), s2 = 1/(1+exp(-2(x-7))), s1 >= s2 everywhere.
+    # At x = 5: s1 = 1/(1+e^-4) = 0.9820138, s2 = 1/(1+e^4) = 0.0179862: 0.9640276
+    text = sugeno("TERM g := 10; TERM zero := 0;",
+                  "RULE 1 : IF x IS d THEN y IS g;\n  RULE 2 : IF x IS low THEN y IS zero;",
+                  "COGS").replace("TERM high := TRIAN 0 10 10;",
+                                  "TERM high := TRIAN 0 10 10; TERM d := DSIGM 2 3 2 7;")
+    d = 1 / (1 + math.exp(-4)) - 1 / (1 + math.exp(4))
+    # low at 5 is 0.5: y = 10 d / (d + 0.5)
+    assert value(read_fcl(text, "d.fcl"), 5.0, 0.0) == pytest.approx(10 * d / (d + 0.5))

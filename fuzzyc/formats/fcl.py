@@ -29,8 +29,8 @@ read, chosen by name (`FILE.fcl::NAME` wherever a rule file is named; see `read_
 jFuzzyLogic's dialect (docs/formats.md, "jFuzzyLogic's FCL"): a block using a construct only
 it has takes its defaults (ACCU SUM, AND/OR as a pair, no DEFAULT as nan); variables without
 RANGE take its estimated universe; COSINE, FUNCTION terms (Takagi-Sugeno values, COGF), a
-degenerate TRIAN as a singleton, GAUSS2; parameters naming variables, DSIGM and SINGLETONS
-refused where they stand.
+degenerate TRIAN as a singleton, GAUSS2, DSIGM where s1 >= s2; parameters naming variables,
+other DSIGMs and SINGLETONS refused where they stand.
 """
 from __future__ import annotations
 
@@ -346,10 +346,12 @@ class _FclReader:
         if len(v) != arity:
             self.rep.error(loc, f"{word} takes {arity} numbers, got {len(v)}")
             return None
-        if word == "DSIGM":
-            self.rep.error(loc, "DSIGM is not read: jFuzzyLogic's difference of sigmoids is "
-                                "max(0, s1 - s2); fuzzyc's sigmoid difference is |s1 - s2|, "
-                                "another shape where s2 > s1")
+        if word == "DSIGM" and not (v[0] == v[2] != 0 and (v[0] > 0) == (v[1] <= v[3])):
+            # s1 >= s2 everywhere only for equal gains with the first sigmoid ahead
+            self.rep.error(loc, "DSIGM is read where s1 >= s2 everywhere (equal gains, the "
+                                "first centre first for a positive gain): jFuzzyLogic's "
+                                "difference of sigmoids is max(0, s1 - s2), fuzzyc's "
+                                "|s1 - s2|, another shape where s2 > s1")
             return None
         # jFuzzyLogic's universe of each shape (MembershipFunction*.estimateUniverse)
         self._term_universe = {
@@ -358,7 +360,10 @@ class _FclReader:
             "GBELL": lambda: _bell_universe(*v),
             "SIGM": lambda: (v[1] - 9 / abs(v[0]), v[1] + 9 / abs(v[0])) if v[0] != 0 else None,
             "COSINE": lambda: (v[1] - v[0], v[1] + v[0]),
-            "GAUSS2": lambda: (v[0] - 4 * v[1], v[2] + 4 * v[3])}[word]()
+            "GAUSS2": lambda: (v[0] - 4 * v[1], v[2] + 4 * v[3]),
+            # DifferenceSigmoidal.estimateUniverse: the wider of the two sigmoids' spans
+            "DSIGM": lambda: (min(v[1] - 9 / abs(v[0]), v[3] - 9 / abs(v[2])),
+                              max(v[1] + 9 / abs(v[0]), v[3] + 9 / abs(v[2])))}[word]()
         if word == "TRIAN" and v[0] == v[1] == v[2] or word == "TRAPE" and len(set(v)) == 1:
             # jFuzzyLogic: 1 at the peak itself (`in == mid`), 0 elsewhere: a singleton
             return shape(TermKind.SINGLETON, v[0])
@@ -376,6 +381,8 @@ class _FclReader:
                 # a Gaussian right of meanr (meanl <= meanr): the Gaussian product's shape
                 "GAUSS2": lambda: shape(TermKind.GAUSSIAN_PRODUCT, *v)
                 if v[1] > 0 and v[3] > 0 and v[0] <= v[2] else None,
+                # DSIGM a1 c1 a2 c2 (s1 >= s2 here): the sigmoid difference (c1, a1, a2, c2)
+                "DSIGM": lambda: shape(TermKind.SIGMOID_DIFFERENCE, v[1], v[0], v[2], v[3]),
                 }[word]()
         if made is None:
             self.rep.error(loc, f"degenerate {word} ({' '.join(f'{p:g}' for p in v)})")
