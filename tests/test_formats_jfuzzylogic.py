@@ -408,6 +408,9 @@ OR_RULES = ("RULE 1 : IF x IS low OR x IS mid THEN y IS s1;\n"
     ("AND : PROD; OR : MAX;", 0.75),        # the later line, OR MAX, sets AND MIN too
     ("OR : MAX; AND : PROD;", 0.875),       # the later line, AND PROD, sets OR ASUM
     ("OR : BSUM;", 1.0),                    # min(1, 0.75 + 0.5)
+    ("AND : DMIN;", 1.0),                   # OR the drastic sum: neither is 0 -> 1
+    ("OR : EINSTEIN;", 1.25 / 1.375),       # (a + b) / (1 + a b) = 1.25 / 1.375
+    ("AND : NIPMIN;", 1.0),                 # OR the nilpotent maximum: a + b >= 1 -> 1
 ])
 def test_and_or_set_as_a_pair(operators, strength):
     text = sugeno("TERM s1 := 2; TERM s2 := 8;", f"{operators}\n  {OR_RULES}", "COGS")
