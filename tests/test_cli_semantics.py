@@ -48,9 +48,16 @@ def test_eval_follows_the_sampled_centroid_of_each_tool(tmp_path, capsys):
     # fuzzylite at 3 midpoints 1/6, 1/2, 5/6: sum u^2 / sum u = (35/36) / (3/2) = 35/54
     assert _eval(tmp_path, capsys, RAMP_FLL, "x=1", "--semantics", "fuzzylite:3") == \
         pytest.approx(35 / 54, abs=1e-15)
-    # Octave at 3 points 0, 1/2, 1, trapz: (1/8 + 1/4) / (1/4 + 1/4) = 0.75
-    assert _eval(tmp_path, capsys, RAMP_FLL, "x=1", "--semantics", "octave:3") == \
+    # Octave at 3 points 0, 1/2, 1, trapz: (1/8 + 1/4) / (1/4 + 1/4) = 0.75, with a second
+    # rule (not firing at x = 1)
+    two = RAMP_FLL + "  rule: if x is not on then y is up\n"
+    assert _eval(tmp_path, capsys, two, "x=1", "--semantics", "octave:3") == \
         pytest.approx(0.75, abs=1e-15)
+    # with RAMP_FLL's one rule the toolkit's AggMethod reduces that rule's row over the samples
+    # (aggregate_output_mamdani.m): the set is max(0, 1/2, 1) = 1 at every sample, its
+    # centroid the middle, 1/2
+    assert _eval(tmp_path, capsys, RAMP_FLL, "x=1", "--semantics", "octave:3") == \
+        pytest.approx(0.5, abs=1e-15)
 
 
 def test_controller_under_fuzzylite_gives_its_numbers_and_nan_where_nothing_fires():
