@@ -16,6 +16,8 @@ held against the engine to 1e-12 (the arithmetic in `single_rule`).
 """
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import pytest
 
@@ -199,8 +201,11 @@ def test_hand_computed_beside_a_full_rule(case):
 
 
 def test_floor_is_written_from_the_constant():
+    # the helper of backends/c/real_helpers.c reads the macro the header defines from it
     header = generate_header(tail_model("centroid", "min", "max"), "double")
-    assert f"a < {ACTIVATION_FLOOR!r} ? 0.0 : a" in header
+    floor = re.search(r"#define (\w+)_ACTIVATION_FLOOR (\S+)\n", header)
+    assert floor is not None and floor.group(2) == repr(ACTIVATION_FLOOR)
+    assert f"a < {floor.group(1)}_ACTIVATION_FLOOR ? 0 : a" in header
 
 
 def test_lookup_table_follows_the_floor():
