@@ -23,10 +23,12 @@ def split_by_output_choices(rb: RuleBase) -> list[RuleBase]:
     if len(groups) == 1:
         o = next(iter(groups.values()))[0]
         return [replace(rb, inference=rb.inference_of(o), output_choices={})]
+    # the part's name is data (the C writers escape it where they print it), not C text
     return [replace(rb, outputs=[rb.outputs[o] for o in outs],
                     consequents=rb.consequents[:, outs], inference=rb.inference_of(outs[0]),
                     output_choices={},
-                    name=f"{rb.name or 'rules'} ({', '.join(rb.outputs[o].name for o in outs)})")
+                    name=(rb.name or "rules") + " (" + ", ".join(rb.outputs[o].name
+                                                                 for o in outs) + ")")
             for outs in groups.values()]
 
 
