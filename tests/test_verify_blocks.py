@@ -14,7 +14,7 @@ from fuzzyc.verifier.result import Evidence, Status
 from fuzzyc.verifier.runner import _every_block, verify_model
 
 from test_rule_blocks import CHAIN
-from test_verify_own_plant import ProvedLag, lag_loop, own
+from test_verify_own_plant import LAG_P, ProvedLag, lag_loop, own
 
 
 def verdicts(model):
@@ -84,17 +84,12 @@ def test_monotone_in_its_block_and_not_across_blocks():
 # test_verify_own_plant's fuzzy P controller for the lag in two blocks: uniform triangles and
 # singletons at their peaks make each block the identity (centre of area = the input), so
 # du = g = e and the loop is the one-block loop (lag_loop by hand).
-LAG_BLOCKS = """
-controller lag_p {
-  period 100 ms
-  param r = 1
-  input y in [-1, 3]
-  let e in [-1, 1] = clamp(r - y, -1, 1)
-  terms e : uniform N Z P
-  var g in [-1, 1] default 0
+RULES = """  rule if e is N then du is N
+  rule if e is Z then du is Z
+  rule if e is P then du is P
+"""
+BLOCKS = """  var g in [-1, 1] default 0
   terms g : uniform N Z P
-  var du in [-1, 1] default 0
-  terms du : singletons N=-1 Z=0 P=1
   block copy {
     inference defuzzify = coa
     rule if e is N then g is N
@@ -106,15 +101,9 @@ controller lag_p {
     rule if g is Z then du is Z
     rule if g is P then du is P
   }
-  output u in [-1, 3] = r + 2 * du
-  verify {
-    closed_loop lag_step for 10 s {
-      vary plant.y0 in [0, 0.5]
-      always y < 1.2
-      eventually within 3 s: y > 0.9
-    }
-  }
-}"""
+"""
+assert RULES in LAG_P
+LAG_BLOCKS = LAG_P.replace(RULES, BLOCKS).split("    closed_loop lag_gain")[0] + "  }\n}"
 
 
 def test_closed_loop_through_two_blocks_is_proved():
