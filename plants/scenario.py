@@ -221,12 +221,7 @@ class Scenario:
             return _own_params(self)
         cls = _params_class(self, module)
         given = dict(self.data["plant"].get("params") or {})
-        names = {f.name for f in dataclasses.fields(cls)}
-        for key in given:
-            if key not in names:
-                from fuzzyc.errors import suggest
-                raise self.error(f"plant.params.{key}", f"{cls.__name__} has no field `{key}` "
-                                 f"— {suggest(key, sorted(names))}")
+        _check_fields(self, cls, given)
         _check_types(self, "plant.params", given,
                      {f.name: f.default for f in dataclasses.fields(cls)})
         try:
@@ -236,7 +231,7 @@ class Scenario:
         spread = dict(self.data["plant"].get("randomize") or {}) if randomize else {}
         rng = rng or np.random.default_rng(0)
         for key, rel in spread.items():
-            if key not in names:
+            if key not in {f.name for f in dataclasses.fields(cls)}:
                 raise self.error(f"plant.randomize.{key}", f"{cls.__name__} has no field `{key}`")
             base = float(getattr(params, key))
             setattr(params, key, base * (1.0 + float(rel) * rng.standard_normal(batch)))
@@ -287,6 +282,17 @@ class Scenario:
         return path
 
 
+def _check_fields(scenario, params, given: dict) -> None:
+    """Each `plant.params` key a field of the params dataclass (a class or an instance)."""
+    names = {f.name for f in dataclasses.fields(params)}
+    name = params.__name__ if isinstance(params, type) else type(params).__name__
+    for key in given:
+        if key not in names:
+            from fuzzyc.errors import suggest
+            raise scenario.error(f"plant.params.{key}", f"{name} has no field `{key}` — "
+                                 f"{suggest(key, sorted(names))}")
+
+
 def _own_params(scenario: Scenario):
     """The own plant's `params`, with the scenario's `plant.X` settings (`set plant.X = V` of a
     closed loop) put in by dataclasses.replace: the user's object is never changed."""
@@ -297,12 +303,7 @@ def _own_params(scenario: Scenario):
     if not dataclasses.is_dataclass(params):
         raise scenario.error("plant.params", f"the params of plant {scenario.plant_name} are "
                              f"no dataclass: a setting of {', '.join(given)} needs one")
-    names = {f.name for f in dataclasses.fields(params)}
-    for key in given:
-        if key not in names:
-            from fuzzyc.errors import suggest
-            raise scenario.error(f"plant.params.{key}", f"{type(params).__name__} has no field "
-                                 f"`{key}` — {suggest(key, sorted(names))}")
+    _check_fields(scenario, params, given)
     _check_types(scenario, "plant.params", given,
                  {f.name: getattr(params, f.name) for f in dataclasses.fields(params)})
     try:
