@@ -64,8 +64,8 @@ CASES = [
     (replace("N = tri(-2, -1, 0)", "N = tri(-1, -2, 0)"), 7, 21, ["degenerate tri", "a <= b <= c"]),
     # 8 term outside its variable's range
     (replace("P = tri(0, 1, 2)", "P = tri(1, 2, 3)"), 7, 53, ["term `P`", "outside the range"]),
-    # 9 unit mismatch in a subtraction
-    (replace("input f : kHz", "input f : Hz"), 5, 29, ["unit mismatch", "kHz", "Hz"]),
+    # 9 unit mismatch in a subtraction, at the operand that disagrees (`f` of `Yr - f`)
+    (replace("input f : kHz", "input f : Hz"), 5, 34, ["unit mismatch", "kHz", "Hz"]),
     # 10 a conclusion that names an input
     (replace("  output u", "  rule if e is P then ce is PB\n  output u"), 18, 23,
      ["`ce` is an input", "conclusion names an output"]),

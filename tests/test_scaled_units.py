@@ -71,11 +71,11 @@ def test_a_gain_per_khz_makes_the_scaled_error_dimensionless_and_checked(tmp_pat
     assert run.returncode == 2
     assert run.stderr.startswith(f"{path}:5:29: error: `e1` is declared in kHz but its "
                                  "expression is in dimensionless")
-    # and adding a raw kHz to the dimensionless error is a mismatch, at the sum
+    # and adding a raw kHz to the dimensionless error is a mismatch, at the added `f`
     path.write_text(scaled(gain_unit=" kHz^-1", expr="(Yr1 - f) * GE1 + f"))
     run = subprocess.run([sys.executable, "-m", "fuzzyc", "check", str(path)],
                          capture_output=True, text=True)
-    assert run.stderr.startswith(f"{path}:5:30: error: unit mismatch: cannot add "
+    assert run.stderr.startswith(f"{path}:5:47: error: unit mismatch: cannot add "
                                  "dimensionless and kHz")
     # without the gain's unit the same declaration is accepted: nothing can be checked
     assert fuzzyc.parse(scaled(let_unit=" : kHz")).rulebase.inputs[0].unit == "kHz"

@@ -200,7 +200,7 @@ class ChainBuilder:
         if a is None or b is None:
             return None, None
         if op in ("add", "sub"):
-            return (a + b if op == "add" else a - b), self._same_unit(ua, ub, node, op)
+            return (a + b if op == "add" else a - b), self._same_unit(ua, ub, node.args[1], op)
         if op == "mul":
             return a * b, units.multiply(ua, ub)
         if op == "div":
@@ -213,10 +213,13 @@ class ChainBuilder:
             return a ** b, units.power(ua, exponent) if exponent is not None else None
         raise AssertionError(op)
 
-    def _same_unit(self, ua, ub, node: Expr, what: str):
+    def _same_unit(self, ua, ub, operand: Expr, what: str):
+        """The unit of a sum (or of min/max/clamp) whose operands so far have unit `ua` and
+        whose next operand, `operand`, has `ub`; a mismatch is reported at that operand (the
+        one that disagrees with what came before it), not at the start of the expression."""
         if ua is not None and ub is not None and ua != ub:
             verb = {"add": "add", "sub": "subtract", "compare": "compare"}.get(what, "combine")
-            self.error(node.loc, f"unit mismatch: cannot {verb} {units.format_unit(ua)} and "
+            self.error(operand.loc, f"unit mismatch: cannot {verb} {units.format_unit(ua)} and "
                                  f"{units.format_unit(ub)}")
         return ua if ua is not None else ub
 
@@ -244,8 +247,8 @@ class ChainBuilder:
         values = [p[0] for p in parts]
         unit = parts[0][1]
         if fn in ("clamp", "min", "max"):
-            for p in parts[1:]:
-                unit = self._same_unit(unit, p[1], node, "combine")
+            for arg, p in zip(args[1:], parts[1:]):
+                unit = self._same_unit(unit, p[1], arg, "combine")
         if fn == "clamp":
             return sympy.Min(sympy.Max(values[0], values[1]), values[2]), unit
         if fn in ("min", "max"):
