@@ -22,7 +22,7 @@ PYTEST_ROOT = -c $(CURDIR)/pyproject.toml --rootdir $(CURDIR)
 # pyproject's testpaths apply only when pytest starts in the root: name them
 TESTPATHS = $(CURDIR)/tests $(CURDIR)/rulebases $(CURDIR)/docs
 
-.PHONY: demo test test-venv bench proofs c-proofs loop-proofs fuzz explore clean conformance \
+.PHONY: demo test test-venv bench bench-docs bench-tables proofs c-proofs loop-proofs fuzz explore clean conformance \
         differential
 
 $(STAMP): pyproject.toml setup.py
@@ -102,8 +102,19 @@ explore: $(TSTAMP)
 	  ($(INSTALLED) FUZZYC_EXPLORE=1 $(TPY) -m pytest $(PYTEST_ROOT) -q -n 2 --dist loadfile \
 	    $(addprefix $(CURDIR)/,$(PROPERTY_TESTS))) || exit 1; done
 
+# issue 29's figures, each in a fresh process beside its reference, with the load average:
+# benchmarks/results/summary.md (about 25 min on 2 quiet cores); ferrifuzz, the reference of one
+# evaluation from Python, goes to build/bench-deps (not the dev env). bench-docs copies the
+# summary into docs/benchmarks.md; bench-tables writes the per-benchmark tables of results/.
 bench: $(STAMP)
+	@test -d build/bench-deps/ferrifuzz || $(PY) -m pip install $(PIP_Q) --no-deps --target build/bench-deps ferrifuzz || echo "ferrifuzz not installable: its row in the summary says so"
 	$(PY) benchmarks/run_all.py
+
+bench-docs: $(STAMP)
+	$(PY) benchmarks/run_all.py --docs
+
+bench-tables: $(STAMP)
+	$(PY) benchmarks/run_all.py --tables
 
 # the closed-loop proofs of every shipped rule base at full horizon beside the search
 # (docs/proofs.md's table; tens of minutes on one core: the EDM loops dominate)

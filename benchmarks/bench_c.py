@@ -43,6 +43,7 @@ DRIVER_HEAD = """\
 #include <stdlib.h>
 #include <time.h>
 {includes}
+#include <stdint.h>
 void hand_wedm_all_rules(const float x[3], float y[2]);
 void hand_wedm_active_rules(const float x[3], float y[2]);
 #define N_POINTS 4096
@@ -168,7 +169,14 @@ def entries(model):
     return out
 
 
-def run_driver(all_entries, work: Path) -> dict[str, float]:
+HAND = ("hand_wedm_all_rules", "hand_wedm_active_rules")
+
+
+def run_driver(all_entries, work: Path, repeats: int = REPEATS, iterations: int = ITERATIONS,
+               hand: tuple[str, ...] = HAND, extra_sources: tuple[str, ...] = ()
+               ) -> dict[str, float]:
+    """ns per call of each entry and of the `hand` functions (float x[3] -> float y[2], in
+    benchmarks/hand_*.c); extra_sources: more files of benchmarks/ compiled in."""
     includes, wrappers, calls = [], [], []
     for key, (label, header, text, wrap, fn, ranges) in all_entries:
         if header is not None:
@@ -180,18 +188,19 @@ def run_driver(all_entries, work: Path) -> dict[str, float]:
         calls.append(f"    {{ const float lo[] = {{{lo}}}, hi[] = {{{hi}}}; "
                      f"add(\"{key}\", {fn}, {len(ranges)}, lo, hi); }}")
     wedm = [(-1.0, 1.0)] * 3
-    for fn in ("hand_wedm_all_rules", "hand_wedm_active_rules"):
+    for fn in hand:
         calls.append(f"    {{ const float lo[] = {{-1.0f, -1.0f, -1.0f}}, "
                      f"hi[] = {{1.0f, 1.0f, 1.0f}}; add(\"{fn}\", {fn}, {len(wedm)}, lo, hi); }}")
-    source = (DRIVER_HEAD.format(includes="\n".join(includes), repeats=REPEATS,
-                                 iterations=ITERATIONS)
+    source = (DRIVER_HEAD.format(includes="\n".join(includes), repeats=repeats,
+                                 iterations=iterations)
               + "\n".join(wrappers) + "\nint main(void) {\n" + "\n".join(calls)
               + "\n    run_all();\n    return 0;\n}\n")
     (work / "driver.c").write_text(source)
     exe = work / "driver"
     subprocess.run(["gcc", *FLAGS, "-I", str(work), str(work / "driver.c"),
                     str(ROOT / "benchmarks" / "hand_wedm_all_rules.c"),
-                    str(ROOT / "benchmarks" / "hand_wedm_active_rules.c"), "-lm", "-o", str(exe)],
+                    str(ROOT / "benchmarks" / "hand_wedm_active_rules.c"),
+                    *(str(ROOT / "benchmarks" / f) for f in extra_sources), "-lm", "-o", str(exe)],
                    check=True)
     result = subprocess.run([str(exe)], check=True, capture_output=True, text=True)
     return {k: float(v) for k, v in (line.split("\t") for line in result.stdout.splitlines())}

@@ -1,0 +1,46 @@
+"""`make bench`'s harness works end to end: `benchmarks/run_all.py --quick` runs every figure of
+issue 29 in a fresh process each and writes one summary table with a row per figure, its
+reference, ratio, target, met or not and the load average.  Speeds are not asserted (a quick
+run on a shared machine is not a measurement): the run completes, no figure fails, the table
+has every row."""
+from __future__ import annotations
+
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import pytest
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+
+pytestmark = pytest.mark.skipif(shutil.which("gcc") is None,
+                                reason="the C figures need gcc")
+
+
+def test_quick_bench_writes_every_figure(tmp_path):
+    pytest.importorskip("distributed")
+    out = tmp_path / "summary.md"
+    run = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "run_all.py"), "--quick",
+                          "--out", str(out)], capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stdout[-3000:] + run.stderr[-3000:]
+    text = out.read_text()
+    assert text.splitlines()[0].endswith("(QUICK: harness check, not figures)")
+    rows = [line for line in text.splitlines() if line.startswith("| ") and "---" not in line]
+    labels = [r.split(" | ")[0] for r in rows[1:]]
+    assert "FAILED" not in text
+    expected = ["engine COA, WEDM, batch 20,000 (glibc's default thresholds)",
+                "engine COA, WEDM, batch 20,000 (MALLOC_TRIM_THRESHOLD_=65536)",
+                "engine exact centroid", "scalar path", "fuzzyc.evaluate(model, dict)",
+                "Controller.step", "threads=2", "alternating batch 1 / batch 1000, WEDM",
+                "alternating batch 1 / batch 1000, full table of 6 inputs",
+                "generated float header", "generated q15 header", "closed loop",
+                "Dask campaign, --workers 2"]
+    for piece in expected:
+        assert any(piece in label for label in labels), (piece, labels)
+    assert len(rows) - 1 == 16, labels
+    for r in rows[1:]:
+        cells = [c.strip() for c in r.strip("|").split(" | ")]
+        assert len(cells) == 9, r
+        assert "->" in cells[6], r                        # the load average before -> after
+        assert cells[5] in ("met", "**not met**", "-"), r
