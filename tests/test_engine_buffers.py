@@ -189,3 +189,56 @@ def test_the_memo_of_views_stays_bounded_over_many_batch_sizes():
         view = work.array("a", (2, n))
         assert view.shape == (2, n) and view.flags.c_contiguous
     assert len(work._views) <= MAX_VIEWS
+
+
+def six_input_table():
+    """The full table of 6 three-term inputs (729 rules; benchmarks/bench_wide.py's full_grid):
+    the rule base of the issue's case where batch 1 cost 1,776 us right after batch 1000."""
+    import itertools
+
+    from fuzzyc.language.builder import RuleSpec, assemble_rulebase
+    from fuzzyc.semantics.model import (Connective, Defuzzifier, Inference, SourceLoc,
+                                        TermKind, Variable)
+
+    def uniform(name, names):
+        peaks = np.linspace(-1, 1, len(names))
+        h = peaks[1] - peaks[0]
+        return Variable(name, -1.0, 1.0, list(names),
+                        np.full(len(names), int(TermKind.TRAPEZOID)),
+                        np.stack([peaks - h, peaks, peaks, peaks + h], axis=1))
+
+    ins = [uniform(f"x{i}", ["N", "Z", "P"]) for i in range(6)]
+    out = Variable("y", -1.0, 1.0, ["NB", "NS", "ZO", "PS", "PB"],
+                   np.full(5, int(TermKind.SINGLETON)),
+                   np.array([[p, 0, 0, 0] for p in np.linspace(-1, 1, 5)]))
+    loc = SourceLoc("test", 0, 0)
+    rules = [RuleSpec({f"x{i}": (t, False, 0) for i, t in enumerate(combo)}, Connective.AND,
+                      {"y": int(round(np.mean(combo) * 2))}, 1.0, loc, "")
+             for combo in itertools.product(range(3), repeat=6)]
+    return assemble_rulebase(ins, [out], rules, Inference(defuzzifier=Defuzzifier.CENTER_OF_AREA))
+
+
+@pytest.mark.parametrize("which", ["wedm", "six inputs"])
+def test_alternating_batch_sizes_keep_the_compiled_tables_and_take_no_new_pages(which):
+    """Batch 1 and batch 1000 in turn on one rule base: the compiled tables stay the same
+    object, no workspace is built after the first of each size, and the alternation takes no
+    more minor faults per pair than the two sizes alone (counts, not timings).  The fault count
+    is 0 alone and alternating on the parent of the buffers (8e55cd1) too: a guard for the
+    issue's case, which the builds and the tables' identity pin down."""
+    rb = load(WEDM).rulebase if which == "wedm" else six_input_table()
+    n_in = len(rb.inputs)
+    one, thousand = inputs(1, seed=5)[:, :1].repeat(n_in, 1), \
+        np.random.default_rng(6).uniform(-1.2, 1.2, (1000, n_in))
+    evaluate(rb, one), evaluate(rb, thousand)
+    engine, builds = compiled(rb), compiled(rb).pool.builds
+    alone = faults_per_call(lambda: evaluate(rb, one), calls=20) \
+        + faults_per_call(lambda: evaluate(rb, thousand), calls=20)
+
+    def pair():
+        evaluate(rb, one)
+        evaluate(rb, thousand)
+
+    alternating = faults_per_call(pair, calls=20)
+    assert compiled(rb) is engine and engine.pool.builds == builds
+    output_pages = 1000 * len(rb.outputs) * 8 / PAGE        # the batch-1000 output, if fresh
+    assert alternating <= alone + output_pages + 4, (alternating, alone)
