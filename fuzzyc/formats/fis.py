@@ -16,8 +16,13 @@ The Octave toolkit's and fuzzylite's further norms (einstein_product, hamacher_s
 membership functions (rampmf, rectmf, concavemf, cosinemf, spikemf; dsigmf, psigmf, gauss2mf
 as fuzzylite's SigmoidDifference, SigmoidProduct, GaussianProduct) are read too.
 Comments: `%` to the end of the line, and lines starting with `#`.
-Not carried, reported: other MF types (discretemf, custom functions), negated
-consequents, a weight other than 1 on a row with a hedged consequent, type hybrid
+A negated consequent (`-t` on an output) is the Octave toolkit's: in a Mamdani system the
+rule concludes a further term `not_t` (`not_very_t` ...), the complement 1 - mu^p as a Function
+term (formats.complement); in a Sugeno system the rule's program ends in its CONCLUDED step and
+NOT, the height 1 - strength^(1/p) (under --semantics octave only where the rule fires, as
+eval_rules_sugeno.m computes it).
+Not carried, reported: other MF types (discretemf, custom functions), a weight other than 1 on
+a row with a hedged or negated consequent, type hybrid
 (fuzzylite: a defuzzifier per output); type tsukamoto (fuzzylite's: wtaver over monotonic terms) is the model's Tsukamoto defuzzifier.
 When no rule fires, MATLAB's evalfis sets an output to the middle of its range (with a
 warning): the imported output's default is that middle, so both give the same number.
@@ -73,6 +78,7 @@ from .export import (finish, left_out, num, own_output_choices, peaks_instead,
                      unsayable_functions, unsayable_hedges)
 from .fll import fuzzylite_shape
 from .functions import function_term
+from .complement import complement_formula
 
 # ASCII: \d and \w would take other scripts' digits (`[Input１]`, `５`), which int() reads
 SECTION = re.compile(r"\s*\[(\w+?)(\d*)\]\s*$", re.ASCII)
@@ -100,6 +106,7 @@ FIS_HEDGES = {0.0: (), 0.5: (Hedge.SOMEWHAT,), 2.0: (Hedge.VERY,), 3.0: (Hedge.E
               4.0: (Hedge.VERY, Hedge.VERY)}
 FIS_FRACTIONS = {hedges: f"{exponent / 10:.2f}"[1:].rstrip("0") if hedges else ""
                  for exponent, hedges in FIS_HEDGES.items()}     # written back: `.05`, `.2`
+HEDGE_POWER = {Hedge.SOMEWHAT: 0.5, Hedge.VERY: 2.0, Hedge.EXTREMELY: 3.0}   # FIS_HEDGES'
 FIS_HEDGE_WORDS = {hedges[0]: text for hedges, text in FIS_FRACTIONS.items() if len(hedges) == 1}
 # fuzzylite's membership functions in FIS -> (its FLL word, FIS parameters -> FLL's order)
 FUZZYLITE_MFS = {"rampmf": ("Ramp", lambda v: v), "rectmf": ("Rectangle", lambda v: v),
@@ -130,6 +137,7 @@ class _FisReader:
         self.variables: list[tuple[bool, VarSpec]] = []   # in file order, for rule columns
         self.type = "mamdani"
         self.pending_rules: list[tuple[int, str]] = []
+        self.complements: dict[tuple[str, int, float], int] = {}   # (output, term, power)
 
     def read(self, text: str) -> Model:
         for number, line in enumerate(source_lines(text.lstrip("\ufeff")), start=1):
@@ -314,11 +322,14 @@ class _FisReader:
         if not all(self._in_range(var, abs(code), loc) for var, code in zip(
                 inputs + outputs, codes) if code != 0):
             return
-        for var, code in zip(outputs, codes[len(ins):]):
-            if code < 0:
-                self.rep.error(loc, f"a negated consequent (`{code}` for {var.name}) is not "
-                                    "supported")
-                return
+        if self.type == "mamdani":      # `-t`: the complement set 1 - mu^p, a further term
+            for k, (var, (code, hedges)) in enumerate(zip(outputs, split[len(ins):])):
+                if code < 0:
+                    made = self._complement(var, -code - 1, hedges, loc)
+                    if made is None:
+                        return
+                    split[len(ins) + k] = (made + 1, ())
+            codes = [code for code, _ in split]
         weight = float(match.group(3))
         connective = int(match.group(4))
         if not 0.0 <= weight <= 1.0 or connective not in (1, 2):
@@ -330,12 +341,13 @@ class _FisReader:
             return
         origin = f"{self.path}:{number}"
         if any(hedges for _, hedges in split[len(ins):]) or \
-                any(len(hedges) > 1 for _, hedges in split[:len(ins)]):
+                any(len(hedges) > 1 for _, hedges in split[:len(ins)]) or \
+                any(code < 0 for code in codes[len(ins):]):
             if not any(_is_any(t) for t in ins):
                 self._hedged_rule(split, weight, connective, loc, origin)
             else:
-                self.rep.error(loc, "`any` (0.99) in a row with a hedged consequent or `.4` is "
-                                    "not supported")
+                self.rep.error(loc, "`any` (0.99) in a row with a hedged or negated consequent "
+                                    "or `.4` is not supported")
             return
         clauses = {var.name: (abs(code) - 1, code < 0, hedges[0] if hedges else Hedge.NONE)
                    for var, (code, hedges) in zip(inputs, split[:len(ins)]) if code != 0}
@@ -359,10 +371,10 @@ class _FisReader:
         tool_semantics); outputs whose steps are the same share a rule."""
         inputs = [v for is_input, v in self.variables if is_input]
         outputs = [v for is_input, v in self.variables if not is_input]
-        if weight != 1.0 and any(hedges for _, hedges in split[len(inputs):]):
-            self.rep.error(loc, "a weight other than 1 on a row with a hedged consequent is not "
-                                "supported: both tools hedge the weighted strength, the model "
-                                "weighs the hedged condition")
+        if weight != 1.0 and any(hedges or code < 0 for code, hedges in split[len(inputs):]):
+            self.rep.error(loc, "a weight other than 1 on a row with a hedged or negated "
+                                "consequent is not supported: both tools hedge (negate) the "
+                                "weighted strength, the model weighs the hedged condition")
             return
         parts = []
         for var, (code, hedges) in zip(inputs, split):
@@ -380,16 +392,48 @@ class _FisReader:
         for var, (code, hedges) in zip(outputs, split[len(inputs):]):
             if code == 0:
                 continue
-            steps = tuple((h, False) for h, _ in said) + tuple((h, True) for h in hedges)
-            rules.setdefault(steps, {})[var.name] = code - 1
+            # a negated (Sugeno) consequent: the height 1 - strength^(1/p) (eval_rules_sugeno.m),
+            # its own CONCLUDED step (Hedge.NONE without a hedge) then NOT
+            own = tuple((h, True) for h in hedges) or (((Hedge.NONE, True),) if code < 0 else ())
+            steps = tuple((h, False) for h, _ in said) + own + ((None, True),) * (code < 0)
+            rules.setdefault(steps, {})[var.name] = abs(code) - 1
             said += [(h, False) for h in hedges]
         for steps, conclusions in rules.items():
             cond = condition
             for hedge, own in steps:
-                cond = Cond("concluded" if own else "carried", [cond], hedge=hedge)
+                cond = Cond("not", [cond]) if hedge is None else \
+                    Cond("concluded" if own else "carried", [cond], hedge=hedge)
             clauses, connective_, program = premise(cond)
             self.got.rules.append(RuleSpec(clauses, connective_, conclusions, weight, loc, origin,
                                            program))
+
+    def _complement(self, var: VarSpec, t: int, hedges: tuple[Hedge, ...],
+                    loc: SourceLoc) -> int | None:
+        """The index of `var`'s term `not_NAME` (`not_very_NAME` ...): 1 - mu^p of its term t,
+        the set a negated Mamdani consequent concludes (formats.complement), added once; None
+        after reporting a term no formula is written for."""
+        term = var.terms[t]
+        power = 1.0
+        for hedge in hedges:
+            power *= HEDGE_POWER[hedge]
+        words = "_".join(h.name.lower() for h in hedges)
+        if (var.name, t, power) in self.complements:
+            return self.complements[var.name, t, power]
+        name = f"not_{words + '_' if words else ''}{term.name}"
+        while name in var.term_names():
+            name += "_"
+        text = complement_formula(term.kind, term.params, power)
+        if text is None:
+            self.rep.error(loc, f"a negated consequent of `{term.name}` "
+                                f"({term.kind.name.lower()}): its complement is written for the "
+                                "FIS membership functions only")
+            return None
+        made = function_term(name, text, term.loc, term.loc, self.rep)
+        if made is None:
+            return None
+        var.add(made, self.rep)
+        self.complements[var.name, t, power] = len(var.terms) - 1
+        return len(var.terms) - 1
 
     def _in_range(self, var: VarSpec, index: int, loc: SourceLoc) -> bool:
         if index > len(var.terms):

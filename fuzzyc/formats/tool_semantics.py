@@ -601,6 +601,21 @@ def _grouped_average(rb: RuleBase, x: np.ndarray, act: np.ndarray | None = None)
 
 
 def octave_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
+    """`_octave_strengths`, and a rule whose program ends in a negated conclusion (a FIS
+    Sugeno row's `-t`: its CONCLUDED step, then NOT) 0 where its strength before the negation
+    is 0: eval_rules_sugeno.m computes a rule's height (1 - strength^(1/p)) only where its
+    firing strength is not 0, so a rule that does not fire adds nothing, not a height of 1."""
+    x = np.atleast_2d(np.asarray(x, dtype=float))
+    act = _octave_strengths(rb, x)
+    for r, program in rb.conditions.items():
+        if len(program) > 1 and program[-1, 0] == CondOp.NOT and \
+                program[-2, 0] == CondOp.CONCLUDED and program[-2, 2]:
+            before = _octave_strengths(replace(rb, conditions={r: program[:-1]}), x)[:, r]
+            act[:, r] = np.where(before == 0.0, 0.0, act[:, r])
+    return act
+
+
+def _octave_strengths(rb: RuleBase, x: np.ndarray) -> np.ndarray:
     """The rules' activations as the Octave toolkit computes them (eval_firing_strength.m):
     the AND or OR method applied to the vector of the rule's clauses at once, so
     drastic_product is min(clauses) where max(clauses) is 1, else 0, and drastic_sum
