@@ -148,8 +148,8 @@ def summary(quick: bool, only: list[str] | None, out: pathlib.Path) -> int:
     return 1 if failed else 0
 
 
-def docs(source: pathlib.Path) -> int:
-    """Put the summary between the markers of docs/benchmarks.md."""
+def docs(source: pathlib.Path, doc_path: pathlib.Path = DOC) -> int:
+    """Put the summary between the markers of docs/benchmarks.md (a quick run refused)."""
     sys.path.insert(0, str(ROOT))
     from fuzzyc.atomic import write_text
     body = source.read_text()
@@ -157,14 +157,14 @@ def docs(source: pathlib.Path) -> int:
         print(f"{source} is a --quick run: not figures for the docs")
         return 1
     body = body.split("\n", 2)[2]          # the doc has its own title
-    doc = DOC.read_text()
+    doc = doc_path.read_text()
     before, _, rest = doc.partition(BEGIN)
     _, _, after = rest.partition(END)
     if not rest:
-        print(f"{DOC} has no {BEGIN} marker")
+        print(f"{doc_path} has no {BEGIN} marker")
         return 1
-    write_text(DOC, f"{before}{BEGIN}\n{body.strip()}\n{END}{after}")
-    print(f"{DOC}: the table of {source}")
+    write_text(doc_path, f"{before}{BEGIN}\n{body.strip()}\n{END}{after}")
+    print(f"{doc_path}: the table of {source}")
     return 0
 
 

@@ -44,3 +44,22 @@ def test_quick_bench_writes_every_figure(tmp_path):
         assert len(cells) == 9, r
         assert "->" in cells[6], r                        # the load average before -> after
         assert cells[5] in ("met", "**not met**", "-"), r
+
+
+def test_docs_take_the_summary_between_the_markers_and_refuse_a_quick_run(tmp_path):
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    import run_all
+    doc = tmp_path / "benchmarks.md"
+    doc.write_text(f"# Benchmarks\n\nbefore\n\n{run_all.BEGIN}\nold\n{run_all.END}\n\nafter\n")
+    table = "| figure | value |\n|---|---|\n| engine | 1 M/s |\n"
+    full = tmp_path / "summary.md"
+    full.write_text("# make bench: issue 29's figures\n\nRun 2026-01-01, commit abc.\n\n" + table)
+    quick = tmp_path / "summary-quick.md"
+    quick.write_text("# make bench: issue 29's figures (QUICK: harness check, not figures)\n\n"
+                     + table)
+    assert run_all.docs(quick, doc) == 1
+    assert "\nold\n" in doc.read_text()
+    assert run_all.docs(full, doc) == 0
+    assert run_all.docs(full, doc) == 0                    # again: the same page
+    assert doc.read_text() == (f"# Benchmarks\n\nbefore\n\n{run_all.BEGIN}\nRun 2026-01-01, "
+                               f"commit abc.\n\n{table.strip()}\n{run_all.END}\n\nafter\n")
