@@ -36,15 +36,14 @@ static int hand_q15_cell(int16_t x, int n, int32_t *right) {
     return left;
 }
 
-/* sum(a[t] * peak[t]) / sum(a[t]) with the peaks -1, -0.5, 0, 0.5, 1: in halves, t - 2. */
+/* sum(a[t] * peak[t]) / sum(a[t]) with the peaks -1, -0.5, 0, 0.5, 1: in halves, t - 2.
+ * 32-bit throughout: |a[4] - a[0]| and |a[3] - a[1]| are at most 32767, so |num| <= 98301 and
+ * |num| * 16383 + den / 2 < 2^31; |num| <= 2 den, so |result| <= 32767. */
 static int16_t hand_q15_coa(const int32_t a[5]) {
     int32_t num = 2 * (a[4] - a[0]) + (a[3] - a[1]);
     int32_t den = a[0] + a[1] + a[2] + a[3] + a[4];
-    int64_t scaled;
     if (den == 0) return 0;
-    scaled = (int64_t)num * (HQ_ONE / 2) + (int64_t)(num >= 0 ? den / 2 : -(den / 2));
-    scaled /= den;                        /* |num| <= 2 den: |result| <= 32767 */
-    return (int16_t)scaled;
+    return (int16_t)((num * (HQ_ONE / 2) + (num >= 0 ? den / 2 : -(den / 2))) / den);
 }
 
 void hand_wedm_active_rules_q15(const int16_t x[3], int16_t y[2]) {
