@@ -170,6 +170,25 @@ def entries(model):
 
 
 HAND = ("hand_wedm_all_rules", "hand_wedm_active_rules")
+# the hand-written q15 version (hand_wedm_active_rules_q15.c) behind the float-to-q15 input
+# conversion the generated q15 entries have: inputs 0..32767 over [-1, 1]
+HAND_Q15_WRAP = """\
+void hand_wedm_active_rules_q15(const int16_t x[3], int16_t y[2]);
+static void q15_hand(const float *x, float *y) {
+    static const float lo[] = {-1.0f, -1.0f, -1.0f}, scale[] = {%(scale)s};
+    int16_t xq[3], yq[2]; int k;
+    for (k = 0; k < 3; ++k) xq[k] = (int16_t)((x[k] - lo[k]) * scale[k]);
+    hand_wedm_active_rules_q15(xq, yq);
+    y[0] = (float)yq[0];
+}
+"""
+
+
+def hand_q15_entry():
+    """(label, header, text, wrapper, function, ranges) of the hand-written q15 version."""
+    scale = ", ".join(f"{FORMATS['q15'][1] / 2.0!r}f" for _ in range(3))
+    return ("hand-written C q15, active rules only (incl. float to q15 input conversion)",
+            None, None, HAND_Q15_WRAP % {"scale": scale}, "q15_hand", [(-1.0, 1.0)] * 3)
 
 
 def run_driver(all_entries, work: Path, repeats: int = REPEATS, iterations: int = ITERATIONS,
@@ -223,8 +242,10 @@ def main() -> int:
     for name, model in models.items():
         for k, entry in enumerate(entries(model)):
             all_entries.append((f"{name}/{k}", entry))
+    all_entries.append(("wedm_three_region/hand_q15", hand_q15_entry()))
     with tempfile.TemporaryDirectory() as work:
-        ns = run_driver(all_entries, Path(work))
+        ns = run_driver(all_entries, Path(work),
+                        extra_sources=("hand_wedm_active_rules_q15.c",))
     active = ns["hand_wedm_active_rules"]
     rows = []
     for key, (label, *_rest) in all_entries:

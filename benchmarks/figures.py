@@ -286,18 +286,6 @@ def alternation() -> list[dict]:
 
 # -- generated C against the hand-written versions ------------------------------------------
 
-HAND_Q15_WRAP = """\
-void hand_wedm_active_rules_q15(const int16_t x[3], int16_t y[2]);
-static void q15_hand(const float *x, float *y) {
-    static const float lo[] = {-1.0f, -1.0f, -1.0f}, scale[] = {%(scale)s};
-    int16_t xq[3], yq[2]; int k;
-    for (k = 0; k < 3; ++k) xq[k] = (int16_t)((x[k] - lo[k]) * scale[k]);
-    hand_wedm_active_rules_q15(xq, yq);
-    y[0] = (float)yq[0];
-}
-"""
-
-
 def c_headers() -> list[dict]:
     """ns per call at gcc -O2 (timing loop in C, CPU time, median of interleaved repeats):
     the generated float COA header and the generated q15 header against the hand-written
@@ -306,7 +294,6 @@ def c_headers() -> list[dict]:
     import subprocess
     import tempfile
     import bench_c
-    from fuzzyc.backends.c_fixed.header import FORMATS
     from fuzzyc.language.parser import load
     if shutil.which("gcc") is None:
         return [row("generated C (gcc missing)", None, "ns", "", None, None, "", "<= 1.1x",
@@ -315,10 +302,7 @@ def c_headers() -> list[dict]:
     entries = bench_c.entries(model)
     keep = {"float": next(e for e in entries if e[0].startswith("C float, rule base")),
             "q15": next(e for e in entries if e[0].startswith("C q15 rule base"))}
-    full = FORMATS["q15"][1]
-    scale = ", ".join(f"{full / 2.0!r}f" for _ in range(3))
-    hand_q15 = ("hand q15", None, None, HAND_Q15_WRAP % {"scale": scale}, "q15_hand",
-                [(-1.0, 1.0)] * 3)
+    hand_q15 = bench_c.hand_q15_entry()
     all_entries = [("gen_float", keep["float"]), ("gen_q15", keep["q15"]),
                    ("hand_q15", hand_q15)]
     repeats = 5 if QUICK else 21
