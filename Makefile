@@ -103,7 +103,7 @@ explore: $(TSTAMP)
 	    $(addprefix $(CURDIR)/,$(PROPERTY_TESTS))) || exit 1; done
 
 # issue 29's figures, each in a fresh process beside its reference, with the load average:
-# benchmarks/results/summary.md (10-15 min on 2 quiet cores); ferrifuzz, the reference of one
+# benchmarks/results/summary.md (12-20 min on 2 quiet cores); ferrifuzz, the reference of one
 # evaluation from Python, goes to build/bench-deps (not the dev env). bench-docs copies the
 # summary into docs/benchmarks.md; bench-tables writes the per-benchmark tables of results/.
 bench: $(STAMP)
