@@ -51,10 +51,6 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1 0.7\n",
      "a term height of 0.7 is not supported"),
     (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
-               "OutputVariable: y\n  range: 0 1\n  term: b Triangle 0 0.5 1\n"
-               "RuleBlock:\n  rule: if x is a then y is seldom b with 0.5\n",
-     "a weight on a rule with a hedged conclusion is not supported where the hedge is seldom"),
-    (read_fll, "Engine: e\nInputVariable: x\n  range: 0 1\n  term: a Triangle 0 0.5 1\n"
                "OutputVariable: y\n  range: 0 1\n  defuzzifier: WeightedAverage\n"
                "  term: b Triangle 0 0.5 1\nRuleBlock:\n  rule: if x is a then y is b\n",
      "WeightedAverage needs Constant, Linear or Function terms"),

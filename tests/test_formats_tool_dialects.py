@@ -297,14 +297,23 @@ def test_fz_written_from_an_import_reads_back_terms_less_inputs_and_peaks_past_t
             "  term: t Triangle 0 0.5 1\n  term: past Triangle 1 1.5 2\n"
             "OutputVariable: y\n  range: 0 10\n  defuzzifier: WeightedAverage\n"
             "  term: l Linear 2 3 1\nRuleBlock: r\n  rule: if b is t then y is l\n")
-    model = read_fll(text, "e.fll")
+    # the Linear term reads b clamped to its range (exact semantics): widened to [0, 1.5], b
+    # = 1.2 would give 2a + 3.6 + 1 where the file gives 2a + 3 + 1; refused, not moved
+    with pytest.raises(FuzzycError, match="input `b` has a term peaking outside its range "
+                                          r"\[0, 1\].*a Linear term reads it clamped"):
+        write_fz(read_fll(text, "e.fll"))
+    model = read_fll(text.replace("  term: past Triangle 1 1.5 2\n", ""), "e.fll")
     fz = write_fz(model)
     assert "  terms a :\n" in fz
+    back = parse(fz, "e.fz").rulebase
+    assert [v.n_terms for v in back.inputs] == [0, 1]
+    # a = 0.5, b = 0.25: t = 0.5, y = 2*0.5 + 3*0.25 + 1 = 2.75 (one rule: the weight cancels)
+    assert evaluate(back, [[0.5, 0.25]])[0, 0] == pytest.approx(2.75, abs=1e-15)
+    # without a Linear term the range is widened to hold the peak (the memberships unchanged)
+    fz = write_fz(read_fll(text.replace("Linear 2 3 1", "Constant 2"), "e.fll"))
     assert "`b` range [0, 1] widened to [0, 1.5]" in fz
     back = parse(fz, "e.fz").rulebase
     assert [v.n_terms for v in back.inputs] == [0, 2]
-    # a = 0.5, b = 0.25: t = 0.5, y = 2*0.5 + 3*0.25 + 1 = 2.75 (one rule: the weight cancels)
-    assert evaluate(back, [[0.5, 0.25]])[0, 0] == pytest.approx(2.75, abs=1e-15)
 
 
 TSUKAMOTO_FLL = """Engine: tsukamoto

@@ -136,7 +136,8 @@ def test_a_stray_closing_brace_in_a_table_ends_only_the_table():
                    table)
     ((line, col, message),) = errors(text)
     assert (line, col) == (10, 9)
-    assert message.startswith("unexpected `Z`; expected one of `block`, `inference`, `input`")
+    assert message.startswith("unexpected `Z`; expected one of `block`, `fuzzylite`, "
+                              "`inference`, `input`")
 
 
 def test_a_table_whose_body_cannot_end_yet_is_dropped_whole():
@@ -282,8 +283,8 @@ def test_ten_thousand_opening_braces():
 def test_ten_thousand_opening_braces_in_a_controller():
     # "controller c {" is 14 characters: the second `{` at 15 (`}` sorts after the words)
     assert errors("controller c {" + "{" * 10_000) == [
-        (1, 15, "unexpected `{`; expected one of `block`, `inference`, `input`, `let`, "
-                "`note`, `output`, ...")]
+        (1, 15, "unexpected `{`; expected one of `block`, `fuzzylite`, `inference`, `input`, "
+                "`let`, `note`, ...")]
 
 
 def test_ten_thousand_closing_braces_after_a_controller():

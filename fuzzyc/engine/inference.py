@@ -30,7 +30,8 @@ import numpy as np
 from .defuzz import SCATTERS, OutputDefuzzifier, safe_ratio
 from .strength_grid import GridStrengths, lookup_rows, place_values
 from .membership import HEDGE_EXPONENT, LocalPartition, apply_hedges, memberships
-from ..semantics.model import CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm
+from ..semantics.model import (CondOp, Connective, Defuzzifier, Hedge, RuleBase, TNorm,
+                               weight_of)
 from .norms import combine, firing, row_sum
 from .scalar import ScalarGrid
 from .workspace import Workspace, WorkspacePool
@@ -108,6 +109,8 @@ def run_condition(rb: RuleBase, program: np.ndarray, x: np.ndarray,
             stack.append(1.0 - stack.pop())
         elif op == CondOp.HEDGE:
             stack.append(apply_hedges(stack.pop()[:, None], np.array([h]))[:, 0])
+        elif op == CondOp.WEIGHT:       # fuzzylite's weight under a conclusion's hedges
+            stack.append(stack.pop() * weight_of(t))
         elif op == CondOp.CONCLUDED:    # the Octave toolkit's: its own hedge inverted
             v = stack.pop()
             stack.append(v ** (1.0 / HEDGE_EXPONENT[h]) if t else v)

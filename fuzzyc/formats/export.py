@@ -114,12 +114,14 @@ def all_singletons(var: Variable) -> bool:
 
 def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str,
                   problems: list[str], says_any: bool = False,
-                  say: Callable[[str], str] = str) -> str:
+                  say: Callable[[str], str] = str, hedged_conditions: bool = False) -> str:
     """Rule r as `if x is not very A and ... then y is B<also>z is C with w` (FLL, FCL, .fz
     share this shape; `also` joins conclusions).  Lower-case keywords: FCL's are
     case-insensitive, and fuzzylite 6 reads FCL rules only in lower case (measured).
     `says_any`: a rule without clauses (it always fires) is `if x is any` (fuzzylite's).
-    `say` writes a variable or term name (.fz quotes its keywords)."""
+    `say` writes a variable or term name (.fz quotes its keywords); `hedged_conditions`: the
+    format says a hedge on a compound or hedged condition as `very (...)` and a weight under
+    it as `0.5 * (...)` (.fz)."""
     rb = model.rulebase
 
     def clause(i: int, t: int, negated: bool, hedge: Hedge) -> str:
@@ -130,10 +132,16 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
         return " ".join([say(v.name), "is", *words, say(v.names[t]) if t >= 0 else "any"])
 
     condition = rb.describe_condition(r, clause, ("and", "or", "not"))
-    if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.HEDGE):
+    if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.HEDGE) \
+            and not hedged_conditions:
         problems.append(f"rule {r + 1} hedges a compound condition or a hedged clause (read "
                         "from fuzzylite's `very very x` or a hedged conclusion), which the "
                         "format cannot say")
+    if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.WEIGHT) \
+            and not hedged_conditions:
+        problems.append(f"rule {r + 1} weighs its activation before a hedge said on its "
+                        "conclusion acts on it (fuzzylite's `then y is seldom z with w`: "
+                        "seldom(w a)), which the format cannot say")
     if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.CONCLUDED):
         problems.append(f"rule {r + 1} comes from a FIS row with a hedge on a consequent (the "
                         "Octave toolkit's strength^(1/p), fuzzylite's hedge carried on to the "

@@ -42,6 +42,7 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     lines = [f"controller {fz_name(model_identifier(model))} {_string(model.title)} {{"
              .replace("  ", " ")]
     ranges = [_holding_peaks(var) for var in inputs]
+    problems += _clamped_widening(model, inputs, ranges)
     notes = [*model.notes, *(f"`{var.name}` range [{num(var.lo)}, {num(var.hi)}] widened to "
                              f"[{num(lo)}, {num(hi)}]: a .fz term must peak inside its range"
                              for var, (lo, hi) in zip(inputs, ranges)
@@ -56,9 +57,11 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
         read = read_inputs(rb, inputs + outputs) if several else rb.inputs
         for var in rb.outputs:
             var = linear_on(var, rb.inputs, read, problems)
+            problems += _peaks_outside(var)
             lines.append(f"  var {fz_name(var.name)}{_unit(var)} "
                          f"in [{num(var.lo)}, {num(var.hi)}] default {num(var.default)}")
             lines.append(f"  terms {fz_name(var.name)} : {_terms(var, problems, len(read))}")
+    lines += _fuzzylite_lines(model)
     if several:
         for b, (name, rb) in enumerate(zip(block_names(model, keywords()), model.blocks)):
             lines += [f"  block {name} {{",
@@ -80,6 +83,22 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     return "\n".join(lines) + "\n"
 
 
+def _fuzzylite_lines(model: Model) -> list[str]:
+    """The `fuzzylite` statements: what an imported fuzzylite file said that only the fuzzylite
+    semantics read (tool_semantics.FileSettings), so that the .fz file gives its numbers."""
+    from .tool_semantics import file_settings      # it imports the engine, which imports us
+    said = file_settings(model)
+    lines = ["  fuzzylite replace_nan"] if said.known else []
+    if said.locked:
+        lines.append("  fuzzylite lock_range " + " ".join(map(fz_name, sorted(said.locked))))
+    lines += [f"  fuzzylite resolution {fz_name(name)} {points}"
+              for name, points in sorted(said.resolution.items())]
+    if said.nan_default:
+        lines.append("  fuzzylite nan_default " + " ".join(map(fz_name,
+                                                                 sorted(said.nan_default))))
+    return lines
+
+
 def _block_lines(model: Model, problems: list[str], rule_names: dict[int, str]) -> list[str]:
     """The inference and rules of the model's one rule block (rule r named rule_names[r])."""
     rb = model.rulebase
@@ -95,7 +114,8 @@ def _block_lines(model: Model, problems: list[str], rule_names: dict[int, str]) 
     for r in range(rb.n_rules):
         label = f"{fz_name(rule_names[r])}: " if r in rule_names else ""
         lines.append("  rule " + label
-                     + rule_sentence(model, r, FZ_HEDGES, ", ", problems, say=fz_name))
+                     + rule_sentence(model, r, FZ_HEDGES, ", ", problems, says_any=True,
+                                       say=fz_name, hedged_conditions=True))
     return lines
 
 
@@ -111,6 +131,41 @@ def _holding_peaks(var: Variable) -> tuple[float, float]:
     cores = [term_core(TermKind(int(k)), var.term_numbers(t)) for t, k in enumerate(var.kinds)]
     return (min([float(var.lo), *(c[1] for c in cores)]),
             max([float(var.hi), *(c[0] for c in cores)]))
+
+
+def _peaks_outside(var: Variable) -> list[str]:
+    """An output term peaking outside the output's range (legal in FLL, FCL and FIS; a .fz
+    term must peak inside its range, and widening an output's range would move its
+    defuzzified value): refused by name."""
+    found = []
+    for t, kind in enumerate(var.kinds):
+        if kind in (TermKind.LINEAR, TermKind.FUNCTION):
+            continue
+        lo, hi = term_core(TermKind(int(kind)), var.term_numbers(t))
+        if hi < var.lo or lo > var.hi:
+            where = num(lo) if lo == hi else f"[{num(lo)}, {num(hi)}]"
+            found.append(f"term `{var.names[t]}` of output `{var.name}` peaks at {where}, "
+                         f"outside its range [{num(var.lo)}, {num(var.hi)}] (a .fz term "
+                         "peaks inside its range)")
+    return found
+
+
+def _clamped_widening(model: Model, inputs: list[Variable],
+                      ranges: list[tuple[float, float]]) -> list[str]:
+    """An input whose range the writer would widen (`_holding_peaks`) where the range itself
+    acts: fuzzylite's lock-range clamps the input to it, and a Linear term reads its inputs
+    clamped to their ranges (exact semantics): refused by name, the numbers would move."""
+    from .tool_semantics import file_settings      # it imports the engine, which imports us
+    locked = file_settings(model).locked
+    linear = {v.name for rb in model.blocks for o in rb.outputs
+              if np.any(o.kinds == TermKind.LINEAR) for v in rb.inputs}
+    return [f"input `{var.name}` has a term peaking outside its range [{num(var.lo)}, "
+            f"{num(var.hi)}] (a .fz term peaks inside its range: the range would become "
+            f"[{num(lo)}, {num(hi)}]), and "
+            + ("fuzzylite's lock-range clamps it to that range" if var.name in locked else
+               "a Linear term reads it clamped to that range")
+            for var, (lo, hi) in zip(inputs, ranges)
+            if (lo, hi) != (var.lo, var.hi) and (var.name in locked or var.name in linear)]
 
 
 def _unit(var: Variable) -> str:

@@ -5,7 +5,8 @@ condition and an input named twice make a clause program (`fuzzyc.language.condi
 model lacks is reported.
 fuzzylite's `x is any` (truth 1) is said exactly with wildcards: every norm has 1 as the
 absorbing element of s-norms and the neutral one of t-norms, and 0 the other way round, so
-`any` drops out of an and-rule and makes an or-rule fire 1; `not any` (truth 0) the reverse.
+`any` drops out of an and-rule and makes an or-rule fire 1; `not any` (truth 0) the reverse
+(language.conditions.resolve_any, shared with .fz, where `x is any` means the same).
 """
 from __future__ import annotations
 
@@ -18,10 +19,10 @@ from lark import Lark, Token, Tree
 from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput, UnexpectedToken
 
 from ..language.builder import RuleSpec
-from ..language.conditions import Cond, premise
+from ..language.conditions import ANY, Cond, premise, resolve_any
 from ..errors import Reporter, shown_char, suggest
 from ..language.limits import MAX_HEDGES, MAX_NESTING
-from ..semantics.model import Connective, Hedge, SourceLoc
+from ..semantics.model import Hedge, SourceLoc
 from ..semantics.operators import HEDGES as HEDGE_RECORDS
 from .common import Collected
 
@@ -103,28 +104,23 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
         if not 0.0 <= weight <= 1.0:
             rep.error(loc_of(token), f"a rule weight lies in [0, 1], got {weight:g}")
             ok = False
-        elif carried and weight != 1.0 and any(HEDGE_RECORDS[h].exponent is None
-                                               for h in carried):
-            bent = next(h for h in carried if HEDGE_RECORDS[h].exponent is None)
-            rep.error(loc_of(token), "a weight on a rule with a hedged conclusion is not "
-                                     f"supported where the hedge is {HEDGE_RECORDS[bent].name} "
-                                     "(not a power): fuzzylite hedges the weighted activation, "
-                                     "the model weighs the hedged condition")
-            ok = False
     if not ok:
         return []
     rules = []
     for chain in dict.fromkeys(chains.values()):
-        hedged = cond
+        # fuzzylite hedges the weighted activation, h(w a); for powers h(w a) = w^p h(a), so
+        # the model's rule weighs its hedged condition by w^p (p the chain's exponents'
+        # product); under seldom or extremely (fuzzylite's S-curve, no power) the weight
+        # stays inside the hedges, a CondOp.WEIGHT step, and the rule's own weight is 1
+        powers = all(HEDGE_RECORDS[h].exponent is not None for h in chain)
+        hedged = cond if powers or weight == 1.0 else Cond("weight", [cond], weight=weight)
         for hedge in chain:
             hedged = Cond("hedge", [hedged], hedge=hedge)
         mine = {out: conclusions[out] for out, c in chains.items() if c == chain}
-        # fuzzylite hedges the weighted activation, h(w a); for powers h(w a) = w^p h(a), so
-        # the model's rule weighs its hedged condition by w^p (p the chain's exponents' product)
-        if weight != 1.0:       # the chain's hedges are powers (else refused above)
+        if weight != 1.0 and powers:
             hedged_weight = weight ** math.prod(HEDGE_RECORDS[h].exponent for h in chain)
         else:
-            hedged_weight = weight
+            hedged_weight = weight if powers else 1.0
         rules.append(_rule(hedged, mine, hedged_weight, loc, origin))
     return rules
 
@@ -133,9 +129,7 @@ def _rule(cond: Cond, conclusions: dict[str, int], weight: float, loc: SourceLoc
           origin: str) -> RuleSpec:
     rule_clauses, connective, program = premise(cond)
     if program is None:
-        rule_clauses, weight = _resolve_any(rule_clauses, connective, weight)
-        if sum(term != ANY for term, _, _ in rule_clauses.values()) < 2:
-            connective = Connective.AND     # one clause or none: as every front end reads it
+        rule_clauses, connective, weight = resolve_any(rule_clauses, connective, weight)
     return RuleSpec(rule_clauses, connective, conclusions, weight, loc, origin, program)
 
 
@@ -153,20 +147,6 @@ def _hedges(words: list[Token], hedges: dict[str, Hedge], loc_of: LocOf,
                                     f"supported: {hedge_message(word.value.lower(), hedges)}")
             return None
     return [hedges[w.value.lower()] for w in reversed(words)]
-
-
-ANY = -1   # the clause `x is any` (truth 1), a wildcard term index (in a program too)
-
-
-def _resolve_any(clauses: dict, connective: Connective, weight: float) -> tuple[dict, float]:
-    """Clauses and weight with `any` said by wildcards (see the module docstring)."""
-    truths = {not negated for term, negated, _ in clauses.values() if term == ANY}
-    wildcard = (ANY, False, Hedge.NONE)
-    if connective == Connective.AND and False in truths:    # and `not any`: never fires
-        return {name: wildcard for name in clauses}, 0.0
-    if connective == Connective.OR and True in truths:      # or `any`: always fires
-        return {name: wildcard for name in clauses}, weight
-    return {name: wildcard if c[0] == ANY else c for name, c in clauses.items()}, weight
 
 
 def _first_too_deep(condition: Tree) -> Token | None:

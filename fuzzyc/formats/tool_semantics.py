@@ -52,7 +52,8 @@ from ..errors import Diagnostic, FuzzycError
 from ..engine.membership import (HEDGE_EXPONENT, apply_hedges, linear_coefficients, memberships,
                                  pointwise, term_inverse)
 from ..semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hedge, Model,
-                               RuleBase, SNorm, TermKind, TNorm, Variable, aggregation_snorm)
+                               RuleBase, SNorm, TermKind, TNorm, Variable, aggregation_snorm,
+                               weight_of)
 from ..engine.norms import S_NORMS, T_NORMS, combine, firing
 from ..engine.formula import parse_formula
 from ..engine.held_outputs import POLICIES, Held, reads_values
@@ -177,7 +178,12 @@ FCL_OUTPUT = re.compile(r"DEFUZZIFY\s+(\w+)(.*?)END_DEFUZZIFY", re.S | re.I)
 
 
 def file_settings(model: Model) -> FileSettings:
-    """The settings of the FLL or FCL file the model was imported from (none for others)."""
+    """The settings of the FLL or FCL file the model was imported from, or that a .fz file's
+    `fuzzylite` statements say (`Model.fuzzylite`, written by `convert`); none for others."""
+    if model.fuzzylite is not None:
+        said = model.fuzzylite
+        return FileSettings(set(said["locked"]), dict(said["resolution"]),
+                            set(said["nan_default"]), bool(said["known"]))
     text, path = model.source_text or "", (model.source_path or "").lower()
     found = FileSettings(known=path.endswith(".fll") or ".fcl" in path)
     if path.endswith(".fll"):
@@ -707,6 +713,8 @@ def _octave_program(rb: RuleBase, program: np.ndarray, x: np.ndarray, conj: bool
             value = apply_hedges(value[:, None], np.array([h]))[:, 0]
         elif op == CondOp.CONCLUDED and t:
             value = value ** (1.0 / HEDGE_EXPONENT[h])
+        elif op == CondOp.WEIGHT:
+            value = value * weight_of(t)
         stack.append([value])
     return _octave_nary(stack.pop(), conj)
 

@@ -53,8 +53,10 @@ class Clause:
 
 @dataclass
 class Condition:
-    connective: str          # "and" | "or" | "not" (one part)
+    connective: str          # "and" | "or" | "not" | "hedge" (one part)
     parts: list[Any]         # Clause | Condition
+    hedge: str | None = None  # "hedge": its word (`very (a is x or b is y)`)
+    weight: Any = None        # "weight": its Num (`seldom (0.5 * (a is x))`)
 
 
 @dataclass
@@ -189,6 +191,12 @@ class ToSyntax(Transformer):
 
     def not_cond(self, items):
         return Condition("not", [items[-1]])
+
+    def hedge_cond(self, items):
+        return Condition("hedge", [items[-1]], str(items[0]))
+
+    def weighted_cond(self, items):
+        return Condition("weight", [items[-1]], weight=items[0])
 
     def conclusion(self, items):
         return Conclusion(items[0], items[1])
@@ -341,6 +349,10 @@ class ToSyntax(Transformer):
     @v_args(meta=True)
     def note(self, meta, items):
         return self._stmt("note", meta, {"text": str(items[0])[1:-1]})
+
+    @v_args(meta=True)
+    def fuzzylite(self, meta, items):
+        return self._stmt("fuzzylite", meta, {"key": items[0], "args": list(items[1:])})
 
     # ---- verification
     @v_args(meta=True)

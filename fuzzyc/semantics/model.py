@@ -182,6 +182,19 @@ class CondOp(IntEnum):
     HEDGE = 4     # the hedge (4th column) applied to the top value
     CONCLUDED = 5  # a hedge said on a conclusion (FIS `t.h` on an output): term column 1 for
     #                the rule's own conclusion, 0 for an earlier one of the same FIS row
+    WEIGHT = 6     # the top value times a rule weight (fuzzylite weighs the activation before
+    #                the hedges of a conclusion act on it): the weight's float64 bits in the
+    #                term column (`weight_bits`, `weight_of`); such a rule's own weight is 1
+
+
+def weight_bits(weight: float) -> int:
+    """A CondOp.WEIGHT step's term column: the weight's float64 bits as an int64 (exact)."""
+    return int(np.array([weight], dtype=np.float64).view(np.int64)[0])
+
+
+def weight_of(bits: int) -> float:
+    """The weight a CondOp.WEIGHT step's term column holds."""
+    return float(np.array([bits], dtype=np.int64).view(np.float64)[0])
 
 
 class TNorm(IntEnum):
@@ -445,6 +458,9 @@ class RuleBase:
             elif op == CondOp.HEDGE:
                 text, top, leaf = stack.pop()
                 stack.append((f"{Hedge(h).name.lower()} ({text})", CondOp.CLAUSE, None))
+            elif op == CondOp.WEIGHT:         # weighed before the hedges above it
+                text, top, leaf = stack.pop()
+                stack.append((f"{weight_of(t)!r} * ({text})", CondOp.CLAUSE, None))
             elif op == CondOp.CONCLUDED:      # said on a conclusion: shown, not a clause word
                 text, top, leaf = stack.pop()
                 said = f"{Hedge(h).name.lower()} on {'this' if t else 'an earlier'} conclusion"
@@ -565,6 +581,10 @@ class Model:
     source_path: str | None = None
     source_text: str | None = None
     notes: list[str] = field(default_factory=list)   # findings recorded in the file
+    # a .fz file's `fuzzylite` statements: what fuzzylite's semantics read of an imported
+    # file (formats.tool_semantics.FileSettings; `locked`, `resolution`, `nan_default`,
+    # `known`), None where the file has none (FLL and FCL files: read off their text)
+    fuzzylite: dict | None = None
     # what `fuzzyc tune` may move (fuzzyc.semantics.tunable.TunedNumber), the rest is frozen
     tunables: list = field(default_factory=list)
 

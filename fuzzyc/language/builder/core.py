@@ -10,7 +10,7 @@ import sympy
 from .. import units
 from ...errors import Reporter
 from ...semantics.model import Model, Output, Param, Property, Signal, SourceLoc, Step
-from ..syntax import Expr, Name, Stmt
+from ..syntax import Expr, Name, Num, Stmt
 from .chain import RESERVED_PREFIX, ChainBuilder
 from .properties import PropertiesBuilder
 from .rules import BlockSpec, RulesBuilder
@@ -37,6 +37,7 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
         self.properties: list[Property] = []
         self.property_reads: list = []   # block outputs a property reads (check_property_inputs)
         self.notes: list[str] = []
+        self.fuzzylite: dict | None = None    # the `fuzzylite` statements (Model.fuzzylite)
         self.period: float | None = None
         self.declared: dict[str, SourceLoc] = {}
         self.broken: set[str] = set()    # names whose declaration failed: no follow-on errors
@@ -54,7 +55,7 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
                      period=self.period, params=self.params, signals=list(self.signals.values()),
                      steps=self.steps, outputs=self.outputs, properties=self.properties,
                      source_path=path, source_text=text, notes=self.notes,
-                     tunables=tunables)
+                     tunables=tunables, fuzzylite=self.fuzzylite)
 
     def error(self, loc: SourceLoc, message: str) -> None:
         self.rep.error(loc, message)
@@ -97,3 +98,39 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
 
     def _stmt_note(self, s: Stmt) -> None:
         self.notes.append(s.data["text"])
+
+    FUZZYLITE_KEYS = {"lock_range": "NAME...", "resolution": "OUTPUT INTEGER",
+                      "nan_default": "OUTPUT...", "replace_nan": ""}
+
+    def _stmt_fuzzylite(self, s: Stmt) -> None:
+        """`fuzzylite KEY ARGS`: a fuzzylite file's setting for its tools' semantics."""
+        key, args = s.data["key"], s.data["args"]
+        got = self.fuzzylite if self.fuzzylite is not None else \
+            {"locked": set(), "resolution": {}, "nan_default": set(), "known": False}
+        forms = ", ".join(f"`fuzzylite {k} {v}`".replace(" `", "`") for k, v in
+                          self.FUZZYLITE_KEYS.items())
+        names = [a for a in args if isinstance(a, Name)]
+        numbers = [a for a in args if isinstance(a, Num)]
+        where = (numbers or names or [key])[0].loc
+        if key.text not in self.FUZZYLITE_KEYS:
+            self.error(key.loc, f"unknown fuzzylite setting `{key.text}`: one of {forms}")
+        elif key.text == "replace_nan" and args:
+            self.error(where, "`fuzzylite replace_nan` takes nothing after it")
+        elif key.text in ("lock_range", "nan_default") and (numbers or not names):
+            self.error(where, f"`fuzzylite {key.text}` takes variable names")
+        elif key.text == "resolution" and not (
+                len(args) == 2 and isinstance(args[0], Name) and isinstance(args[1], Num)
+                and args[1].is_int and args[1].value > 1):
+            self.error(where, "`fuzzylite resolution` takes an output and an integer above 1 "
+                              "(`fuzzylite resolution y 500`)")
+        elif any(n.text not in self.vars for n in names):
+            bad = next(n for n in names if n.text not in self.vars)
+            self.error(bad.loc, f"`fuzzylite {key.text}` names `{bad.text}`, which is no "
+                                "variable declared before it")
+        elif key.text == "replace_nan":
+            got["known"] = True
+        elif key.text == "resolution":
+            got["resolution"][args[0].text] = int(args[1].value)
+        else:
+            got["locked" if key.text == "lock_range" else key.text].update(n.text for n in names)
+        self.fuzzylite = got

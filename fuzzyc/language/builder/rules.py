@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from ..conditions import Cond, Program, premise, program_array
+from ..conditions import ANY, Cond, Program, premise, program_array, resolve_any
 from ...display import plural
 from ...errors import suggest
 from ...engine.membership import monotonic
@@ -223,10 +223,21 @@ class RulesBuilder:
         return True
 
     def _condition(self, cond: Clause | Condition, context: str) -> Cond | None:
+        if isinstance(cond, Clause) and cond.term.text == "any":
+            var = self._input_var(cond.var)     # `x is any`: truth 1 (fuzzylite's), unless
+            if var is None:                     # x has a term of that name
+                return None
+            if "any" not in var.term_names():
+                return Cond("is", leaf=(var.name, (ANY, cond.negated, HEDGES[cond.hedge])))
         if isinstance(cond, Clause):
             return self._leaf(cond, context)
         parts = [self._condition(p, context) for p in cond.parts]
-        return None if None in parts else Cond(cond.connective, parts)
+        if None in parts:
+            return None
+        if cond.connective == "weight":     # `0.5 * (...)`: fuzzylite's weight under a hedge
+            weight = self._weight(cond.weight)
+            return None if weight is None else Cond("weight", parts, weight=weight)
+        return Cond(cond.connective, parts, hedge=HEDGES[cond.hedge])
 
     def _conclusion(self, var: LinguisticVar, term, context: str,
                     learnable: bool = False, label: str = "") -> int | None:
@@ -261,6 +272,8 @@ class RulesBuilder:
         weight = self._weight(s.data["weight"])
         if ok and weight is not None:
             clauses, connective, program = premise(condition)
+            if program is None:
+                clauses, connective, weight = resolve_any(clauses, connective, weight)
             self.block.rules.append(RuleSpec(clauses, connective, conclusions, weight, s.loc, label,
                                        program))
 
