@@ -434,7 +434,8 @@ def dask() -> list[dict]:
                 ">= 1.7x on a campaign of >= 60 s", speedup >= 1.7 and med(local_wall) >= 60,
                 f"`{command} [--workers 2]`; in-process {med(local_wall):.1f} s wall, "
                 f"{med(local_cpu):.1f} s CPU; Dask {med(dask_wall):.1f} s wall, "
-                f"{med(dask_cpu):.1f} s CPU with the workers; cluster start-up "
+                f"{med(dask_cpu):.1f} s CPU with the workers (their start-up included); "
+                f"cluster start-up "
                 f"{med(start_up):.2f} s, close {med(close):.2f} s; summaries equal")]
 
 
