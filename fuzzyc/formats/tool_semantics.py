@@ -408,6 +408,9 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
         return _grouped_average(rb, x, octave_activations(rb, x))
     if semantics in ("octave", "matlab"):
         octave = semantics == "octave"
+        if octave:          # a Mamdani consequent's hedge: the term's membership ^ p
+            from .octave_hedges import octave_mamdani_hedges
+            rb = octave_mamdani_hedges(rb)
         return evaluate_sampled(rb, x, resolutions(rb, resolution, OCTAVE_POINTS),
                                 Sampling.TRAPEZOID, methods=OCTAVE_SAMPLED + (
                                     (Defuzzifier.BISECTOR,) if octave else ()),
@@ -626,9 +629,10 @@ def _octave_strengths(rb: RuleBase, x: np.ndarray) -> np.ndarray:
     the AND or OR method applied to the vector of the rule's clauses at once, so
     drastic_product is min(clauses) where max(clauses) is 1, else 0, and drastic_sum
     max(clauses) where min(clauses) is 0, else 1 -- not the pairwise folds, which differ from
-    three clauses on; the other methods fold as the engine does."""
+    three clauses on; the other methods fold as the engine does.  Every activation above 0
+    counts (the toolkit skips a rule only where its strength is 0: no ACTIVATION_FLOOR)."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
-    act = activations(rb, x)
+    act = pyfuzzylite_activations(rb, x)
     drastic_and = rb.inference.and_ == TNorm.DRASTIC_PRODUCT
     drastic_or = rb.inference.or_ == SNorm.DRASTIC_SUM
     if not (drastic_and or drastic_or):
@@ -652,8 +656,8 @@ def _octave_strengths(rb: RuleBase, x: np.ndarray) -> np.ndarray:
         ops = set(program[:, 0].tolist())      # the row's connective is its program's
         and_ = CondOp.AND in ops or (CondOp.OR not in ops and bool(conj[r]))
         if (drastic_and and and_) or (drastic_or and not and_):
-            act[:, r] = firing(_octave_program(rb, program, x, and_) * rb.weights[r])
-    return np.where(use, firing(nary * rb.weights), act)
+            act[:, r] = _octave_program(rb, program, x, and_) * rb.weights[r]
+    return np.where(use, nary * rb.weights, act)
 
 
 def octave_dsigmf(rb: RuleBase) -> RuleBase:
