@@ -107,3 +107,23 @@ def test_octave_live(name, want):
     assert got[0] == "error" if name.startswith("sugeno") else got[0] == pytest.approx(want[0])
     assert got[1:] == pytest.approx(want[1:], abs=1e-7)     # the hand figures as rounded
     assert _y(name, "octave")[1:] == pytest.approx(got[1:], abs=1e-3 * 10)
+
+
+# sugeno_weighted.fis: `1, -1.2 (0.6) : 1` and `2, 2.3 (0.7) : 1`: both tools weigh the strength
+# before a consequent's hedge or negation (eval_firing_strength.m, then eval_rules_sugeno.m).
+#   x = 2.5: 1 - sqrt(0.6 * 0.75) = 0.3291796 at 2, (0.7 * 0.25)^(1/3) = 0.5593445 at 7:
+#   (0.6583592 + 3.9154115) / 0.8885241 = 5.1476045.
+#   x = 0: rule 1 alone, 1 - sqrt(0.6) at 2: 2.  x = 10: rule 2 alone (rule 1 does not fire): 7.
+WEIGHTED_OCTAVE = [2.0, 5.1476045, None, 7.0]
+
+
+def test_weighted_by_hand():
+    got = _y("sugeno_weighted.fis", "octave")
+    assert [got[0], got[1], got[3]] == pytest.approx([2.0, 5.1476045, 7.0], abs=1e-7)
+
+
+def test_weighted_live():
+    if not oracles.have_octave():
+        pytest.skip("no octave with the fuzzy-logic-toolkit")
+    got = _octave("sugeno_weighted.fis")
+    assert got == pytest.approx(_y("sugeno_weighted.fis", "octave"), abs=1e-12)

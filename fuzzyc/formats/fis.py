@@ -21,8 +21,9 @@ rule concludes a further term `not_t` (`not_very_t` ...), the complement 1 - mu^
 term (formats.complement); in a Sugeno system the rule's program ends in its CONCLUDED step and
 NOT, the height 1 - strength^(1/p) (under --semantics octave only where the rule fires, as
 eval_rules_sugeno.m computes it).
-Not carried, reported: other MF types (discretemf, custom functions), a weight other than 1 on
-a row with a hedged or negated consequent, type hybrid
+A weight on a row with a hedged or negated consequent weighs the strength before the
+consequent's steps (a CondOp.WEIGHT step), as both tools do.
+Not carried, reported: other MF types (discretemf, custom functions), type hybrid
 (fuzzylite: a defuzzifier per output); type tsukamoto (fuzzylite's: wtaver over monotonic terms) is the model's Tsukamoto defuzzifier.
 When no rule fires, MATLAB's evalfis sets an output to the middle of its range (with a
 warning): the imported output's default is that middle, so both give the same number.
@@ -371,11 +372,6 @@ class _FisReader:
         tool_semantics); outputs whose steps are the same share a rule."""
         inputs = [v for is_input, v in self.variables if is_input]
         outputs = [v for is_input, v in self.variables if not is_input]
-        if weight != 1.0 and any(hedges or code < 0 for code, hedges in split[len(inputs):]):
-            self.rep.error(loc, "a weight other than 1 on a row with a hedged or negated "
-                                "consequent is not supported: both tools hedge (negate) the "
-                                "weighted strength, the model weighs the hedged condition")
-            return
         parts = []
         for var, (code, hedges) in zip(inputs, split):
             if code != 0:
@@ -387,6 +383,11 @@ class _FisReader:
             self.rep.error(loc, "a rule needs at least one input index")
             return
         condition = Cond("and" if connective == 1 else "or", parts)
+        if weight != 1.0 and any(hedges or code < 0 for code, hedges in split[len(inputs):]):
+            # both tools hedge (negate) the weighted strength: (w s)^(1/p) in the Octave
+            # toolkit (eval_firing_strength.m weighs, eval_rules_sugeno.m hedges), h(w s) in
+            # fuzzylite: the weight is a CondOp.WEIGHT step under the conclusion's steps
+            condition, weight = Cond("weight", [condition], weight=weight), 1.0
         said: list[tuple[Hedge, bool]] = []     # (hedge, own) steps so far
         rules: dict[tuple, dict[str, int]] = {}
         for var, (code, hedges) in zip(outputs, split[len(inputs):]):
