@@ -5,7 +5,8 @@ numbers changed, a provenance comment block on top).
 
 `fuzzyc tune FILE --scenario NAME --minimize METRIC [--set K=V] [--limit 'M<=X'] -o OUT`:
 the same against a closed loop, the cost a metric of the scenario's batched loop, searched
-derivative-free; the closed-loop properties of FILE are re-verified on the result."""
+derivative-free; the closed-loop properties of FILE are re-verified on the result (with
+--prove, by the reachable-set proof first)."""
 from __future__ import annotations
 
 import os
@@ -47,6 +48,12 @@ def add_parser(subparsers) -> None:
                    help="with --scenario: draw the plant params of the batch (the seed's)")
     p.add_argument("--max-examples", type=at_least(1), default=30, metavar="N",
                    help="with --scenario: loops of each closed-loop property check (30)")
+    p.add_argument("--prove", action="store_true",
+                   help="with --scenario: the closed-loop properties get the reachable-set "
+                        "proof first (as verify --prove); one proved before must be proved "
+                        "after, or the candidate is rejected")
+    p.add_argument("--prove-boxes", type=at_least(1), default=64, metavar="N",
+                   help="with --prove: boxes per closed loop, at most N (64)")
     group = p.add_mutually_exclusive_group()
     group.add_argument("--validate", metavar="CSV", help="data to report the error on")
     group.add_argument("--folds", type=at_least(2), metavar="K",
@@ -69,9 +76,9 @@ def run(args) -> int:
     check_output(args.output)
     if args.scenario is not None:
         return _run_scenario(args)
-    if args.minimize or args.sets or args.limits:
-        raise FuzzycError([Diagnostic(None, "--minimize, --set and --limit go with --scenario "
-                                            "(a closed-loop tune), not with --data")])
+    if args.minimize or args.sets or args.limits or args.prove:
+        raise FuzzycError([Diagnostic(None, "--minimize, --set, --limit and --prove go with "
+                                            "--scenario (a closed-loop tune), not with --data")])
     try:
         result = tune(args.file, args.data, validate=args.validate, folds=args.folds,
                       seed=args.seed, passes=args.passes, max_nfev=args.max_nfev,
@@ -107,7 +114,8 @@ def _run_scenario(args) -> int:
         result = tune(args.file, scenario=args.scenario, minimize=args.minimize,
                       sets=parse_sets(args.sets), limits=tuple(args.limits), seed=args.seed,
                       batch=args.batch, randomize=args.randomize, method=args.method,
-                      max_evaluations=args.max_evaluations, max_examples=args.max_examples)
+                      max_evaluations=args.max_evaluations, max_examples=args.max_examples,
+                      prove=args.prove, prove_boxes=args.prove_boxes)
     except (ValueError, KeyError, OSError) as exc:
         message = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
         raise FuzzycError([Diagnostic(None, message)]) from None

@@ -51,14 +51,17 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None
          passes: int = 20, max_nfev: int | None = None, scenario: str | None = None,
          minimize: str | None = None, sets: dict | None = None, limits: tuple = (),
          batch: int = 1, randomize: bool = False, method: str | None = None,
-         max_evaluations: int | None = None, max_examples: int = 30) -> TuneResult:
+         max_evaluations: int | None = None, max_examples: int = 30, prove: bool = False,
+         prove_boxes: int = 64, scenarios: dict | None = None) -> TuneResult:
     """Tune a .fz file (or a model parsed from .fz text) against the CSV `data`; `validate`
     (a CSV) or `folds` (K-fold cross-validation) measure the error on data it was not fitted
     to.  Or, with `scenario` instead of data, against a closed loop: minimize the metric
     `minimize` of the scenario's loop (overrides `sets`, as simulate's --set; `limits`
     'METRIC<=VALUE' kept; fuzzyc.tune.loop).  `method`: with data, "least_squares" (the
     default) or "anfis" (Jang's rule, `passes` epochs); with a scenario, "powell" (the
-    default) or "nelder-mead".  The result's text differs from the source only
+    default) or "nelder-mead"; `prove`: the closed-loop properties get the reachable-set
+    proof first (`prove_boxes` boxes), and one proved before must be proved after;
+    `scenarios`: your own loops by name, as fuzzyc.verify takes them.  The result's text differs from the source only
     in the tuned numbers and the provenance comment block on top; the same files and seed give
     the same text, byte for byte."""
     if not isinstance(model, Model):
@@ -80,7 +83,8 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None
         from .scenario_tune import tune_scenario
         return tune_scenario(model, scenario, minimize, sets=sets, limits=limits, seed=seed,
                              batch=batch, randomize=randomize, method=method or "powell",
-                             max_evaluations=max_evaluations, max_examples=max_examples)
+                             max_evaluations=max_evaluations, max_examples=max_examples,
+                             prove=prove, prove_boxes=prove_boxes, scenarios=scenarios)
     from .data import read_csv
     from .rewrite import rewrite
     train = read_csv(data, model)

@@ -4,8 +4,9 @@ tune section's bounds), and the result keeps what the file had proved.
 
 Kept: the file's monotone / covers / bounded properties that held before (as a fit to data
 keeps them, fuzzyc.tune.constraints), its closed-loop properties that held before
-(re-verified by search, as `fuzzyc verify` does, on the same seed) and any `limits` the caller
-adds (a metric at most a value, e.g. the overshoot). A search result that loses one is
+(re-verified by search, as `fuzzyc verify` does, on the same seed; with `prove`, by the
+reachable-set proof first, and one proved before must be proved again) and any `limits` the
+caller adds (a metric at most a value, e.g. the overshoot). A search result that loses one is
 rejected with the reason, and the result is the point nearest it, on the way back to the
 numbers as written (which kept them), that keeps everything (bisection).
 
@@ -23,6 +24,7 @@ import numpy as np
 
 from ..semantics.model import Model
 from ..semantics.tunable import TunedNumber
+from ..verifier.result import Status
 from .constraints import KEPT, PropertyCheck, kept_properties, status
 from .space import Space
 
@@ -211,18 +213,34 @@ def minimize_within(cost: Callable, x0, lo, hi, method: str = "powell",
     return np.clip(best[0], lo, hi)
 
 
-def closed_loop_checks(model: Model, seed: int, max_examples: int) -> list[tuple[str, str, str]]:
-    """(text, verdict, why) of each check of the model's closed-loop properties, searched as
-    `fuzzyc verify` does (on the seed: the same verdicts every run)."""
+@dataclass(frozen=True)
+class LoopChecks:
+    """How the closed-loop properties are checked: searched (`max_examples` loops on `seed`),
+    proved first with `prove` (reachable sets in at most `prove_boxes` boxes), on the user's
+    own scenarios by name (`scenarios`, as fuzzyc.verify takes them)."""
+    seed: int = 0
+    max_examples: int = 30
+    prove: bool = False
+    prove_boxes: int = 64
+    scenarios: dict | None = None
+
+
+def closed_loop_checks(model: Model, how: LoopChecks) -> list[tuple[str, str, str]]:
+    """(text, verdict, why) of each check of the model's closed-loop properties, as
+    `fuzzyc verify` decides them (on the seed: the same verdicts every run)."""
     from ..verifier.runner import Options, verify_model
     loops = [_with_params(p, model) for p in model.properties if p.kind == "closed_loop"]
     if not loops:
         return []
     only = replace(model, properties=loops)
-    results = verify_model(only, Options(seed=seed, max_examples=max_examples))
+    results = verify_model(only, Options(seed=how.seed, max_examples=how.max_examples,
+                                         prove=how.prove, prove_boxes=how.prove_boxes,
+                                         scenarios=dict(how.scenarios or {})))
     out = []
     for r in results:
         bad = r.violation
+        if bad is None and how.prove and r.status != Status.PROVED:   # where the proof stopped
+            bad = next((e for e in r.evidence if e.method == "reach"), None)
         out.append((r.prop.text, r.status.value, bad.detail if bad is not None else ""))
     return out
 
@@ -240,10 +258,13 @@ def _with_params(prop, model: Model):
 def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int = 1,
               randomize: bool = False, method: str = "powell",
               max_evaluations: int | None = None, limits: tuple[tuple[str, float], ...] = (),
-              max_examples: int = 30, cost: Callable | None = None) -> LoopFit:
+              max_examples: int = 30, cost: Callable | None = None, prove: bool = False,
+              prove_boxes: int = 64, scenarios: dict | None = None) -> LoopFit:
     """Tune `model`'s tuned numbers (its `tune` section) to minimize `metric` of `scenario`'s
     loop (a scenario object, plants.scenario.load), keeping its properties (module docstring).
-    cost: another cost of theta instead of the metric (then `metric` only names it)."""
+    cost: another cost of theta instead of the metric (then `metric` only names it).
+    prove, prove_boxes, scenarios: how its closed-loop properties are checked (LoopChecks)."""
+    how = LoopChecks(seed, max_examples, prove, prove_boxes, scenarios)
     space = Space(model)
     loop = ClosedLoop(scenario, space, metric, batch=batch, seed=seed, randomize=randomize,
                       limits=limits)
@@ -261,12 +282,13 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
         return costs[key]
     props = kept_properties(model)
     checks = [PropertyCheck(p.text, status(model, p, seed)[0].value) for p in props]
-    loop_before = closed_loop_checks(model, seed, max_examples)
+    loop_before = closed_loop_checks(model, how)
     checks += [PropertyCheck(text, verdict) for text, verdict, _ in loop_before]
     limit_before = _limits(loop, space.x0)
     checks += [PropertyCheck(f"{text} <= {limit:g}", _limit_verdict(v, limit))
                for (text, limit, _), v in zip(loop.limits, limit_before)]
     kept = {c.text for c in checks if c.before in {s.value for s in KEPT}}
+    proved = {text for text, said, _ in loop_before if said == Status.PROVED.value}
     before = counted(space.x0)
 
     def lost(theta) -> list[str]:
@@ -277,9 +299,10 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
                 verdict, detail = status(candidate, p, seed)
                 if verdict not in KEPT:
                     why.append(f"loses `{p.text}` ({verdict.value}: {detail})")
-        for text, said, detail in closed_loop_checks(copy.deepcopy(candidate), seed,
-                                                     max_examples):
-            if text in kept and said not in {s.value for s in KEPT}:
+        for text, said, detail in closed_loop_checks(copy.deepcopy(candidate), how):
+            if text in proved and said != Status.PROVED.value:
+                why.append(f"loses the proof of `{text}` ({said}: {detail})")
+            elif text in kept and said not in {s.value for s in KEPT}:
                 why.append(f"loses `{text}` ({said}: {detail})")
         for (text, limit, _), v in zip(loop.limits, _limits(loop, theta)):
             if f"{text} <= {limit:g}" in kept and _limit_verdict(v, limit) != "held":
@@ -300,8 +323,7 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
     for c in checks:
         c.after = c.before
     after_props = {p.text: status(tuned, p, seed) for p in props}
-    after_loop = {t: (v, d) for t, v, d in closed_loop_checks(copy.deepcopy(tuned), seed,
-                                                                max_examples)}
+    after_loop = {t: (v, d) for t, v, d in closed_loop_checks(copy.deepcopy(tuned), how)}
     after_limits = _limits(loop, found)
     for c in checks:
         if c.text in after_props:
