@@ -111,3 +111,42 @@ def test_semi_ellipse_end_with_a_numeric_default():
     if tools.available("pyfuzzylite") is None:        # the live tool says so too
         (live,) = tools.run("pyfuzzylite", [(SEMI_DEFAULT, x, ["x"], ["y"])])
         assert live[2, 0] == 3.3 and np.allclose(live[:2], got.y[:2])
+
+
+HAMACHER = FILES / "octave_hamacher_sum_noise.fis"
+
+
+def test_octave_hamacher_noise_by_hand(tmp_path):
+    # x = 5: rules 1 and 3 fire 1 (t1, a trapezoid 1 on [3, 6]), rule 2 fires b = exp(-25/8),
+    # 0.044, on t2.  On the plateau the fold is 0 -> 1 -> hamacher(1, 0.044 g) -> then 1 again:
+    # the value is 1 throughout, computed (1 - v) / (1 - v) with v an ulp from 1 (the toolkit
+    # gives 2 there, live below); fuzzyc's fold meets that step, the evidence.
+    x = np.array([[3.0], [5.0], [7.0]])
+    got = ours(HAMACHER, x, "octave")
+    tool = got.y.copy()
+    tool[1, 0] = 4.0                        # a som elsewhere on the plateau
+    tolerance = np.array([1e-3 * 10])
+    rows = disagreeing_rows(got.y, tool, tolerance)
+    assert rows.tolist() == [1]
+    why = toolbugs.explain_octave_disagreement(HAMACHER, x, got.y, tool, tolerance, rows)
+    assert why.startswith("Octave toolkit bug: hamacher_sum.m's")
+    assert "1 row(s), e.g. y: rule" in why
+    # the same disagreement on a file aggregating with max is no such bug
+    other = tmp_path / "hamacher_max.fis"
+    other.write_text(HAMACHER.read_text().replace("'hamacher_sum'", "'max'"))
+    assert toolbugs.explain_octave_disagreement(other, x, got.y, tool, tolerance, rows) is None
+
+
+def test_octave_hamacher_noise_live():
+    """The toolkit's aggregated set (evalfis's fourth output) holds 2 on the plateau, where
+    the s-norm is 1."""
+    why = tools.available("octave")
+    if why:
+        pytest.skip(why)
+    import subprocess
+    script = ("pkg load fuzzy-logic-toolkit; warning('off', 'all');"
+              f" f = readfis('{HAMACHER}'); [o, ri, ro, fo] = evalfis(5, f);"
+              " printf('%.17g\\n', max(fo));")
+    done = subprocess.run(["octave", "--no-gui", "--quiet", "--no-window-system", "--eval",
+                           script], capture_output=True, text=True, timeout=120)
+    assert float(done.stdout.split()[0]) == 2.0

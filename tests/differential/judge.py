@@ -70,6 +70,9 @@ def _verdict(system: System, path: Path, x: np.ndarray, mine: Ours, tool_y,
     bug = toolbugs.explain_disagreement(
         tool_key, toolbugs.input_terms(system), x, mine.y, tool_y, tolerance,
         disagreeing_rows(mine.y, tool_y, tolerance), defaults) if status == "disagree" else None
+    if status == "disagree" and not bug and tool_key == "octave-fis":
+        bug = toolbugs.explain_octave_disagreement(path, x, mine.y, tool_y, tolerance,
+                                                   disagreeing_rows(mine.y, tool_y, tolerance))
     if bug:
         return Verdict("tool-error", bug, text, x, mine.y, tool_y, tolerance, far)
     return Verdict(status, f"{far:.3g} tolerances apart", text, x, mine.y, tool_y, tolerance,

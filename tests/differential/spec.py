@@ -231,7 +231,8 @@ class Generator:
                                for p in (s * abs(slope()), c)],
             "pimf": lambda: points(4), "smf": lambda: points(2), "zmf": lambda: points(2),
         }[shape]()
-        return [rounded(p) for p in made]
+        made = [rounded(p) for p in made]
+        return _toolkit_order(shape, made) if self.fmt == "fis" else made
 
     def _sigmoid_pair(self, centres: list[float], w: float, sign: int) -> list[float]:
         """fuzzylite's SigmoidDifference/Product left rising falling right: rising > 0; the
@@ -288,6 +289,26 @@ class Generator:
         if self.fmt == "fis" and r.random() < 0.03:
             hedges.insert(0, "not")
         return Clause(var.name, r.choice(var.terms).name, hedges)
+
+
+# The Octave toolkit's parameter checks (private/are_mf_params.m): which neighbouring break
+# points must differ (True: p[i] < p[i + 1]; False: p[i] <= p[i + 1]).  A term that fails them
+# makes evalfis fail, so the generator separates break points that rounding made equal.
+TOOLKIT_ORDER = {"trimf": (True, True), "trapmf": (True, False, True),
+                 "pimf": (True, False, True), "smf": (True,), "zmf": (True,)}
+
+
+def _toolkit_order(shape: str, p: list[float]) -> list[float]:
+    """p with each break point that must exceed the one before it moved up by a unit of its
+    fourth significant digit until it does (no random draw: the other files stay as drawn)."""
+    for i, strict in enumerate(TOOLKIT_ORDER.get(shape, ())):
+        if not strict:
+            p[i + 1] = max(p[i + 1], p[i])
+            continue
+        while p[i + 1] <= p[i]:
+            scale = abs(p[i + 1]) or abs(p[i]) or 1.0
+            p[i + 1] = rounded(p[i + 1] + 10.0 ** (math.floor(math.log10(scale)) - 3))
+    return p
 
 
 def evaluation_points(system: System, seed: int, rows: int = 40) -> list[list[float]]:

@@ -11,6 +11,16 @@ question; anything else stays a disagreement.
   Sugeno output, aggregate_output_sugeno.m removes every 0-height singleton and
   `next_agg_output(1, :)` indexes the empty matrix: evalfis fails for the whole input matrix
   ("out of bound 0 (dimensions are 0x0)"), where MATLAB gives the output's default.
+- Octave fuzzy-logic-toolkit 0.4.6, hamacher_sum.m: the aggregation folds the rules' sets with
+  (x + y - 2xy) / (1 - xy), guarded only where x and y are both exactly 1.  Where one is 1 and
+  the other within rounding of 1 both the numerator and the denominator are rounding errors:
+  the "s-norm" gives 2, 0 or 1 + 2^-52 where it is 1 (measured: evalfis's fourth output,
+  the aggregated set, holds 2 and 1.0000000000000002), and the maximum-based defuzzifiers
+  (som, lom, mom) and the centroid follow that noise.  fuzzyc's hamacher sum is the same
+  formula, whose noise depends on the last bits of its inputs (exp, powers), so the two pick
+  different ties.  Claimed where every disagreeing row's Mamdani fold, recomputed as the
+  toolkit folds (`_hamacher_noise`), meets such a step: one argument 1 and the value not 1,
+  the other argument within 1e-9 of 1 or the defuzzifier one of the maximum.
 """
 from __future__ import annotations
 
@@ -117,3 +127,71 @@ def explain_error(tool_key: str, message: str, path, x: np.ndarray) -> str | Non
     return ("Octave toolkit bug: evalfis fails where no rule fires for a Sugeno output "
             f"(defuzzify_output_sugeno.m indexes the empty aggregate){EVIDENCE}"
             f"{int(silent.any(axis=1).sum())} of {len(x)} rows fire nothing, e.g. row {row}")
+
+
+HAMACHER_NEAR_ONE = 1e-9      # |1 - v| below this (v != 1): the fold's step is rounding noise
+
+
+def _hamacher_noise(rb, x_row: np.ndarray, o: int) -> str | None:
+    """Where the toolkit's hamacher_sum fold of output o's rule sets at x_row meets one
+    argument exactly 1 and the other within HAMACHER_NEAR_ONE of 1 (not 1): `u = ...`."""
+    from fuzzyc.engine.membership import memberships
+    from fuzzyc.engine.norms import implied
+    from fuzzyc.formats.fuzzylite_compat import octave_linspace
+    from fuzzyc.formats.octave_hedges import octave_mamdani_hedges
+    from fuzzyc.formats.tool_semantics import octave_dsigmf
+    from fuzzyc.semantics.model import Aggregation, Defuzzifier
+    rb = octave_mamdani_hedges(octave_dsigmf(rb))
+    inf = rb.inference_of(o)
+    if inf.aggregation != Aggregation.HAMACHER_SUM:
+        return None
+    by_maximum = inf.defuzzifier in (Defuzzifier.MEAN_OF_MAXIMUM, Defuzzifier.SMALLEST_OF_MAXIMUM,
+                                     Defuzzifier.LARGEST_OF_MAXIMUM)
+    var = rb.outputs[o]
+    u = octave_linspace(var.lo, var.hi, 101)
+    act = octave_activations(rb, x_row[None])[0]
+    total = np.zeros_like(u)
+    for r in range(rb.n_rules):        # evalfis's column per rule, 0 where it does not fire
+        t = rb.consequents[r, o]
+        y = np.zeros_like(u) if t < 0 or act[r] == 0 else \
+            implied(np.array(act[r]), memberships(var, u)[:, t], inf.implication)
+        # one argument exactly 1: the value is 1, computed (1 - v) / (1 - v) with each side
+        # rounded its own way; noise of an ulp decides which samples tie at the maximum (som,
+        # lom, mom), noise of any size where v rounds near 1
+        one = (total == 1.0) != (y == 1.0)
+        other = np.where(total == 1.0, y, total)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            step = (total + y - 2 * total * y) / (1 - total * y)
+        noisy = one & (step != 1.0) & ((np.abs(1.0 - other) < HAMACHER_NEAR_ONE) | by_maximum)
+        if noisy.any():
+            k = int(np.flatnonzero(noisy)[0])
+            return (f"{var.name}: rule {r + 1} at u = {float(u[k])!r} folds {float(y[k])!r} "
+                    f"into {float(total[k])!r}: {float(step[k])!r}")
+        total = np.where((total == 1.0) & (y == 1.0), 1.0, step)
+    return None
+
+
+def explain_octave_disagreement(path, x: np.ndarray, ours: np.ndarray, tool: np.ndarray,
+                                tolerance: np.ndarray, rows: np.ndarray) -> str | None:
+    """The Octave toolkit bug (hamacher_sum.m's rounding noise) behind every disagreeing row,
+    with its evidence at each, or None."""
+    try:
+        blocks = Chain(load_any(path)).blocks
+    except Exception:   # noqa: BLE001 -- no evidence, no claim
+        return None
+    if len(blocks) != 1 or not len(rows):
+        return None
+    rb = blocks[0]
+    evidence = []
+    for r in rows:
+        with np.errstate(invalid="ignore"):
+            apart = np.flatnonzero(~((np.abs(ours[r] - tool[r]) <= tolerance)
+                                     | (np.isnan(ours[r]) & np.isnan(tool[r]))))
+        found = [_hamacher_noise(rb, x[r], int(o)) for o in apart]
+        if not apart.size or not all(found):
+            return None
+        evidence.append(found[0])
+    return ("Octave toolkit bug: hamacher_sum.m's (x + y - 2xy) / (1 - xy) is rounding noise "
+            "where one argument is 1 (2 or 1 + 2^-52 for 1; the maximum's ties follow the noise)"
+            f"{EVIDENCE}"
+            f"{len(rows)} row(s), e.g. {evidence[0]}")
