@@ -9,4 +9,6 @@
 - compare: fuzzyc's numbers against the tool's, and the file's class (refused, crashed, ...);
 - shrink: a disagreement or crash made small while it persists;
 - cases: the kept cases under cases/ (replayed by tests/test_differential_cases.py).
+- roundtrip: each imported file through `.fz` and back, the same numbers under every
+  semantics (tests/test_fz_round_trip_random.py; the campaign's `.fz round trip` column).
 """

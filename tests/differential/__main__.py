@@ -2,8 +2,10 @@
 
 Generates N random rule bases per tool and format, judges each (fuzzyc under the tool's
 semantics against the live tool), prints per tool: generated, imported, refused, crashed,
-agree, disagree, tool errors; then the refusals and crashes grouped by message, and the
-disagreements shrunk and grouped by cause.  --keep writes each cause's smallest case to
+agree, disagree, tool errors, and the `.fz` round trip of the imported files (same numbers
+under every semantics / imported; differential.roundtrip); then the refusals and crashes
+grouped by message, the round trips that fail or that the .fz writer refuses grouped by
+message, and the disagreements shrunk and grouped by cause.  --keep writes each cause's smallest case to
 differential/cases/ (replayed by tests/test_differential_cases.py).  Exits 1 on a crash."""
 from __future__ import annotations
 
@@ -11,34 +13,62 @@ import argparse
 import collections
 import re
 import sys
+import tempfile
 import time
 from concurrent.futures import ThreadPoolExecutor
+from pathlib import Path
 
 import numpy as np
+
+from fuzzyc.formats import load_any
 
 from . import cases, toolbugs, tools
 from .compare import TOOLS
 from .judge import Verdict, judge
+from .render import SUFFIX
+from .roundtrip import RoundTrip, fz_round_trip
 from .shrink import diagnose_all, shrink_all
 from .spec import Generator, evaluation_points
 
 COLUMNS = ("tool, format", "generated", "imported", "refused", "crashed", "agree", "disagree",
-           "tool error")
+           "tool error", ".fz round trip")
+IMPORTED = ("agree", "disagree", "tool-error")
 
 
-def campaign(tool_key: str, count: int, seed: int) -> tuple[list, list[Verdict]]:
+def campaign(tool_key: str, count: int, seed: int) -> tuple[list, list[Verdict], list]:
     fmt = TOOLS[tool_key][2]
     generator = Generator(fmt, seed * 7919 + sum(map(ord, tool_key)))
     systems = [generator.system(f"r{seed}_{k}") for k in range(count)]
     xs = [np.array(evaluation_points(s, seed * 100003 + k)) for k, s in enumerate(systems)]
-    return list(zip(systems, xs)), judge(tool_key, systems, xs)
+    verdicts = judge(tool_key, systems, xs)
+    return list(zip(systems, xs)), verdicts, round_trips(systems, xs, verdicts)
 
 
-def row(tool_key: str, verdicts: list[Verdict]) -> list:
+def round_trips(systems: list, xs: list, verdicts: list[Verdict]) -> list:
+    """Per imported file its .fz round trip (differential.roundtrip), None for the others."""
+    done = []
+    with tempfile.TemporaryDirectory() as tmp:
+        for k, (system, x, verdict) in enumerate(zip(systems, xs, verdicts)):
+            if verdict.status not in IMPORTED:
+                done.append(None)
+                continue
+            path = Path(tmp) / f"{system.name}_{k}{SUFFIX[system.fmt]}"
+            path.write_text(verdict.text)
+            try:
+                done.append(fz_round_trip(load_any(path), x, str(path.with_suffix(".fz"))))
+            except Exception as exc:    # noqa: BLE001 -- a crash is a finding
+                done.append(RoundTrip("crashed", f"{type(exc).__name__}: {exc}"))
+    return done
+
+
+def row(tool_key: str, verdicts: list[Verdict], trips: list) -> list:
     counts = collections.Counter(v.status for v in verdicts)
-    imported = counts["agree"] + counts["disagree"] + counts["tool-error"]
+    imported = sum(counts[s] for s in IMPORTED)
+    trip = collections.Counter(t.status for t in trips if t is not None)
+    failed = imported - trip["same"] - trip["refused"]
     return [tool_key, len(verdicts), imported, counts["refused"], counts["crashed"],
-            counts["agree"], counts["disagree"], counts["tool-error"]]
+            counts["agree"], counts["disagree"], counts["tool-error"],
+            f"{trip['same']}/{imported} same, {trip['refused']} refused, {failed} failed"]
 
 
 def table(rows: list[list]) -> str:
@@ -52,14 +82,24 @@ def _unplaced(message: str) -> str:
     return re.sub(r"^\S+:\d+:\d+: error: ", "", message)
 
 
-def report(key: str, made: list, verdicts: list[Verdict], args) -> list[str]:
-    """The tool's refusals, crashes and tool errors grouped by message; its disagreements
-    and crashes shrunk, grouped by cause (and kept with --keep)."""
+def _unnamed(message: str) -> str:
+    """A round trip's message without the file's own names and numbers (one line per kind)."""
+    message = re.sub(r"`[^`]*`", "`X`", _unplaced(message))
+    return re.sub(r"-?\d+(\.\d+)?(e-?\d+)?", "N", message)
+
+
+def report(key: str, made: list, verdicts: list[Verdict], trips: list, args) -> list[str]:
+    """The tool's refusals, crashes and tool errors grouped by message, the .fz round trips
+    that are refused or fail; its disagreements and crashes shrunk, grouped by cause (and
+    kept with --keep)."""
     lines = [f"\n## {key}"]
     for status in ("refused", "crashed", "tool-error"):
         grouped = collections.Counter(_unplaced(v.message).split(toolbugs.EVIDENCE)[0]
                                       for v in verdicts if v.status == status)
         lines += [f"  {status} x{n}: {message}" for message, n in grouped.most_common()]
+    grouped = collections.Counter(f"{t.status}: {_unnamed(t.message)}" for t in trips
+                                  if t is not None and t.status != "same")
+    lines += [f"  .fz round trip {what} x{n}" for what, n in grouped.most_common()]
     found = [(s, x, v) for (s, x), v in zip(made, verdicts)
              if v.status in ("disagree", "crashed")][:args.shrink]
     causes = collections.Counter()
@@ -97,12 +137,12 @@ def main(argv: list[str] | None = None) -> int:
     keys = [k for k in keys if not missing[k]]
     with ThreadPoolExecutor(max_workers=2) as pool:
         done = dict(zip(keys, pool.map(lambda k: campaign(k, args.per_tool, args.seed), keys)))
-    print(table([row(k, verdicts) for k, (_, verdicts) in done.items()]))
+    print(table([row(k, verdicts, trips) for k, (_, verdicts, trips) in done.items()]))
     with ThreadPoolExecutor(max_workers=2) as pool:
         reports = list(pool.map(lambda k: report(k, *done[k], args), done))
     for lines in reports:
         print("\n".join(lines))
-    crashed = any(v.status == "crashed" for _, verdicts in done.values() for v in verdicts)
+    crashed = any(v.status == "crashed" for _, verdicts, _ in done.values() for v in verdicts)
     print(f"\n{time.monotonic() - start:.0f} s")
     return 1 if crashed else 0
 
