@@ -155,7 +155,8 @@ class ToolEngine:
             x = np.where(self.locked, np.clip(x, self.lo, self.hi), x)
         y = evaluate_as(self.rb, x, self.name, self.resolution, held)
         if self.settings.known or self.settings.locked:
-            y = _as_fuzzylite_outputs(self.rb.outputs, y, self.settings)
+            y = _as_fuzzylite_outputs(self.rb.outputs, y, self.settings,
+                                      _silent(self.rb, x, self.name))
         return y.T
 
 
@@ -251,24 +252,38 @@ class Chain:
             y = evaluate_as(rb, xb, semantics, [resolution.get(v.name) for v in rb.outputs],
                             Held(sequence=True))
             if fuzzylite:
-                y = _as_fuzzylite_outputs(rb.outputs, y, settings)
+                y = _as_fuzzylite_outputs(rb.outputs, y, settings, _silent(rb, xb, semantics))
             env.update({v.name: y[:, o] for o, v in enumerate(rb.outputs)})
             env.update(term_activations(rb, xb))
             written.update(v.name for v in rb.outputs)
         return np.column_stack([env[v.name] for v in self.outputs])
 
 
-def _as_fuzzylite_outputs(outputs: list[Variable], y: np.ndarray,
-                          settings: FileSettings) -> np.ndarray:
+def _as_fuzzylite_outputs(outputs: list[Variable], y: np.ndarray, settings: FileSettings,
+                          silent: np.ndarray | None = None) -> np.ndarray:
     """pyfuzzylite 8's OutputVariable.defuzzify after the defuzzifier: a NaN becomes the
-    default unless that is nan, then lock-range clips to the range."""
+    default unless that is nan, then lock-range clips to the range.  `silent` (N, O): where no
+    rule concluding the output fired; given, only there does the default replace a NaN
+    (fuzzylite 6's OutputVariable::defuzzify takes the default where its fuzzy output is
+    empty, and keeps the NaN a defuzzifier gives for a fired set that is 0 throughout: a
+    BoundedDifference implication, say)."""
     y = y.copy()
     for o, var in enumerate(outputs):
         if settings.known and var.name not in settings.nan_default:
-            y[:, o] = np.where(np.isnan(y[:, o]), var.default, y[:, o])
+            nan = np.isnan(y[:, o]) if silent is None else np.isnan(y[:, o]) & silent[:, o]
+            y[:, o] = np.where(nan, var.default, y[:, o])
         if var.name in settings.locked:
             y[:, o] = np.clip(y[:, o], var.lo, var.hi)
     return y
+
+
+def _silent(rb: RuleBase, x: np.ndarray, semantics: str) -> np.ndarray | None:
+    """Under fuzzylite 6's semantics (N, O): where no rule concluding the output fires (its
+    activations within 1e-6 of 0, fuzzylite6_activations); None under pyfuzzylite 8's, whose
+    default replaces every NaN."""
+    if semantics != "fuzzylite":
+        return None
+    return ~fired(fuzzylite_hedges(rb), x, fuzzylite6_activations)
 
 
 IDENTITY = (0.0, 1.0, np.inf, np.inf)     # a trapezoid whose membership is x on [0, 1]
