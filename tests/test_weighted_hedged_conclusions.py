@@ -117,3 +117,14 @@ def test_fll_refuses_to_write_it_by_rule_and_fz_says_it():
     np.testing.assert_array_equal(back.rulebase.conditions[0], model.rulebase.conditions[0])
     x = np.array([[0.2]])
     assert Chain(back).evaluate(x)[0, 0] == Chain(model).evaluate(x)[0, 0]
+
+
+def test_fuzzylite6_fires_on_the_weighted_activation_before_the_hedge():
+    """fuzzylite 6's Rule::trigger tests the weighted activation against its 1e-6, then
+    Consequent::modify hedges it: x = 0.999, a = 0.001, w a = 0.0005 fires; extremely(0.0005)
+    = 2 * 0.0005^2 = 5e-7, below 1e-6, is what the rule adds: y = 3 * 5e-7 = 1.5e-6 (the CLI,
+    `-decimals 12`: 0.000001500000; the hedged value tested instead gave no rule fired, NaN)."""
+    model = read_fll(FLL.format(hedge="extremely"), "w.fll")
+    for semantics in ("fuzzylite", "pyfuzzylite", "exact"):
+        y = Chain(model).evaluate(np.array([[0.999]]), semantics)[0, 0]
+        assert y == pytest.approx(3 * 2 * 0.0005 ** 2, rel=1e-12), semantics

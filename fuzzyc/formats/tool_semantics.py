@@ -755,7 +755,11 @@ def fuzzylite6_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
     and Rule::trigger fires a rule only where Op::isGt(activation, 0), which is false within its
     1e-6 (FL_EPSILON) of 0, so an activation below 1e-6 (or NaN) is 0: it adds nothing to the
     output's fuzzy set, and an output whose rules all stay below it takes its default
-    (measured: the fuzzylite 6 CLI; pyfuzzylite 8 fires every rule above 0)."""
+    (measured: the fuzzylite 6 CLI; pyfuzzylite 8 fires every rule above 0).  The test is on
+    the weighted activation before the hedges of the rule's conclusion (Rule::trigger, then
+    Consequent::modify): where a program ends in hedges over a WEIGHT step (a weight under a
+    hedged conclusion), on the value at that step; the rule then adds its hedged activation,
+    below 1e-6 or not."""
     x = np.atleast_2d(np.asarray(x, dtype=float))
     tables = fuzzylite6_norms()
     mus = [memberships(var, x[:, i]) for i, var in enumerate(rb.inputs)]
@@ -763,8 +767,15 @@ def fuzzylite6_activations(rb: RuleBase, x: np.ndarray) -> np.ndarray:
         act = flat_activations(rb, mus, mus, x.shape[0], tables)
         for r, program in rb.conditions.items():
             act[:, r] = run_condition(rb, program, x, tables)
-    act = act * rb.weights
-    return np.where(act >= FL_EPSILON, act, 0.0)
+        act = act * rb.weights
+        gate = act.copy()
+        for r, program in rb.conditions.items():
+            k = len(program)
+            while k > 1 and program[k - 1, 0] == CondOp.HEDGE:
+                k -= 1
+            if k < len(program) and program[k - 1, 0] == CondOp.WEIGHT:
+                gate[:, r] = run_condition(rb, program[:k], x, tables) * rb.weights[r]
+    return np.where(gate >= FL_EPSILON, act, 0.0)
 
 
 def _peaks_from(rb: RuleBase, x: np.ndarray, y: np.ndarray, acts) -> np.ndarray:
