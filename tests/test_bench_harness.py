@@ -18,6 +18,8 @@ pytestmark = pytest.mark.skipif(shutil.which("gcc") is None,
                                 reason="the C figures need gcc")
 
 
+# its Dask row starts a local cluster: run with the other `cluster` tests, alone (Makefile)
+@pytest.mark.cluster
 def test_quick_bench_writes_every_figure(tmp_path):
     pytest.importorskip("distributed")
     out = tmp_path / "summary.md"
