@@ -150,3 +150,22 @@ def test_octave_hamacher_noise_live():
     done = subprocess.run(["octave", "--no-gui", "--quiet", "--no-window-system", "--eval",
                            script], capture_output=True, text=True, timeout=120)
     assert float(done.stdout.split()[0]) == 2.0
+
+
+EMPTY_DSIGMF = FILES / "octave_empty_sugeno_dsigmf.fis"
+
+
+def test_octave_empty_sugeno_dsigmf():
+    # d = dsigmf [2 3 0.5 7]: at x = 0 1 / (1 + e^6) - 1 / (1 + e^3.5) = 0.00247 - 0.0293 < 0,
+    # which the toolkit clips to 0 (dsigmf.m: no rule fires, evalfis fails, live below) and
+    # fuzzyc's own reading takes as |difference| = 0.027: the evidence reads the toolkit's.
+    # At x = 5: 0.982 - 0.269 = 0.713, the rule fires: 0.8.
+    x = np.array([[0.0], [5.0]])
+    why = toolbugs.explain_error("octave-fis", OCTAVE_ERROR, EMPTY_DSIGMF, x)
+    assert why and "1 of 2 rows fire nothing, e.g. row 0" in why
+    assert toolbugs.explain_error("octave-fis", OCTAVE_ERROR, EMPTY_DSIGMF, x[1:]) is None
+    if tools.available("octave") is None:
+        fails, works = tools.run("octave", [(EMPTY_DSIGMF, x, ["x"], ["y"]),
+                                            (EMPTY_DSIGMF, x[1:], ["x"], ["y"])])
+        assert isinstance(fails, Exception) and OCTAVE_ERROR in str(fails)
+        assert works[0, 0] == pytest.approx(0.8)

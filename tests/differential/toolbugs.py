@@ -27,7 +27,7 @@ from __future__ import annotations
 import numpy as np
 
 from fuzzyc.formats import load_any
-from fuzzyc.formats.tool_semantics import Chain, fired, octave_activations
+from fuzzyc.formats.tool_semantics import Chain, fired, octave_activations, octave_dsigmf
 
 OCTAVE_EMPTY_SUGENO = "next_agg_output(1,_): out of bound 0"
 EVIDENCE = " | evidence: "      # a bug's name, then this file's evidence (grouped on the name)
@@ -117,7 +117,7 @@ def explain_error(tool_key: str, message: str, path, x: np.ndarray) -> str | Non
         return None
     if len(blocks) != 1:
         return None
-    rb = blocks[0]
+    rb = octave_dsigmf(blocks[0])      # the toolkit's clipped dsigmf: 0, not |difference|
     silent = ~fired(rb, x, octave_activations)
     sugeno = rb.inference.defuzzifier.name in ("WEIGHTED_AVERAGE", "WEIGHTED_SUM",
                                                "CENTER_OF_AREA")
