@@ -119,10 +119,14 @@ def test_the_fis_writer_writes_the_row_back():
                               evaluate_as(model.rulebase, x, semantics))
 
 
-def test_a_weight_on_a_hedged_row_is_refused_at_its_place():
-    with pytest.raises(FuzzycError) as err:
-        _model("1, 2.2 2 (0.5) : 1")
-    assert "hedged.fis:36:1" in str(err.value) and "weight" in str(err.value)
+def test_a_weight_on_a_hedged_row_weighs_the_strength_first():
+    """Refused until issue 28's Octave campaign: both tools hedge the weighted strength (the
+    toolkit's eval_firing_strength.m weighs, eval_rules_sugeno.m then takes ^(1/p))."""
+    rb = _model("1, 2.2 2 (0.5) : 1").rulebase
+    # x = 0.36: rule 1's strength 0.5 * 0.64 = 0.32; y's height 0.32^(1/2) = 0.5656854:
+    # y = 5.656854 / (0.5656854 + 0.36) = 6.1112; z (no hedge of its own) 3.2 / 0.68 = 4.70588.
+    y = evaluate(rb, np.array([[0.36]]))[0]
+    assert y.tolist() == pytest.approx([10 * 0.32 ** 0.5 / (0.32 ** 0.5 + 0.36), 3.2 / 0.68])
 
 
 X = np.linspace(0.0, 1.0, 11)[:, None]

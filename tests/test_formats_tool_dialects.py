@@ -225,9 +225,10 @@ def test_fis_refuses_hedges_it_cannot_carry_with_the_row():
     with pytest.raises(FuzzycError) as err:
         read_fis(OCTAVE_FIS.replace("2.05, 2 (1) : 1", "2.07, 2 (1) : 1"), "h.fis")
     assert "h.fis:31:1" in str(err.value) and "exponent of 0.7" in str(err.value)
-    with pytest.raises(FuzzycError) as err:
-        read_fis(OCTAVE_FIS.replace("2.05, 2 (1) : 1", "2, 2.2 (0.5) : 1"), "c.fis")
-    assert "c.fis:31:1" in str(err.value) and "hedged consequent" in str(err.value)
+    # a weight on a hedged consequent is read since issue 28's Octave campaign (the strength
+    # weighed before the hedge, tests/test_fis_consequent_hedges.py); a hedge without a
+    # fraction of the toolkit's is still refused above
+    read_fis(OCTAVE_FIS.replace("2.05, 2 (1) : 1", "2, 2.2 (0.5) : 1"), "c.fis")
 
 
 RAMP_FLL = """Engine: ramp
