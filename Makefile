@@ -19,6 +19,9 @@ WHEEL_ENV = FUZZYC_WHEEL="$$(ls $(CURDIR)/$(WHEELS)/fuzzyc-*.whl)" \
             FUZZYC_PYFUZZYLITE_VENV=$(CURDIR)/$(PYFL_VENV)
 INSTALLED = cd "$$(mktemp -d)" && $(WHEEL_ENV)
 PYTEST_ROOT = -c $(CURDIR)/pyproject.toml --rootdir $(CURDIR)
+# the suite fails on an error message kind not in tests/error_messages_reviewed.txt (`make
+# test`, the gate); the targets outside the gate list such kinds instead (tests/message_log.py)
+MESSAGES_LISTED = FUZZYC_ERROR_MESSAGES_CHECK=warn
 # pyproject's testpaths apply only when pytest starts in the root: name them
 TESTPATHS = $(CURDIR)/tests $(CURDIR)/rulebases $(CURDIR)/docs
 
@@ -62,14 +65,14 @@ test: test-venv
 # reproduced by the installed console script, and every shipped closed loop on sets at a tenth
 # of its horizon (box budget 8; a smoke run of the machinery).
 proofs: c-proofs
-	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -m proofs -rs $(CURDIR)/tests/test_readme_proofs.py
+	$(INSTALLED) $(MESSAGES_LISTED) $(TPY) -m pytest $(PYTEST_ROOT) -q -m proofs -rs $(CURDIR)/tests/test_readme_proofs.py
 	$(INSTALLED) $(TPY) $(CURDIR)/benchmarks/bench_verify.py --proofs-only --quick
 
 # Frama-C EVA over the corpora's headers (tests/test_c_proofs.py, marker `proofs`, left out of
 # the default selection in pyproject.toml; the shipped rule bases' headers are proved in
 # `make test`); skipped without frama-c.
 c-proofs: $(TSTAMP)
-	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -n 2 --dist loadfile -m proofs -rs $(CURDIR)/tests/test_c_proofs.py
+	$(INSTALLED) $(MESSAGES_LISTED) $(TPY) -m pytest $(PYTEST_ROOT) -q -n 2 --dist loadfile -m proofs -rs $(CURDIR)/tests/test_c_proofs.py
 
 # pyfuzzylite 8 pins numpy < 2: a venv of its own, for its example files and as a live oracle.
 PYFL_VENV := .venv-pyfuzzylite
@@ -82,7 +85,7 @@ $(PYFL_VENV)/.installed:
 # toolkit against the tools themselves), then the live oracle tests.
 conformance: $(TSTAMP) $(PYFL_VENV)/.installed
 	$(INSTALLED) $(TPY) -m fuzzyc.conformance
-	$(INSTALLED) $(TPY) -m pytest $(PYTEST_ROOT) -q -m conformance -rs $(TESTPATHS)
+	$(INSTALLED) $(MESSAGES_LISTED) $(TPY) -m pytest $(PYTEST_ROOT) -q -m conformance -rs $(TESTPATHS)
 
 # 10,000 hostile inputs (docs/fuzzing.md); fails on any traceback or unlocated rejection
 fuzz: $(TSTAMP)

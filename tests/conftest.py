@@ -25,6 +25,16 @@ if str(ROOT) not in sys.path:
 # the plugin's `fuzzyc_verify = true` would otherwise collect each one as a broken test file
 collect_ignore = ["bad_inputs"]
 
+# every error message fuzzyc gives during the run, collected and held to the reviewed list
+# tests/error_messages_reviewed.txt (tests/message_log.py)
+from tests import message_log  # noqa: E402 - after the root is on sys.path
+
+message_log.install()
+
+
+def pytest_configure(config):
+    config.pluginmanager.register(message_log.Plugin(config), "fuzzyc-error-messages")
+
 INSTALLED_FROM = pathlib.Path(fuzzyc.__file__).resolve().parent
 if os.environ.get("FUZZYC_WHEEL") and INSTALLED_FROM == ROOT / "fuzzyc":
     raise SystemExit(f"FUZZYC_WHEEL is set but fuzzyc was imported from the source tree "

@@ -197,7 +197,8 @@ class _FisReader:
         else:
             match = KEY_VALUE.match(body)
             if match is None:
-                self.rep.error(self.rep.loc(number, 1), "expected `Key=value`")
+                self.rep.error(self.rep.loc(number, 1), "this line of a section is not a setting: "
+                                                           "write `Key=value`")
                 return
             key, value = match.groups()
             loc = self.rep.loc(number, match.start(2) + 1)
@@ -257,7 +258,8 @@ class _FisReader:
             return
         numbers = _numbers(f"[{match.group(3)}]") if match else None
         if match is None or numbers is None:
-            self.rep.error(loc, "expected MFn='name':'type',[parameters]")
+            self.rep.error(loc, "this membership function is not written as the format has "
+                                    "it: write MFn='name':'type',[parameters]")
             return
         name, kind = match.group(1), match.group(2)
         n_inputs = sum(is_input for is_input, _ in self.variables)   # inputs come first
