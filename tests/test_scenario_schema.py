@@ -103,7 +103,8 @@ def test_a_name_the_system_refuses_is_no_scenario(name, message):
 
 
 @pytest.mark.parametrize("name", ["examples/gymnasium/cartpole.yaml", "mine.yml", "sub/wedm_finish"])
-def test_a_missing_scenario_file_is_no_such_file(name):
+def test_a_missing_scenario_file_is_no_such_file(name, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)        # relative to an empty folder (the root has examples/)
     with pytest.raises(FuzzycError, match=re.escape(f"no such file: {name} (")):
         S.resolve(name)
     assert S.resolve("wedm_finish") == S.SCENARIO_DIR / "wedm_finish.yaml"    # names still work
