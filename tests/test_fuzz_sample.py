@@ -19,6 +19,7 @@ GENERATED_SAMPLE = 6      # per generator: a simulated scenario is about 0.4 s
 REGRESSIONS = Path(__file__).parent / "fuzz" / "regressions"
 
 
+@pytest.mark.drawn_inputs
 @pytest.mark.parametrize("name", sorted(TARGETS))
 def test_hostile_inputs_get_a_located_message(name, tmp_path):
     count = GENERATED_SAMPLE if TARGETS[name].generated else max(20, round(SAMPLE * SHARES[name]))

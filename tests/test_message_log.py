@@ -50,9 +50,23 @@ def test_a_new_kind_or_a_broken_rule_is_a_problem(tmp_path):
     kinds = merge([record("unknown term shape `TRIAN`: did you mean `tri`?", loc=None),
                    record("cannot read a.fz: [Errno 13] Permission denied", loc=None),
                    record("something new went wrong here")])
-    problems, unused = check(kinds, reviewed)
+    problems, unused, _ = check(kinds, reviewed)
     assert unused == []
     assert sorted(p.split(":")[0] for p in problems) == ["BREAKS `loc`", "NOT REVIEWED"], problems
+
+
+def test_a_new_kind_only_drawn_inputs_gave_is_listed_not_gated(tmp_path):
+    reviewed = tmp_path / "reviewed.txt"
+    reviewed.write_text("loc what | unknown section X\n")
+    drawn = {**record("unexpected character U+8600D", tests=("t::fuzz",)), "drawn": ["t::fuzz"]}
+    kinds = merge([drawn, record("unexpected character U+8600D", tests=("t::fixed",))])
+    problems, _, listed = check(kinds, reviewed)        # a fixed test gave it too: the gate
+    assert [p.split(":")[0] for p in problems] == ["NOT REVIEWED"] and listed == []
+    problems, _, listed = check(merge([drawn]), reviewed)
+    assert problems == [] and listed[0].startswith("DRAWN, NOT REVIEWED: unexpected character")
+    mute = {**record("oops", tests=("t::fuzz",)), "drawn": ["t::fuzz"]}
+    problems, _, listed = check(merge([mute]), reviewed)  # says nothing: a problem all the same
+    assert [p.split(":")[0] for p in problems] == ["NOT REVIEWED"] and listed == []
 
 
 def test_the_reviewed_list_reads_and_each_kind_is_listed_once():
