@@ -49,14 +49,15 @@ import fuzzyc
 from fuzzyc.errors import FuzzycError
 
 def _package_folders() -> tuple[str, ...]:
-    """Where fuzzyc's code lies: the package, and fuzzyc.plants, which a development install
-    maps to the tree's plants/ (the wheel puts it under fuzzyc/)."""
+    """Where fuzzyc's code lies: the package, and fuzzyc.plants and fuzzyc.runtime, which a
+    development install maps to the tree's plants/ and runtime/ (the wheel puts them under
+    fuzzyc/; setup.py's ROOTS)."""
     folders = [Path(fuzzyc.__file__).resolve().parent]
-    try:
-        plants = importlib.import_module("fuzzyc.plants")
-        folders.append(Path(plants.__file__).resolve().parent)
-    except ImportError:
-        pass
+    for name in ("fuzzyc.plants", "fuzzyc.runtime"):
+        try:
+            folders.append(Path(importlib.import_module(name).__file__).resolve().parent)
+        except (ImportError, TypeError):
+            pass
     return tuple(str(f) + os.sep for f in folders)
 
 
