@@ -213,12 +213,15 @@ def _nonfinite_csv(run: Run) -> str | None:
     # the header as eval reads it: without a byte-order mark
     first = table.read_text(encoding="utf-8-sig", errors="replace").partition("\n")[0]
     inputs = {name.strip() for name in first.split(",")}
-    rows = list(csv.reader(io.StringIO(run.stdout)))
-    columns = [i for i, name in enumerate(rows[0]) if name not in inputs] if rows else []
-    for row in rows[1:]:
-        for i in columns:
-            if not math.isfinite(float(row[i])):
-                return f"--csv output {rows[0][i]} = {row[i]}"
+    try:       # newline="": a quoted \r inside a field is the field's, as csv wants it
+        rows = list(csv.reader(io.StringIO(run.stdout, newline="")))
+        columns = [i for i, name in enumerate(rows[0]) if name not in inputs] if rows else []
+        for row in rows[1:]:
+            for i in columns:
+                if not math.isfinite(float(row[i])):
+                    return f"--csv output {rows[0][i]} = {row[i]}"
+    except (csv.Error, ValueError, IndexError) as exc:   # a finding, never the harness's crash
+        return f"--csv output is not a table of numbers ({type(exc).__name__}: {exc})"
     return None
 
 
