@@ -16,7 +16,6 @@ import copy
 import os
 import pathlib
 import platform
-import resource
 import sys
 import time
 
@@ -26,23 +25,12 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "benchmarks"))
 sys.path.append(str(ROOT))   # after site-packages: fuzzyc is the installed one
 
-from common import markdown_table, median_seconds, peak_bytes, write_result  # noqa: E402
+from common import (faults_per_call, markdown_table, median_seconds, peak_bytes,  # noqa: E402
+                    triangle_outputs, write_result)
 import dense_numpy_wedm  # noqa: E402
 from fuzzyc.engine.inference import evaluate  # noqa: E402
-from fuzzyc.semantics.model import Defuzzifier, TermKind  # noqa: E402
+from fuzzyc.semantics.model import Defuzzifier  # noqa: E402
 from fuzzyc.language.parser import load  # noqa: E402
-
-
-def triangle_outputs(rb):
-    """The same rule base with uniform triangle output terms (peaks kept) and exact centroid."""
-    rb = copy.deepcopy(rb)
-    for v in rb.outputs:
-        peaks = v.peaks()
-        h = np.diff(peaks).min()
-        v.kinds = np.full(len(peaks), TermKind.TRAPEZOID)
-        v.params = np.stack([peaks - h, peaks, peaks, peaks + h], axis=1)
-    rb.inference.defuzzifier = Defuzzifier.CENTROID
-    return rb
 
 
 def rate(fn, n, repeats):
@@ -62,15 +50,6 @@ def interleaved_seconds(fns, repeats):
             fn()
             times[r, k] = time.process_time() - start
     return times
-
-
-def faults_per_call(fn, calls: int = 3) -> float:
-    """Minor page faults per call after a warm-up call (fresh pages the call touched)."""
-    fn()
-    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
-    for _ in range(calls):
-        fn()
-    return (resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before) / calls
 
 
 def main(quick: bool = False) -> str:

@@ -1,6 +1,8 @@
 """Timing helpers shared by the benchmarks: median of repeats, peak memory, markdown output."""
 from __future__ import annotations
 
+import copy
+import resource
 import statistics
 import time
 import tracemalloc
@@ -42,3 +44,26 @@ def markdown_table(header: list[str], rows: list[list[object]]) -> str:
 def write_result(path: str | Path, text: str) -> None:
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     write_text(path, text)
+
+
+def triangle_outputs(rb):
+    """The rule base with uniform triangle output terms (peaks kept) and exact centroid."""
+    import numpy as np
+    from fuzzyc.semantics.model import Defuzzifier, TermKind
+    rb = copy.deepcopy(rb)
+    for v in rb.outputs:
+        peaks = v.peaks()
+        h = np.diff(peaks).min()
+        v.kinds = np.full(len(peaks), TermKind.TRAPEZOID)
+        v.params = np.stack([peaks - h, peaks, peaks, peaks + h], axis=1)
+    rb.inference.defuzzifier = Defuzzifier.CENTROID
+    return rb
+
+
+def faults_per_call(fn: Callable[[], object], calls: int = 3) -> float:
+    """Minor page faults per call after a warm-up call (fresh pages the call touched)."""
+    fn()
+    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
+    for _ in range(calls):
+        fn()
+    return (resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before) / calls

@@ -17,7 +17,6 @@ wall time (time.perf_counter), the CPU time printed beside it.
 """
 from __future__ import annotations
 
-import copy
 import json
 import os
 import pathlib
@@ -34,6 +33,8 @@ sys.path.insert(0, str(BENCH))
 sys.path.append(str(ROOT))   # after site-packages: fuzzyc is the installed one
 # where `make bench` installs ferrifuzz (pip install --no-deps --target): not in the dev env
 BENCH_DEPS = ROOT / "build" / "bench-deps"
+
+from common import faults_per_call, triangle_outputs  # noqa: E402
 
 WEDM = ROOT / "rulebases" / "wedm_three_region.fz"
 QUICK = "--quick" in sys.argv
@@ -59,14 +60,6 @@ def median_ratio(times: np.ndarray, num: int, den: int) -> float:
     return float(np.median(times[:, num] / times[:, den]))
 
 
-def faults_per_call(fn, calls: int = 3) -> float:
-    fn()
-    before = resource.getrusage(resource.RUSAGE_SELF).ru_minflt
-    for _ in range(calls):
-        fn()
-    return (resource.getrusage(resource.RUSAGE_SELF).ru_minflt - before) / calls
-
-
 def row(label, value, unit, ref_label, ref_value, ratio, ratio_means, target, met, notes=""):
     def num(v):
         return None if v is None else float(v)
@@ -78,20 +71,6 @@ def row(label, value, unit, ref_label, ref_value, ratio, ratio_means, target, me
 def wedm():
     from fuzzyc.language.parser import load
     return load(WEDM).rulebase
-
-
-def triangle_outputs(rb):
-    """The WEDM rule base with uniform triangle output terms (peaks kept), exact centroid (as
-    bench_engine.py's centroid column)."""
-    from fuzzyc.semantics.model import Defuzzifier, TermKind
-    rb = copy.deepcopy(rb)
-    for v in rb.outputs:
-        peaks = v.peaks()
-        h = np.diff(peaks).min()
-        v.kinds = np.full(len(peaks), TermKind.TRAPEZOID)
-        v.params = np.stack([peaks - h, peaks, peaks, peaks + h], axis=1)
-    rb.inference.defuzzifier = Defuzzifier.CENTROID
-    return rb
 
 
 def trim_note() -> str:
@@ -187,7 +166,8 @@ def python_step() -> list[dict]:
     hi = np.array([s.hi for s in model.signals], dtype=float)
     steps = [{s.name: np.array([v]) for s, v in zip(model.signals, r)}
              for r in np.random.default_rng(1).uniform(lo, hi, (points_n, len(lo)))]
-    system, version = ferrifuzz_wedm(triangle_outputs(rb))
+    triangles = triangle_outputs(rb)
+    system, version = ferrifuzz_wedm(triangles)
 
     def over(fn, items):
         return lambda: [fn(item) for item in items]
@@ -197,9 +177,10 @@ def python_step() -> list[dict]:
     gap = None
     if system is not None:
         fns.append(over(system.evaluate, points))
-        ours = evaluate(triangle_outputs(rb), x)
-        theirs = np.array([list(system.evaluate(p)) if not isinstance(system.evaluate(p), dict)
-                           else list(system.evaluate(p).values()) for p in points[:200]])
+        ours = evaluate(triangles, x)
+        answers = [system.evaluate(p) for p in points[:200]]
+        theirs = np.array([list(a.values()) if isinstance(a, dict) else list(a)
+                           for a in answers])
         gap = float(np.abs(theirs - ours[:200]).max())
     times = repeats_cpu(fns) / points_n * 1e6
     med = np.median(times, axis=0)

@@ -7,24 +7,15 @@ import pytest
 
 import fuzzyc
 from fuzzyc.cli import main
-from test_verify_own_plant import B, ProvedLag
+from test_verify_own_plant import LAG_P, B, ProvedLag
 
-# du = e exactly (uniform triangles, singletons at their peaks), so u = r + K clamp(r - y, -1, 1)
-# clamped to [-10, 10]: with r = 1 and plant gain 1, y(k+1) = b y(k) + (1 - b) u(k - 1).
-LAG_K = """
-controller lag_k {
-  period 100 ms
-  param r = 1
-  param K = 2
-  input y in [-1, 3]
-  let e in [-1, 1] = clamp(r - y, -1, 1)
-  terms e : uniform N Z P
-  var du in [-1, 1] default 0
-  terms du : singletons N=-1 Z=0 P=1
-  rule if e is N then du is N
-  rule if e is Z then du is Z
-  rule if e is P then du is P
-  output u in [-10, 10] = r + K * du
+# test_verify_own_plant's LAG_P with a gain K on its output: du = e exactly, so
+# u = r + K clamp(r - y, -1, 1) clamped to [-10, 10]: with r = 1 and plant gain 1,
+# y(k+1) = b y(k) + (1 - b) u(k - 1).
+LAG_K = (LAG_P.split("  output u")[0]
+         .replace("controller lag_p", "controller lag_k")
+         .replace("param r = 1\n", "param r = 1\n  param K = 2\n")
+         + """  output u in [-10, 10] = r + K * du
   tune {
     K in [1, 30]
   }
@@ -34,7 +25,7 @@ controller lag_k {
       always y < 1.005
     }
   }
-}"""
+}""")
 LOOP = "closed_loop lag_step for 10 s :: always y < 1.005"
 PROPERTY = "always y < 1.005"
 
