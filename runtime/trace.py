@@ -1,12 +1,14 @@
 """A recorded run: time (T,) and each signal as a (T, N) array (T samples, N loops)."""
 from __future__ import annotations
 
+import csv
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from fuzzyc.atomic import atomic_path
+from fuzzyc.csvtext import csv_line
 
 # The loops of a batch a picture draws and trace.csv keeps by default: a Monte Carlo batch of
 # thousands would make an unreadable plot and a CSV of gigabytes.
@@ -56,15 +58,15 @@ class Trace:
                 columns.append(values[:, i])
         table = np.column_stack(columns)
         with atomic_path(path) as tmp:
-            np.savetxt(tmp, table, delimiter=",", header=",".join(names), comments="",
+            np.savetxt(tmp, table, delimiter=",", header=csv_line(names)[:-1], comments="",
                        fmt="%.9g")
         return Path(path)
 
     @staticmethod
     def from_csv(path: str | Path) -> "Trace":
         """Read back a batch-1 CSV written by `to_csv` (for tools and tests)."""
-        with open(path, encoding="utf-8") as handle:
-            names = handle.readline().strip().split(",")
+        with open(path, encoding="utf-8", newline="") as handle:
+            names = next(csv.reader(handle))
         table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
         time = table[:, 0]
         period = float(time[1] - time[0]) if len(time) > 1 else 0.0

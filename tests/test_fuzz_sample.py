@@ -67,6 +67,20 @@ def test_what_the_generators_found_is_a_located_message(argv, where, tmp_path):
     assert where in run.stderr and "Traceback" not in run.stderr
 
 
+def test_a_name_with_a_carriage_return_is_one_quoted_csv_field(tmp_path):
+    # found by gen-fis (make fuzz on 453b376): csv.writer with "\n" as its line end left a
+    # bare "\r" in a FIS output's name unquoted, and a CSV reader split the header there
+    import csv
+    import io
+    (tmp_path / "p.csv").write_text("x\n0.5\n")
+    run = run_in_process(["eval", str(REGRESSIONS / "fis_output_name_with_carriage_return.fis"),
+                          "--csv", str(tmp_path / "p.csv")], 60.0)
+    assert run.code == 0
+    # x = 0.5: low(0.5) = 0.5 clips the symmetric triangle small (0, 5, 10): centroid 5
+    assert list(csv.reader(io.StringIO(run.stdout, newline=""))) == [
+        ["x", "a\rb", "a\rb_out"], ["0.5", "5.0", "5.0"]]
+
+
 def test_a_rule_file_past_the_size_limit_is_refused_at_a_place(tmp_path):
     from fuzzyc.language.limits import MAX_SOURCE_BYTES
     path = tmp_path / "big.fll"

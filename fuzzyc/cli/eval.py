@@ -21,6 +21,7 @@ import numpy as np
 
 from .common import RULE_FILE_HELP, add_semantics, check_output
 from ..errors import Diagnostic, FuzzycError, read_source, source_lines
+from ..csvtext import csv_line
 from ..semantics.model import Model
 from ..language.numbers import not_a_number, parse_number
 
@@ -251,12 +252,11 @@ def _run_csv(model: Model, args) -> int:
     warn_out_of_range(model, columns, args.core, args.semantics)
     outputs = (evaluate_series(model, columns, args.semantics) if args.series
                else evaluate_batch(model, columns, args.core, args.semantics))
-    out = io.StringIO()
-    writer = csv.writer(out, lineterminator="\n")
-    writer.writerow(names + list(outputs))
+    lines = [csv_line(names + list(outputs))]
     for i in range(len(rows) - 1):
-        writer.writerow([_fmt(columns[n][i]) for n in names] + [_fmt(v[i]) for v in outputs.values()])
-    sys.stdout.write(out.getvalue())
+        lines.append(csv_line([_fmt(columns[n][i]) for n in names]
+                              + [_fmt(v[i]) for v in outputs.values()]))
+    sys.stdout.write("".join(lines))
     return 0
 
 

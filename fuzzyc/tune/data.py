@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..csvtext import csv_line
 from ..semantics.model import Model
 
 
@@ -48,5 +49,5 @@ def read_csv(path: str | Path, model: Model) -> Table:
 
 def write_csv(path: str | Path, names: list[str], columns: np.ndarray) -> None:
     """Columns under a header, each number as the shortest text that reads back the same."""
-    lines = [",".join(names)] + [",".join(repr(float(v)) for v in row) for row in columns]
-    Path(path).write_text("\n".join(lines) + "\n")
+    lines = [csv_line(names)] + [csv_line([repr(float(v)) for v in row]) for row in columns]
+    Path(path).write_text("".join(lines))
