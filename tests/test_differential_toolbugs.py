@@ -4,6 +4,7 @@ claimed only with its evidence, each reproduced on a hand-written file against t
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -82,10 +83,38 @@ def test_octave_empty_sugeno_live():
     why = tools.available("octave")
     if why:
         pytest.skip(why)
-    fails, works = tools.run("octave", [(EMPTY, np.array([[1.0], [5.0], [8.0]]), ["x"], ["y"]),
-                                        (EMPTY, np.array([[1.0], [3.0], [8.0]]), ["x"], ["y"])])
-    assert isinstance(fails, Exception) and OCTAVE_ERROR in str(fails)
+    fails, works, none = tools.run("octave", [
+        (EMPTY, np.array([[1.0], [5.0], [8.0]]), ["x"], ["y"]),
+        (EMPTY, np.array([[1.0], [3.0], [8.0]]), ["x"], ["y"]),
+        (EMPTY, np.array([[5.0], [4.5]]), ["x"], ["y"])])
+    # evalfis fails the matrix; row by row it gives rows 0 and 2 and fails row 1 (x = 5)
+    assert isinstance(fails, tools.RowsFailed) and OCTAVE_ERROR in str(fails)
+    assert fails.rows.tolist() == [1] and fails.y[[0, 2], 0].tolist() == pytest.approx([0.2, 0.9])
     assert np.allclose(works[:, 0], [0.2, 0.2, 0.9])
+    # no row evaluates: a plain tool error
+    assert isinstance(none, Exception) and not isinstance(none, tools.RowsFailed)
+
+
+def test_a_file_is_judged_on_the_rows_the_tool_evaluates(tmp_path):
+    from tests.differential.judge import _verdict
+    x = np.array([[1.0], [5.0], [8.0]])
+    mine = ours(EMPTY, x, "octave")
+    # the parts of a differential.spec System a verdict reads (the file is EMPTY)
+    output = SimpleNamespace(name="y", lo=0.0, hi=1.0, default=np.nan)
+    system = SimpleNamespace(inputs=[], outputs=[output], sugeno=True)
+    tool = tools.RowsFailed(OCTAVE_ERROR, np.array([[0.2], [np.nan], [0.9]]), np.array([1]))
+    verdict = _verdict(system, EMPTY, x, mine, tool, "octave-fis")
+    # rows 0 and 2 agree (0.2, 0.9 by hand above); row 1 fires nothing: the bug's evidence
+    assert verdict.status == "tool-bug" and verdict.x.tolist() == [[1.0], [8.0]]
+    assert verdict.message.startswith("Octave toolkit bug: evalfis fails where no rule fires")
+    assert verdict.message.endswith("1 of 3 rows fire nothing, e.g. row 1; the rows it "
+                                    "evaluates agree")
+    # the failed rows must be exactly the silent ones: row 0 claimed failed is not the bug
+    wrong = tools.RowsFailed(OCTAVE_ERROR, np.array([[np.nan], [np.nan], [0.9]]),
+                             np.array([0, 1]))
+    assert _verdict(system, EMPTY, x, mine, wrong, "octave-fis").status == "tool-error"
+    far = tools.RowsFailed(OCTAVE_ERROR, np.array([[0.5], [np.nan], [0.9]]), np.array([1]))
+    assert _verdict(system, EMPTY, x, mine, far, "octave-fis").status == "disagree"
 
 
 SEMI_DEFAULT = FILES / "pyfuzzylite_semiellipse_end_default.fll"
@@ -169,3 +198,48 @@ def test_octave_empty_sugeno_dsigmf():
                                             (EMPTY_DSIGMF, x[1:], ["x"], ["y"])])
         assert isinstance(fails, Exception) and OCTAVE_ERROR in str(fails)
         assert works[0, 0] == pytest.approx(0.8)
+
+
+SEMI_NUMBER = FILES / "pyfuzzylite_semiellipse_end_number.fll"
+
+
+def _semi_number_case(x):
+    tri = SimpleNamespace(shape="Triangle", params=[9.0, 11.0, 13.0])
+    half = SimpleNamespace(shape="SemiEllipse", params=[7.651, 10.99])
+    system = SimpleNamespace(
+        inputs=[SimpleNamespace(name="x", terms=[half, tri])], sugeno=False,
+        outputs=[SimpleNamespace(name="y", lo=0.0, hi=10.0, default=np.nan)])
+    mine = ours(SEMI_NUMBER, x, "pyfuzzylite")
+    return system, mine
+
+
+def test_semi_ellipse_end_that_drops_a_rule_live():
+    # x = 10.99, the semi-ellipse's end: half = 0, `not half` = 1 keeps big (6, 8, 10) whole
+    # (area 2, centroid 8); high = (10.99 - 9) / 2 = 0.995 clips small (0, 2, 4): area
+    # (4 + 0.02) / 2 * 0.995 = 1.99995, centroid 2; y = (16 + 3.9999) / 3.99995 = 5.0000375.
+    # pyfuzzylite's half is NaN there, its rule dropped: 2 (live); one ulp inside, 5.0000375.
+    from tests.differential.judge import _semi_ellipse_numbers, _verdict
+    why = tools.available("pyfuzzylite")
+    if why:
+        pytest.skip(why)
+    x = np.array([[9.0], [10.99]])
+    system, mine = _semi_number_case(x)
+    assert mine.y[:, 0] == pytest.approx([8.0, 5.0000375], abs=1e-6)
+    (tool,) = tools.run("pyfuzzylite", [(SEMI_NUMBER, x, ["x"], ["y"])])
+    assert tool[:, 0] == pytest.approx([8.0, 2.0], abs=1e-6)
+    verdict = _verdict(system, SEMI_NUMBER, x, mine, tool, "pyfuzzylite-fll")
+    assert verdict.status == "disagree"
+    _semi_ellipse_numbers("pyfuzzylite", [system], [SEMI_NUMBER], [mine], [verdict])
+    assert verdict.status == "tool-bug"
+    assert "x = 10.99 -> 10.989999999999998" in verdict.message
+
+
+def test_a_number_apart_inside_a_semi_ellipse_is_no_tool_bug():
+    from tests.differential.judge import _semi_ellipse_numbers, _verdict
+    x = np.array([[9.0], [10.5]])            # 10.5: inside the term, the formula a number
+    system, mine = _semi_number_case(x)
+    tool = mine.y.copy()
+    tool[1, 0] = 2.0
+    verdict = _verdict(system, SEMI_NUMBER, x, mine, tool, "pyfuzzylite-fll")
+    _semi_ellipse_numbers("pyfuzzylite", [system], [SEMI_NUMBER], [mine], [verdict])
+    assert verdict.status == "disagree"

@@ -2,11 +2,13 @@
 
 Generates N random rule bases per tool and format, judges each (fuzzyc under the tool's
 semantics against the live tool), prints per tool: generated, imported, refused, crashed,
-agree, disagree, tool errors, and the `.fz` round trip of the imported files (same numbers
-under every semantics / imported; differential.roundtrip); then the refusals and crashes
-grouped by message, the round trips that fail or that the .fz writer refuses grouped by
-message, and the disagreements shrunk and grouped by cause.  --keep writes each cause's smallest case to
-differential/cases/ (replayed by tests/test_differential_cases.py).  Exits 1 on a crash."""
+agree, agree but on rows a known bug of the tool explains (toolbugs), disagree, tool errors,
+and the `.fz` round trip of the imported files (same numbers under every semantics /
+imported; differential.roundtrip), then each tool's shares of the imported files; then the
+refusals and crashes grouped by message, the round trips that fail or that the .fz writer
+refuses grouped by message, and the disagreements shrunk and grouped by cause.  --keep writes
+each cause's smallest case to differential/cases/ (replayed by
+tests/test_differential_cases.py).  Exits 1 on a crash."""
 from __future__ import annotations
 
 import argparse
@@ -30,9 +32,9 @@ from .roundtrip import RoundTrip, fz_round_trip
 from .shrink import diagnose_all, shrink_all
 from .spec import Generator, evaluation_points
 
-COLUMNS = ("tool, format", "generated", "imported", "refused", "crashed", "agree", "disagree",
-           "tool error", ".fz round trip")
-IMPORTED = ("agree", "disagree", "tool-error")
+COLUMNS = ("tool, format", "generated", "imported", "refused", "crashed", "agree",
+           "agree but the tool's bug rows", "disagree", "tool error", ".fz round trip")
+IMPORTED = ("agree", "tool-bug", "disagree", "tool-error")
 
 
 def campaign(tool_key: str, count: int, seed: int) -> tuple[list, list[Verdict], list]:
@@ -67,8 +69,22 @@ def row(tool_key: str, verdicts: list[Verdict], trips: list) -> list:
     trip = collections.Counter(t.status for t in trips if t is not None)
     failed = imported - trip["same"] - trip["refused"]
     return [tool_key, len(verdicts), imported, counts["refused"], counts["crashed"],
-            counts["agree"], counts["disagree"], counts["tool-error"],
+            counts["agree"], counts["tool-bug"], counts["disagree"], counts["tool-error"],
             f"{trip['same']}/{imported} same, {trip['refused']} refused, {failed} failed"]
+
+
+def shares(tool_key: str, verdicts: list[Verdict]) -> str:
+    """Agreement among the imported files, with and without the rows of the tool's known bugs,
+    and the share refused."""
+    counts = collections.Counter(v.status for v in verdicts)
+    imported = sum(counts[s] for s in IMPORTED)
+    if not imported:
+        return f"{tool_key}: nothing imported"
+    pct = lambda n, of: f"{100 * n / of:.1f} %"     # noqa: E731
+    both = counts["agree"] + counts["tool-bug"]
+    return (f"{tool_key}: {counts['agree']} of {imported} imported agree on every row "
+            f"({pct(counts['agree'], imported)}), {both} ({pct(both, imported)}) with the rows "
+            f"of the tool's known bugs aside; refused {pct(counts['refused'], len(verdicts))}")
 
 
 def table(rows: list[list]) -> str:
@@ -93,7 +109,7 @@ def report(key: str, made: list, verdicts: list[Verdict], trips: list, args) -> 
     that are refused or fail; its disagreements and crashes shrunk, grouped by cause (and
     kept with --keep)."""
     lines = [f"\n## {key}"]
-    for status in ("refused", "crashed", "tool-error"):
+    for status in ("refused", "crashed", "tool-error", "tool-bug"):
         grouped = collections.Counter(_unplaced(v.message).split(toolbugs.EVIDENCE)[0]
                                       for v in verdicts if v.status == status)
         lines += [f"  {status} x{n}: {message}" for message, n in grouped.most_common()]
@@ -138,6 +154,7 @@ def main(argv: list[str] | None = None) -> int:
     with ThreadPoolExecutor(max_workers=2) as pool:
         done = dict(zip(keys, pool.map(lambda k: campaign(k, args.per_tool, args.seed), keys)))
     print(table([row(k, verdicts, trips) for k, (_, verdicts, trips) in done.items()]))
+    print("\n".join(shares(k, verdicts) for k, (_, verdicts, _) in done.items()))
     with ThreadPoolExecutor(max_workers=2) as pool:
         reports = list(pool.map(lambda k: report(k, *done[k], args), done))
     for lines in reports:

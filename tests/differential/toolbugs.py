@@ -80,6 +80,27 @@ def _semi_ellipse_nan(inputs, x_row: np.ndarray) -> str | None:
     return None
 
 
+def semi_ellipse_nudged(inputs, x_row: np.ndarray) -> np.ndarray | None:
+    """x_row with every input where pyfuzzylite's SemiEllipse formula is NaN (at a term's end)
+    moved the fewest ulps (at most 8) toward the term's centre for the formula to be a number;
+    None where no input is at such an end."""
+    nudged, moved = np.array(x_row, dtype=float), False
+    for i, (_, terms) in enumerate(inputs):
+        for shape, params in terms:
+            if shape != "SemiEllipse":
+                continue
+            s, e = min(params[:2]), max(params[:2])
+            r, v = (e - s) / 2, nudged[i]
+            c = s + r
+            for _ in range(8):
+                with np.errstate(invalid="ignore"):
+                    if not (s <= v <= e and np.isnan(np.sqrt(r ** 2 - np.square(v - c)) / r)):
+                        break
+                v, moved = np.nextafter(v, c), True
+            nudged[i] = v
+    return nudged if moved else None
+
+
 def explain_disagreement(tool_key: str, inputs, x: np.ndarray, ours: np.ndarray,
                          tool: np.ndarray, tolerance: np.ndarray, rows: np.ndarray,
                          defaults=None) -> str | None:
@@ -107,26 +128,47 @@ def explain_disagreement(tool_key: str, inputs, x: np.ndarray, ours: np.ndarray,
             "the other rows agree")
 
 
-def explain_error(tool_key: str, message: str, path, x: np.ndarray) -> str | None:
-    """The tool bug behind a tool error, with its evidence, or None."""
-    if tool_key != "octave-fis" or OCTAVE_EMPTY_SUGENO not in message:
-        return None
+def octave_silent_rows(path, x: np.ndarray) -> np.ndarray | None:
+    """The rows where a Sugeno output of the file fires nothing as the toolkit computes its
+    activations (its clipped dsigmf: 0, not |difference|), or None where that cannot be said
+    (not a single Sugeno block)."""
     try:
         blocks = Chain(load_any(path)).blocks
     except Exception:   # noqa: BLE001 -- no evidence, no claim
         return None
     if len(blocks) != 1:
         return None
-    rb = octave_dsigmf(blocks[0])      # the toolkit's clipped dsigmf: 0, not |difference|
-    silent = ~fired(rb, x, octave_activations)
-    sugeno = rb.inference.defuzzifier.name in ("WEIGHTED_AVERAGE", "WEIGHTED_SUM",
-                                               "CENTER_OF_AREA")
-    if not (sugeno and silent.any()):
+    rb = octave_dsigmf(blocks[0])
+    if rb.inference.defuzzifier.name not in ("WEIGHTED_AVERAGE", "WEIGHTED_SUM",
+                                             "CENTER_OF_AREA"):
         return None
-    row = int(np.flatnonzero(silent.any(axis=1))[0])
+    return np.flatnonzero((~fired(rb, x, octave_activations)).any(axis=1))
+
+
+def _empty_sugeno(silent: np.ndarray, n: int) -> str:
     return ("Octave toolkit bug: evalfis fails where no rule fires for a Sugeno output "
             f"(defuzzify_output_sugeno.m indexes the empty aggregate){EVIDENCE}"
-            f"{int(silent.any(axis=1).sum())} of {len(x)} rows fire nothing, e.g. row {row}")
+            f"{len(silent)} of {n} rows fire nothing, e.g. row {int(silent[0])}")
+
+
+def explain_error(tool_key: str, message: str, path, x: np.ndarray) -> str | None:
+    """The tool bug behind a tool error, with its evidence, or None."""
+    if tool_key != "octave-fis" or OCTAVE_EMPTY_SUGENO not in message:
+        return None
+    silent = octave_silent_rows(path, x)
+    return _empty_sugeno(silent, len(x)) if silent is not None and len(silent) else None
+
+
+def explain_failed_rows(tool_key: str, message: str, path, x: np.ndarray,
+                        failed: np.ndarray) -> str | None:
+    """The tool bug behind the rows a tool failed on one by one (it evaluated the others),
+    claimed only where the failed rows are exactly the rows its evidence names."""
+    if tool_key != "octave-fis" or OCTAVE_EMPTY_SUGENO not in message:
+        return None
+    silent = octave_silent_rows(path, x)
+    if silent is None or set(silent.tolist()) != set(failed.tolist()):
+        return None
+    return _empty_sugeno(silent, len(x))
 
 
 HAMACHER_NEAR_ONE = 1e-9      # |1 - v| below this (v != 1): the fold's step is rounding noise

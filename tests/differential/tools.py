@@ -53,13 +53,36 @@ for k = 1:numel(jobs)
   parts = strsplit(jobs{k}, "\\t");
   try
     fis = readfis(parts{1}); x = load(parts{2});
-    y = evalfis(x, fis);
+    try
+      y = evalfis(x, fis);
+    catch err
+      % evalfis fails the whole matrix for one row it cannot do (an empty Sugeno aggregate):
+      % each row alone, NaN and the row's number in .rows where that row fails too
+      y = NaN(rows(x), numel(fis.output)); failed = fopen([parts{3} '.rows'], 'w');
+      for r = 1:rows(x)
+        try
+          y(r, :) = evalfis(x(r, :), fis);
+        catch e2
+          fprintf(failed, '%d\\t%s\\n', r, e2.message);
+        end
+      end
+      fclose(failed);
+    end
     save('-ascii', '-double', parts{3}, 'y');
   catch err
     f = fopen([parts{3} '.err'], 'w'); fprintf(f, '%s', err.message); fclose(f);
   end
 end
 """
+
+
+class RowsFailed(OracleError):
+    """The tool failed on the whole input matrix and on these rows alone; `y` holds the other
+    rows' outputs (NaN on the failed rows)."""
+
+    def __init__(self, message: str, y: np.ndarray, rows: np.ndarray):
+        super().__init__(message)
+        self.y, self.rows = y, rows
 
 
 def available(tool: str) -> str | None:
@@ -130,6 +153,16 @@ def _result(path: Path, rows: int, columns: int) -> np.ndarray | OracleError:
     if not path.exists():
         return OracleError("the tool gave no output (crashed or timed out)")
     try:
-        return np.loadtxt(path, ndmin=2).reshape(rows, columns)
+        y = np.loadtxt(path, ndmin=2).reshape(rows, columns)
     except ValueError as exc:
         return OracleError(f"unreadable output: {exc}")
+    failed = path.with_name(path.name + ".rows")
+    if not failed.exists():
+        return y
+    lines = [line.split("\t", 1) for line in failed.read_text().splitlines() if line]
+    rows_failed = [int(r) - 1 for r, _ in lines]
+    if not lines:
+        return y
+    if len(rows_failed) == rows:
+        return OracleError(lines[0][1])
+    return RowsFailed(lines[0][1], y, np.array(rows_failed, dtype=int))
