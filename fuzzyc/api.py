@@ -146,14 +146,15 @@ def compile_c(model: Model, numeric: str = "float") -> Header:
 
 
 def compile_lut(model: Model, resolution: int = 33) -> Header:
-    """The rule base sampled on `resolution` points per input, read by multilinear
-    interpolation: NAME_lut.h, with the measured interpolation error."""
+    """The rule base (its rule blocks in order, as one function) sampled on `resolution`
+    points per input, read by multilinear interpolation: NAME_lut.h, with the measured
+    interpolation error."""
     from .escape import c_identifier
     from .backends.lut import LookupTable, generate_lut_header
-    table = LookupTable(model.rulebase, resolution)
+    table = LookupTable(model, resolution)
     error = table.measure_error()
     return Header(f"{c_identifier(model.name)}_lut.h", generate_lut_header(model, table, error),
-                  {v.name: float(e) for v, e in zip(model.rulebase.outputs, error)})
+                  {v.name: float(e) for v, e in zip(table.outputs, error)})
 
 
 # -- tuning -----------------------------------------------------------------------------------

@@ -60,10 +60,10 @@ FIXED = ("q15", "q31")
 # The headers the back ends refuse to write, with words of the diagnostic; every other file
 # and kind is proved.  Fixed point takes plain AND rules over two-active-term trapezoid
 # partitions with center of area or weighted sums; float C takes min/product, max/probsum
-# and no z/s-shapes; the LUT one rule block per header.
+# and no z/s-shapes.
 REFUSED = {
-    # C takes several blocks (fixed point not the centroid); the lookup table takes one
-    "blocks_mamdani_sugeno.fll": (("lut", *FIXED), "2 rule blocks|`centroid` is not supported"),
+    # C and the lookup table take several blocks (fixed point not the centroid)
+    "blocks_mamdani_sugeno.fll": (FIXED, "`centroid` is not supported"),
     "blocks_tipper_fan.fcl::fan": (FIXED, "`centroid` is not supported"),
     "ramp.fll": (FIXED, "`bisector` is not supported"),
     "shapes_tsk.fll": (("float", "double", *FIXED), "einstein_product"),

@@ -33,8 +33,7 @@ void lut_batch(int n, const double *x, double *y) {{
 
 
 def c_lut(model, table, error):
-    rb = model.rulebase
-    shim = SHIM.format(name=model.name, n_in=len(rb.inputs), n_out=len(rb.outputs))
+    shim = SHIM.format(name=model.name, n_in=len(table.inputs), n_out=len(table.outputs))
     lib = ctypes.CDLL(str(compile_shared(
         {f"{model.name}_lut.h": generate_lut_header(model, table, error), "shim.c": shim},
         "shim.c")))
@@ -43,7 +42,7 @@ def c_lut(model, table, error):
 
     def run(x):
         x = np.ascontiguousarray(x, dtype=float)
-        y = np.empty((len(x), len(rb.outputs)))
+        y = np.empty((len(x), len(table.outputs)))
         lib.lut_batch(len(x), x.ctypes.data_as(dptr), y.ctypes.data_as(dptr))
         return y
     return run
@@ -103,3 +102,49 @@ def test_bad_resolution_is_a_diagnostic():
     from fuzzyc.errors import FuzzycError
     with pytest.raises(FuzzycError, match="resolution"):
         LookupTable(shipped("edm_sink_gap").rulebase, 1)
+
+
+def test_several_rule_blocks_are_one_table_by_hand():
+    # tests/test_rule_blocks.py's chain: block `first` computes m from a and b, `second` reads
+    # m for y and z.  The table's inputs are a and b (m is computed), its outputs m, y, z.
+    # At a = .6, b = .5 (grid nodes at resolution 11) m = .559 / 1.26, y = 10 m, z = 5 m
+    # (the arithmetic is there); the C header gives the same in float.
+    from test_rule_blocks import M, chain
+    model = chain()
+    table = LookupTable(model, 11)
+    assert [v.name for v in table.inputs] == ["a", "b"]
+    assert [v.name for v in table.outputs] == ["m", "y", "z"]
+    np.testing.assert_allclose(table.evaluate([[0.6, 0.5]]), [[M, 10 * M, 5 * M]], rtol=1e-12)
+    header = generate_lut_header(model, table, table.measure_error())
+    assert "block first: " in header and "block second: " in header
+    run = c_lut(model, table, table.measure_error())
+    x = np.random.default_rng(1).uniform(0, 1, (500, 2))
+    np.testing.assert_allclose(run(x), table.evaluate(x), rtol=1e-5, atol=1e-5)
+    assert run(np.array([[0.6, 0.5]]))[0] == pytest.approx([M, 10 * M, 5 * M], rel=1e-6)
+
+
+def test_a_held_output_has_no_table():
+    from fuzzyc.errors import FuzzycError
+    rb = shipped("milling_neurofuzzy").rulebase
+    rb.outputs[0].lock_previous = True
+    with pytest.raises(FuzzycError, match="a lookup table holds no state: output `.*` keeps "
+                                          "its last value"):
+        LookupTable(rb, 5)
+
+
+def test_cli_tabulates_a_file_of_several_rule_blocks(tmp_path, capsys):
+    # two RuleBlocks side by side (y Mamdani, z Takagi-Sugeno): one table over a and b with
+    # both outputs; at a grid node (a = b = 1 at resolution 9) the engine's numbers: the rule
+    # `a is H and b is H` fires 1 alone in each block: y the centroid of hi clipped to
+    # [0, 10], (0..10 rising triangle) 20/3; z the constant 10
+    path = ROOT / "tests" / "format_corpus" / "blocks_mamdani_sugeno.fll"
+    assert cli_main(["compile", str(path), "--target", "lut", "--resolution", "9",
+                     "-o", str(tmp_path)]) == 0
+    printed = capsys.readouterr().out
+    assert "lookup table max error y: " in printed and "lookup table max error z: " in printed
+    from fuzzyc.formats import load_any
+    model = load_any(path)
+    table = LookupTable(model, 9)
+    assert table.evaluate([[1.0, 1.0]])[0] == pytest.approx([20 / 3, 10.0], abs=2e-3)
+    run = c_lut(model, table, table.measure_error())
+    assert run(np.array([[1.0, 1.0]]))[0] == pytest.approx([20 / 3, 10.0], abs=2e-3)

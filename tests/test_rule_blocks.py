@@ -11,7 +11,6 @@ import numpy as np
 import pytest
 
 from fuzzyc.backends.c.header import generate_header
-from fuzzyc.backends.lut import LookupTable
 from fuzzyc.engine.chain import Controller
 from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
@@ -120,10 +119,10 @@ def test_outside_blocks_an_output_is_not_a_condition():
 
 
 def test_one_block_readers_refuse_by_name():
-    # the C headers and verify take several blocks (tests/test_c_blocks.py,
-    # tests/test_verify_blocks.py); the lookup table does not yet
+    # the C headers, verify and the lookup table take several blocks (tests/test_c_blocks.py,
+    # tests/test_verify_blocks.py, tests/test_lut.py); a reader of one block refuses by name
     with pytest.raises(FuzzycError, match=r"`chain` has 2 rule blocks \(`first`, `second`\)"):
-        LookupTable(chain().rulebase, 33)
+        chain().rulebase
 
 
 ONE = """controller one {

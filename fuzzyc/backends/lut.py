@@ -5,6 +5,11 @@ Semantics (documented in the header too): each input is clamped to its variable'
 (so +-inf read the table's edge); a NaN in any input gives the outputs' declared defaults.
 Inside the range the table differs from the engine by the interpolation error, which
 `measure_error` finds on a dense check (random points plus every cell centre of the grid).
+
+A model of several rule blocks is tabulated as one function (`Core`): its inputs are the
+blocks' inputs that no earlier block computes, its outputs every block's, each block reading
+the values of the earlier blocks' outputs as the engine's chain does. A table holds no state,
+so an output that holds its last value (lock-previous) is refused.
 """
 from __future__ import annotations
 
@@ -13,7 +18,7 @@ import numpy as np
 from ..engine.inference import evaluate as engine_evaluate
 from ..errors import Diagnostic, FuzzycError
 from ..escape import c_comment, c_identifier
-from ..semantics.model import Model, RuleBase
+from ..semantics.model import Model, RuleBase, Variable
 from .c.expressions import FLOAT
 from .c.guard import checked_header
 
@@ -22,21 +27,53 @@ CHECK_RANDOM = 200_000
 MAX_CENTRES = 200_000
 
 
+class Core:
+    """A model's rule blocks in order as one function of the inputs no block computes."""
+
+    def __init__(self, blocks: list[RuleBase]):
+        self.blocks = blocks
+        computed = {v.name for rb in blocks for v in rb.outputs}
+        seen: dict[str, Variable] = {}
+        for rb in blocks:
+            for v in rb.inputs:
+                if v.name not in computed:
+                    seen.setdefault(v.name, v)
+        self.inputs = list(seen.values())
+        self.outputs = [v for rb in blocks for v in rb.outputs]
+
+    def evaluate(self, x: np.ndarray) -> np.ndarray:
+        """x (N, I) -> (N, O): each block reads its inputs' and earlier blocks' values."""
+        x = np.atleast_2d(np.asarray(x, dtype=float))
+        env = {v.name: x[:, i] for i, v in enumerate(self.inputs)}
+        for rb in self.blocks:
+            y = engine_evaluate(rb, np.column_stack([env[v.name] for v in rb.inputs]))
+            env.update({v.name: y[:, o] for o, v in enumerate(rb.outputs)})
+        return np.column_stack([env[v.name] for v in self.outputs])
+
+
 class LookupTable:
-    def __init__(self, rb: RuleBase, resolution: int):
-        n_in = len(rb.inputs)
+    def __init__(self, model: Model | RuleBase, resolution: int):
+        core = Core(model.blocks if isinstance(model, Model) else [model])
+        n_in = len(core.inputs)
+        held = [v.name for v in core.outputs if v.lock_previous]
+        if held:
+            raise FuzzycError([Diagnostic(None, f"a lookup table holds no state: output "
+                                                f"`{held[0]}` keeps its last value where no "
+                                                f"rule fires (lock-previous); use --target c, "
+                                                f"which keeps it")])
         if resolution < 2:
             raise FuzzycError([Diagnostic(None, "the lookup table needs a resolution >= 2")])
-        if resolution ** n_in * len(rb.outputs) > MAX_CELLS:
+        if resolution ** n_in * len(core.outputs) > MAX_CELLS:
             raise FuzzycError([Diagnostic(None, f"{resolution}**{n_in} grid points are too many "
                                                 f"for a lookup table; lower --resolution")])
-        self.rb, self.resolution = rb, resolution
-        self.lo = np.array([v.lo for v in rb.inputs], dtype=float)
-        self.hi = np.array([v.hi for v in rb.inputs], dtype=float)
-        self.defaults = np.array([v.default for v in rb.outputs], dtype=float)
+        self.core, self.resolution = core, resolution
+        self.inputs, self.outputs = core.inputs, core.outputs
+        self.lo = np.array([v.lo for v in core.inputs], dtype=float)
+        self.hi = np.array([v.hi for v in core.inputs], dtype=float)
+        self.defaults = np.array([v.default for v in core.outputs], dtype=float)
         axes = [np.linspace(lo, hi, resolution) for lo, hi in zip(self.lo, self.hi)]
         grid = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, n_in)
-        self.values = engine_evaluate(rb, grid)              # (resolution**I, O), row-major
+        self.values = core.evaluate(grid)                    # (resolution**I, O), row-major
         self.place = resolution ** np.arange(n_in - 1, -1, -1)
 
     def evaluate(self, x: np.ndarray) -> np.ndarray:
@@ -73,18 +110,21 @@ class LookupTable:
     def measure_error(self, seed: int = 0) -> np.ndarray:
         """The largest |table - engine| per output over `check_points`."""
         x = self.check_points(seed)
-        return np.abs(self.evaluate(x) - engine_evaluate(self.rb, x)).max(axis=0)
+        return np.abs(self.evaluate(x) - self.core.evaluate(x)).max(axis=0)
 
 
 def generate_lut_header(model: Model, table: LookupTable, error: np.ndarray) -> str:
     """C99 header with the table and NAME_lut(x, y); float arithmetic."""
-    rb, lit = model.rulebase, FLOAT.lit
+    lit = FLOAT.lit
     name = c_identifier(model.name)
     p, P = name + "_", name.upper() + "_LUT_"
-    n_in, n_out, res = len(rb.inputs), len(rb.outputs), table.resolution
+    n_in, n_out, res = len(table.inputs), len(table.outputs), table.resolution
     guard = f"FUZZYC_{name.upper()}_LUT_H"
     errors = ", ".join(f"{c_comment(v.name)} {e:.3g} ({e / (v.hi - v.lo):.2e} of its range)"
-                       for v, e in zip(rb.outputs, error))
+                       for v, e in zip(table.outputs, error))
+    inference = "; ".join(
+        (f"block {c_comment(rb.name or str(k + 1))}: " if len(table.core.blocks) > 1 else "")
+        + f"{rb.inference.describe()}" for k, rb in enumerate(table.core.blocks))
     rows = ",\n    ".join("{" + ", ".join(lit(v) for v in row) + "}" for row in table.values)
     place = [int(v) for v in table.place]
     lines = [
@@ -92,9 +132,9 @@ def generate_lut_header(model: Model, table: LookupTable, error: np.ndarray) -> 
         f" * {name}_lut.h - generated by fuzzyc from "
         f"{c_comment(model.source_path or '(built in memory)')}",
         f" * source hash (sha256, first 16 hex): {model.source_hash}",
-        f" * inference: {rb.inference.describe()}",
+        f" * inference: {inference}",
         f" * lookup table: {res} points per input over "
-        + ", ".join(f"{c_comment(v.name)} [{v.lo:g}, {v.hi:g}]" for v in rb.inputs)
+        + ", ".join(f"{c_comment(v.name)} [{v.lo:g}, {v.hi:g}]" for v in table.inputs)
         + ", multilinear interpolation",
         f" * measured max error against the engine ({CHECK_RANDOM} random points and up to "
         f"{MAX_CENTRES} cell centres): {errors}",

@@ -84,7 +84,7 @@ def header_for(model: Model, kind: str) -> tuple[str, str]:
     name = c_identifier(model.name)
     if kind == "lut":
         from ..lut import LookupTable, generate_lut_header
-        table = LookupTable(model.rulebase, LUT_RESOLUTION)
+        table = LookupTable(model, LUT_RESOLUTION)
         return f"{name}_lut.h", generate_lut_header(model, table, table.measure_error())
     if kind in ("q15", "q31"):
         from ..c_fixed.header import generate_fixed_header
@@ -96,7 +96,6 @@ def header_for(model: Model, kind: str) -> tuple[str, str]:
 def harness(model: Model, kind: str, header_name: str) -> tuple[str, list[str]]:
     """(the C main EVA analyses, the claims its assertions make)."""
     name = c_identifier(model.name)
-    rb = model.blocks[0]      # the lookup table takes one block (it refuses several)
     lines = ['#include "__fc_builtin.h"', f'#include "{header_name}"', "int main(void) {"]
     claims = []
     if kind == "lut":
@@ -104,7 +103,8 @@ def harness(model: Model, kind: str, header_name: str) -> tuple[str, list[str]]:
         lines += [f"    float x[{P}N_INPUTS], y[{P}N_OUTPUTS];",
                   "    Frama_C_make_unknown((char *)x, sizeof x);",
                   f"    {p}lut(x, y);"]
-        lines += [f"    /*@ assert \\is_finite(y[{o}]); */" for o in range(len(rb.outputs))]
+        n_out = sum(len(rb.outputs) for rb in model.blocks)      # the table's: every block's
+        lines += [f"    /*@ assert \\is_finite(y[{o}]); */" for o in range(n_out)]
         claims.append("the table's outputs are finite for every input (NaN and +-inf too)")
     else:
         p = f"{name}_" if kind in FLOATING else f"{name}_{kind}_"
