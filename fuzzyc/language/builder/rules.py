@@ -323,7 +323,7 @@ class RulesBuilder:
                     self.error(cell.loc, "cells of a learnable table are numbers (the initial "
                                          f"weights), not `{cell.text}`")
                     continue
-                term = self._conclusion(out, cell, f"table {out.name}", d["learnable"],
+                term = self._conclusion(out, cell, f"table `{out.name}`", d["learnable"],
                                         label=f"w_{rt.text}_{ct.text}" if d["learnable"] else "")
                 if term is None:
                     continue
