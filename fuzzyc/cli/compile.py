@@ -113,7 +113,8 @@ def run(args) -> int:
     _check_file_name(args.file, model.name, f"{name}{suffix}.h")     # as api.compile_* name it
     if args.target == "lut":
         header = compile_lut(model, args.resolution)
-        for var in (v for rb in model.blocks for v in rb.outputs):      # the table's outputs
+        from ..backends.lut import Core
+        for var in Core(model.blocks).outputs:
             e = header.max_error[var.name]
             print(f"lookup table max error {var.name}: {e:.4g} "
                   f"({e / (var.hi - var.lo):.3e} of its range)"
