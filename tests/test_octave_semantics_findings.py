@@ -6,6 +6,8 @@ without Octave).
   term's membership to the power (evalmf_private.m: mu(u)^2 for `.2`) and applies the
   implication to the plain strength; fuzzyc's own reading (the Sugeno one, strength^(1/p))
   applied the hedge to the strength.
+- An output no rule concludes (a FIS row's `0`, or a file converted from FLL): the toolkit
+  defuzzifies its empty set as it is; fuzzyc's octave semantics crashed (an empty reduction).
 - Vanishing activations: the toolkit skips a rule only where its strength is 0; fuzzyc's
   ACTIVATION_FLOOR (1e-12) made such a rule silent under --semantics octave too.
 """
@@ -69,3 +71,36 @@ def test_octave_live(name, tolerance):
     if not oracles.have_octave():
         pytest.skip("no octave with the fuzzy-logic-toolkit")
     assert _y(name) == pytest.approx(_octave(name), abs=tolerance)
+
+
+# unconcluded_output.fis: x on [0, 10]; y on [0, 10] and z on [-3, 1], each one term
+# trimf [0 5 10]; one rule `1, 1 0 (1) : 1` concludes y only.  x = 4: a = 0.8, y's set is
+# min(0.8, a(u)), its maximum 0.8 on [4, 6]: mean of maximum 5.  z's set is 0 everywhere:
+# every sample is a maximum, their mean the range's middle (-3 + 1)/2 = -1; with centroid,
+# 0/0 = NaN.  Both columns live: evalfis prints y then z.
+def _both(defuzzify: str, tmp_path: Path) -> tuple[Path, np.ndarray]:
+    path = tmp_path / "unconcluded_output.fis"
+    path.write_text((FILES / "unconcluded_output.fis").read_text()
+                    .replace("DefuzzMethod='mom'", f"DefuzzMethod='{defuzzify}'"))
+    return path, Chain(load_any(path)).evaluate(np.array([[4.0], [6.0]]), "octave")
+
+
+def test_an_output_no_rule_concludes_by_hand(tmp_path):
+    _, got = _both("mom", tmp_path)
+    assert got.ravel().tolist() == pytest.approx([5.0, -1.0, 5.0, -1.0], abs=1e-12)
+    _, got = _both("centroid", tmp_path)
+    assert got[:, 0] == pytest.approx([5.0, 5.0], abs=1e-3) and np.isnan(got[:, 1]).all()
+
+
+@pytest.mark.parametrize("defuzzify", ["mom", "centroid"])
+def test_an_output_no_rule_concludes_live(defuzzify, tmp_path):
+    if not oracles.have_octave():
+        pytest.skip("no octave with the fuzzy-logic-toolkit")
+    path, got = _both(defuzzify, tmp_path)
+    script = (f"pkg load fuzzy-logic-toolkit; warning('off', 'all'); f = readfis('{path.name}');"
+              " printf('%.17g\\n', evalfis([4; 6], f));")
+    done = subprocess.run(["octave", "--no-gui", "--quiet", "--no-window-system", "--eval",
+                           script], capture_output=True, text=True, timeout=120, cwd=tmp_path)
+    octave = np.array([float(v) for v in done.stdout.split()]).reshape(2, 2).T
+    assert np.array_equal(np.isnan(octave), np.isnan(got))
+    assert np.nan_to_num(got) == pytest.approx(np.nan_to_num(octave), abs=1e-3 * 10)
