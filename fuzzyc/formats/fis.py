@@ -357,11 +357,12 @@ class _FisReader:
         if any(_is_any(t) for t in ins) and (connective == 2 or not clauses):
             clauses = {}    # `x is any`: true, so an or-rule (or a rule of it alone) fires 1
         elif not clauses:     # fuzzylite writes a chained rule so: it reads an output
-            self.rep.error(loc, "a rule needs at least one input index (a rule reading an "
-                                "output, fuzzylite's chained engine, cannot be said in FIS; "
-                                "fuzzylite writes it without a condition and never fires it: "
-                                "read the .fll or .fcl)")
-            return
+            # read as fuzzylite reads it back (its Laundry.fis): a rule that never fires
+            self.got.notes.append(f"rule at line {number} has no input index (fuzzylite's "
+                                  "chained engine written as FIS, which cannot say a rule "
+                                  "reading an output): it never fires, as in fuzzylite; the "
+                                  ".fll or .fcl keeps the chain")
+            weight = 0.0
         self.got.rules.append(RuleSpec(clauses,
                                        Connective.AND if connective == 1 else Connective.OR,
                                        conclusions, weight, loc, origin))
