@@ -159,9 +159,35 @@ def main(argv: list[str] | None = None) -> int:
         reports = list(pool.map(lambda k: report(k, *done[k], args), done))
     for lines in reports:
         print("\n".join(lines))
-    crashed = any(v.status == "crashed" for _, verdicts, _ in done.values() for v in verdicts)
+    failed = gate(done)
+    print("\n".join(["", *failed] if failed else ["", "gate: passed (" + GATE + ")"]))
     print(f"\n{time.monotonic() - start:.0f} s")
-    return 1 if crashed else 0
+    return 1 if failed else 0
+
+
+GATE = ("no crash; per tool at least 95 % of the imported files agree, the rows of the tool's "
+        "known bugs aside; at most 5 % refused; every .fz round trip the same or refused")
+
+
+def gate(done: dict) -> list[str]:
+    """What fails issue 28's bar, a line each (empty when it holds)."""
+    failed = []
+    for key, (_, verdicts, trips) in done.items():
+        counts = collections.Counter(v.status for v in verdicts)
+        imported = sum(counts[s] for s in IMPORTED)
+        agree = counts["agree"] + counts["tool-bug"]
+        trip = collections.Counter(t.status for t in trips if t is not None)
+        if counts["crashed"]:
+            failed.append(f"gate: {key}: {counts['crashed']} crashed")
+        if imported and agree < 0.95 * imported:
+            failed.append(f"gate: {key}: {agree} of {imported} imported agree, under 95 %")
+        if counts["refused"] > 0.05 * len(verdicts):
+            failed.append(f"gate: {key}: {counts['refused']} of {len(verdicts)} refused, "
+                          "over 5 %")
+        if imported - trip["same"] - trip["refused"]:
+            failed.append(f"gate: {key}: {imported - trip['same'] - trip['refused']} .fz "
+                          "round trips failed")
+    return failed
 
 
 if __name__ == "__main__":
