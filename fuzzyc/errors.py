@@ -22,11 +22,12 @@ class Diagnostic:
     loc: SourceLoc | None
     message: str
     source_line: str | None = None
+    severity: str = "error"          # or "warning": the file is read, the reader is told
 
     def format(self) -> str:
         if self.loc is None:
-            return f"error: {self.message}"
-        text = f"{self.loc}: error: {self.message}"
+            return f"{self.severity}: {self.message}"
+        text = f"{self.loc}: {self.severity}: {self.message}"
         if self.source_line is not None:
             # One column per character: a tab, a form feed or a U+2028 shows as a space.
             line = "".join(c if c.isprintable() else " " for c in self.source_line.rstrip("\r\n"))
@@ -73,17 +74,24 @@ class Reporter:
     file: str
     text: str = ""
     diagnostics: list[Diagnostic] = field(default_factory=list)
+    warnings: list[Diagnostic] = field(default_factory=list)
 
     def loc(self, line: int, col: int) -> SourceLoc:
         return SourceLoc(self.file, line, col)
 
     def error(self, loc: SourceLoc | None, message: str) -> None:
-        line = None
+        self.diagnostics.append(Diagnostic(loc, message, self._line(loc)))
+
+    def warn(self, loc: SourceLoc | None, message: str) -> None:
+        """A finding that does not stop the file being read (`fuzzyc check` prints it)."""
+        self.warnings.append(Diagnostic(loc, message, self._line(loc), "warning"))
+
+    def _line(self, loc: SourceLoc | None) -> str | None:
         if loc is not None and self.text:
             lines = source_lines(self.text)
             if 1 <= loc.line <= len(lines):
-                line = lines[loc.line - 1]
-        self.diagnostics.append(Diagnostic(loc, message, line))
+                return lines[loc.line - 1]
+        return None
 
     def raise_if_any(self) -> None:
         if self.diagnostics:

@@ -13,6 +13,10 @@ from pathlib import Path
 from .errors import Diagnostic, FuzzycError
 
 SAFE_NAME = re.compile(r"[A-Za-z_][A-Za-z0-9_]*")
+# what a .fz name may hold between backticks (`Food-Quality`, `rule`): any character but a
+# backtick, a dot (dotted names select in `tune` and `vary`) and line breaks or control
+# characters; the grammar's NAME takes this very pattern (language/parser.py `_grammar`)
+FZ_QUOTED_NAME = re.compile(r"[^`.\x00-\x1f\x7f\x85\u2028\u2029]+")
 
 
 def c_comment(text: str) -> str:

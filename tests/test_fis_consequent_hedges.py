@@ -15,7 +15,8 @@ from fuzzyc.backends.c.header import check_supported
 from fuzzyc.conformance import oracles
 from fuzzyc.engine.inference import evaluate
 from fuzzyc.errors import FuzzycError
-from fuzzyc.formats import read_fis, write_fcl, write_fis, write_fll
+from fuzzyc.formats import read_fis, write_fcl, write_fis, write_fll, write_fz
+from fuzzyc.language.parser import parse
 from fuzzyc.formats.tool_semantics import evaluate_as, exact_equivalent
 from fuzzyc.verifier.proof import beyond_proofs
 
@@ -100,6 +101,25 @@ def test_the_rules_say_where_the_hedge_was_and_what_cannot_follow_refuses():
     same, why = exact_equivalent(rb, "fuzzylite")
     assert why is None
     assert evaluate(same, [[0.36]])[0] == pytest.approx([4.096 / 0.7696] * 2, abs=1e-12)
+
+
+def test_fz_says_the_row_as_concluded_and_carried_steps_and_reads_it_back():
+    # the row `1, 2.2 2` becomes y's rule (its own hedge) and z's (y's hedge before it)
+    text = write_fz(_model())
+    assert "  rule if concluded very (x is low) then y is ten\n" in text
+    assert "  rule if carried very (x is low) then z is ten\n" in text
+    back = parse(text, "hedged.fz").rulebase
+    # x = 0.36, as by hand above: 8/1.16 and 6.4 (exact), 4.096/0.7696 twice (fuzzylite)
+    assert evaluate(back, [[0.36]])[0] == pytest.approx([8 / 1.16, 6.4], abs=1e-12)
+    assert evaluate_as(back, [[0.36]], "fuzzylite")[0] == pytest.approx([4.096 / 0.7696] * 2,
+                                                                        abs=1e-12)
+    # written by hand: `concluded (...)` without a hedge is the identity under exact semantics
+    # (p = 1), `not concluded very (...)` the negated Sugeno consequent's 1 - s^(1/2)
+    hand = text.replace("concluded very (x is low) then y", "not concluded very (x is low) "
+                        "then y").replace("carried very (x is low)", "concluded (x is low)")
+    # x = 0.36: y's height 1 - 0.8 = 0.2: y = 0.2*10 / (0.2 + 0.36) = 2/0.56; z = 6.4
+    assert evaluate(parse(hand, "hand.fz").rulebase, [[0.36]])[0] == \
+        pytest.approx([2 / 0.56, 6.4], abs=1e-12)
 
 
 def test_the_fis_writer_writes_the_row_back():

@@ -16,7 +16,7 @@ from fuzzyc.formats.fcl import write_fcl
 from fuzzyc.formats.fll import write_fll
 from fuzzyc.formats.fuzzylite_compat import Sampling, evaluate_sampled
 from fuzzyc.formats.fz import write_fz
-from fuzzyc.formats.tool_semantics import evaluate_as
+from fuzzyc.formats.tool_semantics import Chain, evaluate_as
 from fuzzyc.engine.membership import term_values
 from fuzzyc.semantics.model import Defuzzifier, Hedge, TermKind, TNorm
 from fuzzyc.language.parser import parse
@@ -293,28 +293,31 @@ def test_an_output_without_terms_gives_its_no_rule_default(aggregation):
 
 def test_fz_written_from_an_import_reads_back_terms_less_inputs_and_peaks_past_the_range():
     # MATLAB's slcp1 (inputs read only by linear consequents) and invkine1 (a term peaking
-    # past its input's range): convert used to write a .fz that eval refused
+    # past its input's range): convert used to write a .fz that eval refused, then refused
     text = ("Engine: e\nInputVariable: a\n  range: 0 1\nInputVariable: b\n  range: 0 1\n"
             "  term: t Triangle 0 0.5 1\n  term: past Triangle 1 1.5 2\n"
             "OutputVariable: y\n  range: 0 10\n  defuzzifier: WeightedAverage\n"
-            "  term: l Linear 2 3 1\nRuleBlock: r\n  rule: if b is t then y is l\n")
-    # the Linear term reads b clamped to its range (exact semantics): widened to [0, 1.5], b
-    # = 1.2 would give 2a + 3.6 + 1 where the file gives 2a + 3 + 1; refused, not moved
-    with pytest.raises(FuzzycError, match="input `b` has a term peaking outside its range "
-                                          r"\[0, 1\].*a Linear term reads it clamped"):
-        write_fz(read_fll(text, "e.fll"))
-    model = read_fll(text.replace("  term: past Triangle 1 1.5 2\n", ""), "e.fll")
+            "  term: l Linear 2 3 1\nRuleBlock: r\n  rule: if b is past then y is l\n")
+    # the .fz keeps b's range [0, 1] (the Linear term reads b clamped to it) and the term
+    # peaking at 1.5, which reads back with a located warning, not an error
+    fz = write_fz(read_fll(text, "e.fll"))
+    assert "  input b in [0, 1]\n" in fz and "past = tri(1, 1.5, 2)" in fz
+    back = parse(fz, "e.fz")
+    [warning] = back.warnings
+    assert warning.format().startswith("e.fz:6:33: warning: ") and "term `past` of `b` peaks at 1.5, " \
+        "outside the range [0, 1]" in warning.message
+    # a = 0.5, b = 1.2: past = (1.2 - 1)/0.5 = 0.4, one rule (the weight cancels); the Linear
+    # term reads b clamped to 1: y = 2*0.5 + 3*1 + 1 = 5, before and after the round trip
+    for model in (read_fll(text, "e.fll"), back):
+        assert evaluate(model.rulebase, [[0.5, 1.2]])[0, 0] == pytest.approx(5.0, abs=1e-15)
+    model = read_fll(text.replace("  term: past Triangle 1 1.5 2\n", "")
+                     .replace("b is past", "b is t"), "e.fll")
     fz = write_fz(model)
     assert "  terms a :\n" in fz
     back = parse(fz, "e.fz").rulebase
     assert [v.n_terms for v in back.inputs] == [0, 1]
     # a = 0.5, b = 0.25: t = 0.5, y = 2*0.5 + 3*0.25 + 1 = 2.75 (one rule: the weight cancels)
     assert evaluate(back, [[0.5, 0.25]])[0, 0] == pytest.approx(2.75, abs=1e-15)
-    # without a Linear term the range is widened to hold the peak (the memberships unchanged)
-    fz = write_fz(read_fll(text.replace("Linear 2 3 1", "Constant 2"), "e.fll"))
-    assert "`b` range [0, 1] widened to [0, 1.5]" in fz
-    back = parse(fz, "e.fz").rulebase
-    assert [v.n_terms for v in back.inputs] == [0, 2]
 
 
 TSUKAMOTO_FLL = """Engine: tsukamoto
@@ -772,3 +775,23 @@ def test_drastic_product_within_fuzzylite6_epsilon_and_pyfuzzylite_empty_set():
     rb = read_fll(text, "dp.fll").rulebase
     assert evaluate_as(rb, [[0.5]], "fuzzylite")[0, 0] == pytest.approx(1.01, abs=1e-12)
     assert math.isnan(evaluate_as(rb, [[0.5]], "pyfuzzylite")[0, 0])
+
+
+def test_a_fis_row_without_input_index_is_fuzzylites_chained_rule_that_never_fires():
+    # fuzzylite 6 writes its chained Laundry engine's `if Detergent is ... then Cycle is ...`
+    # as a row of zeros on the inputs; it reads such a row back as a rule that never fires
+    # (its CLI gives Cycle = nan everywhere, measured); so does the importer, with a note
+    text = ("[System]\nName='chained'\nType='mamdani'\nNumInputs=1\nNumOutputs=2\nNumRules=2\n"
+            "AndMethod='min'\nOrMethod='max'\nImpMethod='min'\nAggMethod='max'\n"
+            "DefuzzMethod='centroid'\n\n[Input1]\nName='x'\nRange=[0 10]\nNumMFs=1\n"
+            "MF1='a':'trimf',[0 10 20]\n\n[Output1]\nName='y'\nRange=[0 10]\nNumMFs=1\n"
+            "MF1='b':'trimf',[0 5 10]\n\n[Output2]\nName='z'\nRange=[0 10]\nNumMFs=1\n"
+            "MF1='c':'trimf',[0 5 10]\n\n[Rules]\n1, 1 0 (1) : 1\n0, 0 1 (1) : 1\n")
+    model = read_fis(text, "chained.fis")
+    assert any("rule at line 33 has no input index" in n for n in model.notes), model.notes
+    # x = 5: a = 0.5, y = 5 (a symmetric set); z's rule never fires: its default (the
+    # range's middle, 5, in the model) and NaN under fuzzylite's semantics
+    got = Chain(model).evaluate(np.array([[5.0]]))[0]
+    assert got.tolist() == pytest.approx([5.0, 5.0], abs=1e-12)
+    tool = Chain(model).evaluate(np.array([[5.0]]), "fuzzylite")[0]
+    assert tool[0] == pytest.approx(5.0, abs=1e-3) and math.isnan(tool[1])

@@ -17,6 +17,7 @@ from fuzzyc.errors import FuzzycError
 from fuzzyc.formats import READERS, WRITERS
 from fuzzyc.formats.tool_semantics import Chain
 from fuzzyc.engine.formula import Formula, FormulaError, parse_formula
+from fuzzyc.language.parser import parse
 from fuzzyc.verifier.reach.rulebase import unsupported
 
 # fuzzylite 6's approximation example (takagi-sugeno/approximation.fll), cut to three terms:
@@ -214,11 +215,10 @@ def test_exports_write_formulas_where_the_format_can():
         again = READERS[fmt](text, f"back{fmt}")
         np.testing.assert_allclose(Chain(again).evaluate(x), expected, rtol=1e-12)
     assert "DEFAULT := 0 | NC;" in WRITERS[".fcl"](model, [])
-    for fmt, words in ((".fis", "FIS cannot say that `outputFx` holds its last value"),
-                       (".fz", ".fz has no formula terms: `fx` of `trueFx`")):
-        with pytest.raises(FuzzycError) as err:
-            WRITERS[fmt](model, [])
-        assert words in str(err.value)
+    with pytest.raises(FuzzycError) as err:
+        WRITERS[".fis"](model, [])
+    assert "FIS cannot say that `outputFx` holds its last value" in str(err.value)
+    # .fz: test_fz_writes_formulas_and_hold_and_reads_them_back
 
 
 def test_grouped_weighted_average_reads_the_function_value():
@@ -257,3 +257,61 @@ def test_a_formula_written_back_reads_back_the_same(tree):
     assert again.tree == tree, text
     env = {"x": np.array([0.0, 0.5, -3.0]), "a": 2.0, "b": 1e-3}
     np.testing.assert_array_equal(again.evaluate(env), Formula("", tree).evaluate(env))
+
+
+# ---- the same in .fz: `f = formula("...")` and `var y ... hold_last` (issue 28: .fz says what
+# the model holds, so converted files keep them)
+
+def test_fz_writes_formulas_and_hold_and_reads_them_back():
+    model = READERS[".fll"](APPROXIMATION, "approximation.fll")
+    text = WRITERS[".fz"](model, [])
+    assert "  var outputFx in [-1, 1] default 0 hold_last\n" in text
+    assert '  terms trueFx : fx = formula("sin(inputX) / inputX")\n' in text
+    assert '  terms diffFx : diff = formula("fabs(outputFx - trueFx)")\n' in text
+    back = parse(text, "approximation.fz")
+    x = np.array([[1.5], [10.0], [10.0], [0.0]])
+    for semantics in ("exact", "fuzzylite", "pyfuzzylite"):
+        assert np.array_equal(Chain(back).evaluate(x, semantics),
+                              Chain(model).evaluate(x, semantics), equal_nan=True)
+    # by hand, as above: 0.645 at 1.5, held at 10 (NEAR_9 is 0 there)
+    assert Chain(back).evaluate(x)[:3, 0] == pytest.approx([0.645] * 3)
+
+
+def test_a_fz_formula_term_by_hand():
+    # MAMDANI above, written in .fz: a = 1 -> half = 1 - 1/2 = 0.5; centroid 11/18
+    text = """controller m {
+      input a in [0, 2]
+      terms a : half = formula("1 - x / 2")
+      var y in [0, 1] default 0
+      terms y : up = formula("x")
+      inference and = min, or = max, implication = min, aggregation = max, defuzzify = centroid
+      rule if a is half then y is up
+      output y_out in [0, 1] = y
+    }"""
+    model = parse(text, "m.fz")
+    assert evaluate(model.rulebase, np.array([[1.0]]))[0, 0] == pytest.approx(11 / 18, abs=1e-6)
+    held = parse(text.replace("default 0\n", "default 0 hold_last\n"), "m.fz")
+    # a = 2: half = 0, nothing fires: the held output keeps the 11/18 of a = 1
+    controller = Controller(held, batch=1)
+    controller.step({"a": np.array([1.0])})
+    assert controller.step({"a": np.array([2.0])})["y_out"] == pytest.approx([11 / 18], abs=1e-6)
+
+
+@pytest.mark.parametrize("formula, col, words", [
+    ("1 - z / 2", 37, "`z`: an input's Function term reads x (the input's value) only"),
+    ("open(x)", 33, "unknown function `open`"),
+    ("__import__('os')", 44, "unexpected `'`"),
+    ("1 \\\\ 2", 33, "a formula has no backslash"),
+])
+def test_fz_formula_errors_are_located(formula, col, words):
+    text = f"""controller m {{
+      input a in [0, 2]
+      terms a : half = formula("{formula}")
+      var y in [0, 1] default 0
+      terms y : up = tri(0, 1, 1)
+      rule if a is half then y is up
+      output y_out in [0, 1] = y
+    }}"""
+    with pytest.raises(FuzzycError) as err:
+        parse(text, "m.fz")
+    assert f"m.fz:3:{col}: error: {words}" in str(err.value), str(err.value)

@@ -1,8 +1,9 @@
 """Every random rule base of the differential fuzzer that imports converts to `.fz` and reads
 back with the same numbers under every semantics (issue 28), at the generator's evaluation
 points: bit-identical, NaN and NaN, or within 1e-12 (tests/differential/roundtrip.py).  A
-model `.fz` cannot say is refused by the writer naming the construct (docs/formats.md lists
-them); anything else (a file that does not read back, other numbers, a crash) fails.
+file the writer refuses, one that does not read back, other numbers or a crash fails: `.fz`
+says everything these generators write (terms peaking outside their ranges included: a
+located warning when read back, docs/formats.md).
 `python -m differential` reports the same per tool over its campaign."""
 from __future__ import annotations
 
@@ -18,8 +19,6 @@ from tests.differential.roundtrip import fz_round_trip
 from tests.differential.spec import Generator, evaluation_points
 
 PER_FORMAT = 40
-# what .fz cannot say of these files (docs/formats.md, "What `.fz` cannot say")
-REFUSALS = ("peaks inside its range",)
 
 
 # FLL in pyfuzzylite's vocabulary (fuzzylite 6's is a subset of it) and fuzzylite's FCL; the
@@ -39,10 +38,7 @@ def test_random_rule_bases_round_trip_through_fz(fmt, tmp_path):
             continue
         x = np.array(evaluation_points(system, k))
         done = fz_round_trip(model, x, str(path.with_suffix(".fz")))
-        if done.status == "refused":
-            assert any(words in done.message for words in REFUSALS), (path.name, done.message)
-        else:
-            assert done.status == "same", (path.name, render(system), done.message)
+        assert done.status == "same", (path.name, render(system), done.message)
         outcomes[done.status] += 1
-    # most files import and come back (the generator puts some break points outside ranges)
-    assert outcomes["same"] >= PER_FORMAT // 2, outcomes
+    # most files import (the tools' vocabulary is wider than ours in a few refused corners)
+    assert outcomes["same"] >= PER_FORMAT * 9 // 10, outcomes

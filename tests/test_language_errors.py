@@ -62,8 +62,7 @@ CASES = [
     (replace("    PS PB PB\n", ""), 11, 3, ["4 rows", "declares 5"]),
     # 7 degenerate triangle (a > b)
     (replace("N = tri(-2, -1, 0)", "N = tri(-1, -2, 0)"), 7, 21, ["degenerate tri", "a <= b <= c"]),
-    # 8 term outside its variable's range
-    (replace("P = tri(0, 1, 2)", "P = tri(1, 2, 3)"), 7, 53, ["term `P`", "outside the range"]),
+    # 8 (a term peaking outside its range is a warning: test_a_term_peaking_outside_...)
     # 9 unit mismatch in a subtraction, at the operand that disagrees (`f` of `Yr - f`)
     (replace("input f : kHz", "input f : Hz"), 5, 34, ["unit mismatch", "kHz", "Hz"]),
     # 10 a conclusion that names an input
@@ -149,6 +148,24 @@ def test_cli_prints_diagnostics_without_traceback_and_exits_2(tmp_path, capsys):
     err = capsys.readouterr().err
     assert f"{bad}:13:8: error: unknown term `PM`" in err
     assert "Traceback" not in err
+
+
+def test_a_term_peaking_outside_its_range_is_read_with_a_located_warning(tmp_path, capsys):
+    # legal in FLL, FCL and FIS, so .fz says it too (issue 28): the file is read, `check`
+    # prints the warning at the term's name (line 7, column 53) and exits 0
+    good = tmp_path / "good.fz"
+    good.write_text(replace("P = tri(0, 1, 2)", "P = tri(1, 2, 3)"))
+    assert main(["check", str(good)]) == 0
+    out, err = capsys.readouterr()
+    assert out.startswith(f"{good}: demo: ")
+    assert err.startswith(f"{good}:7:53: warning: term `P` of `e` peaks at 2, outside the range "
+                          "[-1, 1]: inputs inside the range meet only its flank; widen the "
+                          "range if the term is meant\n")
+    assert err.splitlines()[2].index("^") == 4 + 53 - 1
+    # an output term: the defuzzifier reads the output's range only
+    [warning] = parse(replace("PB=1", "PB=1.5"), "w.fz").warnings
+    assert (warning.loc.line, warning.message.split(": ")[-1]) == (
+        10, "the defuzzifier reads the output's range only; widen the range if the term is meant")
 
 
 def test_unreadable_file_is_a_clean_error(tmp_path, capsys):

@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from fuzzyc.cli import main
 from fuzzyc.engine.inference import activations, evaluate
 from fuzzyc.errors import FuzzycError
-from fuzzyc.formats import read_fll, write_fz
+from fuzzyc.formats import read_fis, read_fll, write_fz
 from fuzzyc.language.parser import keywords, parse
 
 SINGLETON_AVERAGE = ("inference and = min, or = max, implication = min, aggregation = max, "
@@ -206,3 +206,73 @@ def test_fll_keyword_names_are_quoted_in_the_fz_and_evaluate_as_imported():
                                [[0.5, 0.5, 0.5 ** 0.5 * 0.5]], rtol=0, atol=1e-12)
     np.testing.assert_allclose(evaluate(back.rulebase, POINTS),
                                evaluate(imported.rulebase, POINTS), rtol=0, atol=1e-12)
+
+
+# ---- any name a FIS file holds (`Food-Quality`, `a b`, `x*/`) is written in backticks
+
+def fis_named(x: str, y: str, t1: str, t2: str) -> str:
+    """One input x with terms t1 = trimf [0 0 10], t2 = trimf [0 10 10]; a Sugeno output y
+    with constants t1 = 2 and t2 = 8; rules t1 -> t1, t2 -> t2."""
+    return (f"[System]\nName='n'\nType='sugeno'\nNumInputs=1\nNumOutputs=1\nNumRules=2\n"
+            "AndMethod='min'\nOrMethod='max'\nImpMethod='prod'\nAggMethod='sum'\n"
+            f"DefuzzMethod='wtaver'\n\n[Input1]\nName='{x}'\nRange=[0 10]\nNumMFs=2\n"
+            f"MF1='{t1}':'trimf',[0 0 10]\nMF2='{t2}':'trimf',[0 10 10]\n\n[Output1]\n"
+            f"Name='{y}'\nRange=[0 10]\nNumMFs=2\nMF1='{t1}':'constant',[2]\n"
+            f"MF2='{t2}':'constant',[8]\n\n[Rules]\n1, 1 (1) : 1\n2, 2 (1) : 1\n")
+
+
+FIS_NAMES = st.text(st.characters(blacklist_characters="'", blacklist_categories=("Cs",)),
+                    min_size=1, max_size=6)
+UNQUOTABLE = re.compile(r"[`.\x00-\x1f\x7f\x85\u2028\u2029]")
+
+
+@settings(max_examples=150, deadline=None)
+@given(st.lists(FIS_NAMES, min_size=2, max_size=2, unique=True),
+       st.lists(FIS_NAMES, min_size=2, max_size=2, unique=True))
+def test_any_fis_name_converts_to_fz_in_backticks_or_is_refused_by_name(variables, terms):
+    try:
+        imported = read_fis(fis_named(*variables, *terms), "named.fis")
+    except FuzzycError as refused:
+        assert re.match(r"^named\.fis:\d+:\d+: error: ", str(refused)), str(refused)
+        return
+    names = [v.name for v in imported.rulebase.inputs + imported.rulebase.outputs] + \
+        list(imported.rulebase.inputs[0].names)
+    unsayable = [n for n in names if UNQUOTABLE.search(n)]
+    try:
+        text = write_fz(imported)
+    except FuzzycError as refused:
+        assert unsayable, str(refused)
+        assert f"the name {unsayable[0]!r} cannot be written in .fz" in str(refused)
+        return
+    assert not unsayable, text
+    back = parse(text, "named.fz").rulebase
+    assert [v.name for v in back.inputs + back.outputs] == names[:2]
+    assert list(back.inputs[0].names) == names[2:]
+    # x = 2.5: t1 = 0.75, t2 = 0.25: y = (0.75*2 + 0.25*8) / 1 = 3.5
+    assert evaluate(back, [[2.5]])[0, 0] == pytest.approx(3.5, abs=1e-12)
+
+
+def test_octave_style_names_convert_to_fz_in_backticks():
+    """Not vacuous: the Octave toolkit's `Food-Quality` and names with spaces and C comment
+    marks come back as they were."""
+    imported = read_fis(fis_named("Food-Quality", "Tip */ int", "a b", "x;y"), "named.fis")
+    text = write_fz(imported)
+    assert "input `Food-Quality` in [0, 10]" in text
+    assert "terms `Food-Quality` : `a b` = tri(0, 0, 10), `x;y` = tri(0, 10, 10)" in text
+    back = parse(text, "named.fz").rulebase
+    assert [v.name for v in back.inputs + back.outputs] == ["Food-Quality", "Tip */ int"]
+    assert evaluate(back, [[2.5]])[0, 0] == pytest.approx(3.5, abs=1e-12)
+    with pytest.raises(FuzzycError, match=r"the name 'a\.b' cannot be written in \.fz \(a "
+                                          "name there is in backticks any character but a "
+                                          "backtick, a dot or a control character"):
+        write_fz(read_fis(fis_named("x", "y", "a.b", "c"), "named.fis"))
+
+
+def test_names_fuzzyc_reserves_are_refused_by_the_fz_writer():
+    # `__x` starts like the names fuzzyc generates; an output `_` would give the controller
+    # output `__out`: both refused by name instead of a .fz file that does not read back
+    with pytest.raises(FuzzycError, match=r"the name '__x' cannot be written in \.fz"):
+        write_fz(read_fis(fis_named("__x", "y", "a", "b"), "named.fis"))
+    with pytest.raises(FuzzycError, match="the controller output `__out` made from `_` starts "
+                                          "with __"):
+        write_fz(read_fis(fis_named("x", "_", "a", "b"), "named.fis"))

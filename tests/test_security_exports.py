@@ -35,19 +35,21 @@ def fis_model(folder: Path, names: dict[str, str]):
 def test_hostile_names_are_refused_by_name_or_kept(tmp_path):
     names = dict(zip(KEYS, ("x */ int injected = 5; /* y", "lo", "hi", "u", "a b", "big")))
     model = fis_model(tmp_path, names)
-    for suffix in (".fz", ".fll", ".fcl"):
+    for suffix in (".fll", ".fcl"):
         with pytest.raises(FuzzycError) as refused:
             save(model, tmp_path / f"out{suffix}")
         message = str(refused.value)
         assert "'x */ int injected = 5; /* y' cannot be written" in message
         assert "'a b' cannot be written" in message
         assert not (tmp_path / f"out{suffix}").exists()
-    save(model, tmp_path / "out.fis")       # FIS quotes its names: they are kept
-    back = load_any(tmp_path / "out.fis")
-    assert names_of(back) == names_of(model)
-    x = np.array([[0.0], [0.25], [1.0]])
-    # wtaver of 2 and 8 with weights (1 - x, x): 2 + 6x = 2, 3.5, 8
-    assert np.allclose(evaluate(back.rulebase, x)[:, 0], [2.0, 3.5, 8.0])
+    for suffix in (".fis", ".fz"):          # FIS quotes its names, .fz backticks them: kept
+        save(model, tmp_path / f"out{suffix}")
+        back = load_any(tmp_path / f"out{suffix}")
+        assert names_of(back) == names_of(model)
+        x = np.array([[0.0], [0.25], [1.0]])
+        # wtaver of 2 and 8 with weights (1 - x, x): 2 + 6x = 2, 3.5, 8
+        assert np.allclose(evaluate(back.rulebase, x)[:, 0], [2.0, 3.5, 8.0])
+    assert "input `x */ int injected = 5; /* y` in [" in (tmp_path / "out.fz").read_text()
 
 
 def test_fis_refuses_what_its_quotes_cannot_hold(tmp_path):

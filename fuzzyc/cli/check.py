@@ -60,7 +60,12 @@ def run(args) -> int:
     for path in args.files:
         try:
             lines = fcl_summaries(str(path))
-            print("\n".join(lines) if lines is not None else summary(load(path)))
+            if lines is None:
+                model = load(path)
+                for warning in model.warnings:
+                    print(warning.format(), file=sys.stderr)
+                lines = [summary(model)]
+            print("\n".join(lines))
         except FuzzycError as exc:
             for diagnostic in exc.diagnostics:
                 print(diagnostic.format(), file=sys.stderr)

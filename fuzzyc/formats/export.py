@@ -16,7 +16,7 @@ import sympy
 
 from ..errors import Diagnostic, FuzzycError
 from ..display import plural
-from ..escape import name_problems
+from ..escape import FZ_QUOTED_NAME, SAFE_NAME, name_problems
 from ..semantics.model import (CondOp, Hedge, Model, OutputKind, TermKind, Variable,
                                chain_output_names)
 from .blocks import file_variables
@@ -36,11 +36,24 @@ def model_identifier(model: Model) -> str:
     return name if re.match(r"[A-Za-z_]", name) else "_" + name
 
 
+# `__` starts the names fuzzyc generates (language.builder.chain.RESERVED_PREFIX)
+FZ_NAME = re.compile(f"(?!__)(?:{SAFE_NAME.pattern}|{FZ_QUOTED_NAME.pattern})")
+
+
 def unsayable_names(model: Model, fmt: str) -> list[str]:
-    """The variable and term names of the rule base that are not letters, digits and _ (the
-    names of .fz, FLL and FCL): written as they are they would read back as something else."""
+    """The variable and term names of the rule base that the format cannot say: not letters,
+    digits and _ (FLL and FCL), or, in .fz, which writes other names in backticks, a name
+    with a backtick, a dot or a control character: written as they are they would read back
+    as something else."""
     inputs, outputs = file_variables(model)
-    return name_problems([n for v in inputs + outputs for n in (v.name, *v.names)], fmt)
+    names = [n for v in inputs + outputs for n in (v.name, *v.names)]
+    return fz_name_problems(names) if fmt == ".fz" else name_problems(names, fmt)
+
+
+def fz_name_problems(names) -> list[str]:
+    return name_problems(names, ".fz", FZ_NAME, "in backticks any character but a backtick, a "
+                                                "dot or a control character, not starting "
+                                                "with __")
 
 
 def refuse(model: Model, fmt: str, problems: list[str]) -> None:
@@ -120,8 +133,9 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
     case-insensitive, and fuzzylite 6 reads FCL rules only in lower case (measured).
     `says_any`: a rule without clauses (it always fires) is `if x is any` (fuzzylite's).
     `say` writes a variable or term name (.fz quotes its keywords); `hedged_conditions`: the
-    format says a hedge on a compound or hedged condition as `very (...)` and a weight under
-    it as `0.5 * (...)` (.fz)."""
+    format says a hedge on a compound or hedged condition as `very (...)`, a weight under
+    it as `0.5 * (...)` and a FIS row's hedge on a conclusion as `concluded very (...)` or
+    `carried very (...)` (.fz)."""
     rb = model.rulebase
 
     def clause(i: int, t: int, negated: bool, hedge: Hedge) -> str:
@@ -131,7 +145,8 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
             words.append(hedge_words.get(hedge, hedge.name.lower()))  # else refused already
         return " ".join([say(v.name), "is", *words, say(v.names[t]) if t >= 0 else "any"])
 
-    condition = rb.describe_condition(r, clause, ("and", "or", "not"))
+    condition = rb.describe_condition(r, clause, ("and", "or", "not", "concluded", "carried")
+                                      if hedged_conditions else ("and", "or", "not"))
     if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.HEDGE) \
             and not hedged_conditions:
         problems.append(f"rule {r + 1} hedges a compound condition or a hedged clause (read "
@@ -142,7 +157,8 @@ def rule_sentence(model: Model, r: int, hedge_words: dict[Hedge, str], also: str
         problems.append(f"rule {r + 1} weighs its activation before a hedge said on its "
                         "conclusion acts on it (fuzzylite's `then y is seldom z with w`: "
                         "seldom(w a)), which the format cannot say")
-    if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.CONCLUDED):
+    if r in rb.conditions and np.any(rb.conditions[r][:, 0] == CondOp.CONCLUDED) \
+            and not hedged_conditions:
         problems.append(f"rule {r + 1} comes from a FIS row with a hedge on a consequent (the "
                         "Octave toolkit's strength^(1/p), fuzzylite's hedge carried on to the "
                         "later conclusions), which the format cannot say")

@@ -33,11 +33,15 @@ def _at(loc: SourceLoc, offset: int) -> SourceLoc:
     return replace(loc, col=loc.col + offset)
 
 
-def check_reads(rb: RuleBase, specs: dict, rep: Reporter, inputs: dict) -> None:
+def check_reads(rb: RuleBase, specs: dict, rep: Reporter, inputs) -> None:
     """Report every name a function term reads that the model cannot give it: an input's
     term and an output's membership read x only; a Takagi-Sugeno value reads the rule base's
     inputs and the outputs before it (their values now; a later output or itself would be the
-    previous evaluation's value in fuzzylite: state), never x (fuzzylite's rule activation)."""
+    previous evaluation's value in fuzzylite: state), never x (fuzzylite's rule activation).
+    `specs`: the importers' VarSpecs by name (the formulas' places), or a function
+    (variable, term, name) -> the place of that name in the term's formula (the .fz
+    builder); `inputs`: the names of the file's inputs (a chained block's input is an
+    earlier block's output, checked there)."""
     for var in rb.inputs:
         if var.name in inputs:
             for t, formula in (var.formulas or {}).items():
@@ -68,7 +72,9 @@ def _only(formula, allowed: set[str], specs, var, t: int, rep: Reporter, why: st
         rep.error(_name_loc(specs, var, t, name), f"`{name}`: {why}")
 
 
-def _name_loc(specs: dict, var, t: int, name: str) -> SourceLoc | None:
+def _name_loc(specs, var, t: int, name: str) -> SourceLoc | None:
+    if callable(specs):
+        return specs(var, t, name)
     term = specs[var.name].terms[t]
     return _at(term.formula_loc, name_offset(term.formula.text, name)) if term.formula_loc \
         else term.loc

@@ -5,8 +5,9 @@ Inputs become `input` declarations with their terms, outputs `var` + `terms` and
 reading aid of the source, not part of the model).  A model with a signal chain is written as
 its bare rule base, with warnings naming what was left out.  A model of several rule blocks is
 written as `block NAME { ... }`s (each with its full inference), chained blocks included: the
-file evaluates as the model.  A name spelled like a .fz keyword is written in backticks
-(`rule`); a name that is no identifier at all is refused (`unsayable_names`).
+file evaluates as the model.  A name spelled like a .fz keyword, or no plain identifier, is
+written in backticks (`rule`, `Food-Quality`); one with a backtick, a dot or a control
+character is refused (`unsayable_names`).
 """
 from __future__ import annotations
 
@@ -15,15 +16,15 @@ import math
 import numpy as np
 
 from ..semantics.model import Hedge, Model, TermKind, Variable, chain_output_names
-from ..semantics.shapes import SHAPES, term_core
+from ..semantics.shapes import SHAPES
 from ..escape import one_line
 from ..semantics.tunable import parameter_names, shape_word, slots
 from ..engine.membership import linear_coefficients
 from ..semantics import operators as ops
 from ..language.parser import fz_name, keywords
 from .blocks import block_names, block_view, file_variables, linear_on, read_inputs
-from .export import (left_out, model_identifier, num, refuse, rule_sentence, unsayable_functions,
-                     unsayable_names)
+from .export import (left_out, model_identifier, num, refuse, rule_sentence,
+                     unsayable_functions, unsayable_names)
 
 # the .fz words: the operator registry's
 FZ_HEDGES = {h: rec.word for h, rec in ops.HEDGES.items() if h != Hedge.NONE}
@@ -38,18 +39,12 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
     inputs, outputs = file_variables(model)
     several = len(model.blocks) > 1
     names = _tuned_rule_names(model)      # rules whose weight the tune section names
-    problems = unsayable_names(model, ".fz") + unsayable_functions(model, ".fz", False, False)
+    problems = unsayable_names(model, ".fz") + unsayable_functions(model, ".fz", True, True)
     lines = [f"controller {fz_name(model_identifier(model))} {_string(model.title)} {{"
              .replace("  ", " ")]
-    ranges = [_holding_peaks(var) for var in inputs]
-    problems += _clamped_widening(model, inputs, ranges)
-    notes = [*model.notes, *(f"`{var.name}` range [{num(var.lo)}, {num(var.hi)}] widened to "
-                             f"[{num(lo)}, {num(hi)}]: a .fz term must peak inside its range"
-                             for var, (lo, hi) in zip(inputs, ranges)
-                             if (lo, hi) != (var.lo, var.hi))]
-    lines += [f"  note {_string(n)}" for n in notes]
-    for var, (lo, hi) in zip(inputs, ranges):
-        lines.append(f"  input {fz_name(var.name)}{_unit(var)} in [{num(lo)}, {num(hi)}]")
+    lines += [f"  note {_string(n)}" for n in model.notes]
+    for var in inputs:
+        lines.append(f"  input {fz_name(var.name)}{_unit(var)} in [{num(var.lo)}, {num(var.hi)}]")
     for var in inputs:
         lines.append(f"  terms {fz_name(var.name)} : {_terms(var, problems)}".rstrip())
     for rb in model.blocks:
@@ -57,9 +52,9 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
         read = read_inputs(rb, inputs + outputs) if several else rb.inputs
         for var in rb.outputs:
             var = linear_on(var, rb.inputs, read, problems)
-            problems += _peaks_outside(var)
             lines.append(f"  var {fz_name(var.name)}{_unit(var)} "
-                         f"in [{num(var.lo)}, {num(var.hi)}] default {num(var.default)}")
+                         f"in [{num(var.lo)}, {num(var.hi)}] default {num(var.default)}"
+                         + (" hold_last" if var.lock_previous else ""))
             lines.append(f"  terms {fz_name(var.name)} : {_terms(var, problems, len(read))}")
     lines += _fuzzylite_lines(model)
     if several:
@@ -72,6 +67,9 @@ def write_fz(model: Model, warnings: list[str] | None = None) -> str:
         lines += _block_lines(model, problems, names.get(0, {}))
     # `y_out`, or `y_out2` when the file has a `y_out` of its own: as the importers name it
     chain = chain_output_names([v.name for v in outputs], [v.name for v in inputs + outputs])
+    problems += [f"the controller output `{out}` made from `{var.name}` starts with __, which "
+                 f"fuzzyc reserves for the names it generates; rename `{var.name}`"
+                 for var, out in zip(outputs, chain) if out.startswith("__")]
     for var, out in zip(outputs, chain):
         lines.append(f"  output {fz_name(out)}{_unit(var)} "
                      f"in [{num(var.lo)}, {num(var.hi)}] = {fz_name(var.name)}")
@@ -125,49 +123,6 @@ def _string(text: str) -> str:
     return '"' + one_line(text).replace("\\", "/").replace('"', "'") + '"'
 
 
-def _holding_peaks(var: Variable) -> tuple[float, float]:
-    """An input's range, widened where a term peaks outside it (legal in FLL and FIS, where
-    MATLAB's invkine and membrn examples have such terms; the inputs' numbers are unchanged)."""
-    cores = [term_core(TermKind(int(k)), var.term_numbers(t)) for t, k in enumerate(var.kinds)]
-    return (min([float(var.lo), *(c[1] for c in cores)]),
-            max([float(var.hi), *(c[0] for c in cores)]))
-
-
-def _peaks_outside(var: Variable) -> list[str]:
-    """An output term peaking outside the output's range (legal in FLL, FCL and FIS; a .fz
-    term must peak inside its range, and widening an output's range would move its
-    defuzzified value): refused by name."""
-    found = []
-    for t, kind in enumerate(var.kinds):
-        if kind in (TermKind.LINEAR, TermKind.FUNCTION):
-            continue
-        lo, hi = term_core(TermKind(int(kind)), var.term_numbers(t))
-        if hi < var.lo or lo > var.hi:
-            where = num(lo) if lo == hi else f"[{num(lo)}, {num(hi)}]"
-            found.append(f"term `{var.names[t]}` of output `{var.name}` peaks at {where}, "
-                         f"outside its range [{num(var.lo)}, {num(var.hi)}] (a .fz term "
-                         "peaks inside its range)")
-    return found
-
-
-def _clamped_widening(model: Model, inputs: list[Variable],
-                      ranges: list[tuple[float, float]]) -> list[str]:
-    """An input whose range the writer would widen (`_holding_peaks`) where the range itself
-    acts: fuzzylite's lock-range clamps the input to it, and a Linear term reads its inputs
-    clamped to their ranges (exact semantics): refused by name, the numbers would move."""
-    from .tool_semantics import file_settings      # it imports the engine, which imports us
-    locked = file_settings(model).locked
-    linear = {v.name for rb in model.blocks for o in rb.outputs
-              if np.any(o.kinds == TermKind.LINEAR) for v in rb.inputs}
-    return [f"input `{var.name}` has a term peaking outside its range [{num(var.lo)}, "
-            f"{num(var.hi)}] (a .fz term peaks inside its range: the range would become "
-            f"[{num(lo)}, {num(hi)}]), and "
-            + ("fuzzylite's lock-range clamps it to that range" if var.name in locked else
-               "a Linear term reads it clamped to that range")
-            for var, (lo, hi) in zip(inputs, ranges)
-            if (lo, hi) != (var.lo, var.hi) and (var.name in locked or var.name in linear)]
-
-
 def _unit(var: Variable) -> str:
     return f" : {var.unit}" if var.unit else ""
 
@@ -178,7 +133,7 @@ def _terms(var: Variable, problems: list[str], n_inputs: int = 0) -> str:
                      if kind == TermKind.LINEAR else
                      f"{fz_name(name)} = discrete({', '.join(map(num, var.term_numbers(t)))})"
                      if kind == TermKind.DISCRETE else
-                     f"{name} = function"      # refused (unsayable_functions): never written
+                     f'{fz_name(name)} = formula("{var.formulas[t].infix()}")'
                      if kind == TermKind.FUNCTION else
                      f"{fz_name(name)} = "
                      f"{_shape(TermKind(int(kind)), p, var.name, name, problems)}"

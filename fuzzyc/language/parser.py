@@ -21,6 +21,7 @@ from lark.exceptions import UnexpectedCharacters, UnexpectedEOF, UnexpectedInput
 
 from .builder import Builder
 from ..errors import Reporter, shown_char, source_lines
+from ..escape import FZ_QUOTED_NAME, SAFE_NAME
 from .limits import MAX_NESTING, check_model, number_problem, read_rule_file
 from .recovery import Recovery
 from .syntax_hints import keyword_case, shape_suggestion, unclosed_brace, unfinished_statement
@@ -68,7 +69,8 @@ class _Names(PostLex):
 
 
 def _grammar() -> str:
-    return resources.files("fuzzyc").joinpath("language/grammar/fuzzyc.lark").read_text()
+    text = resources.files("fuzzyc").joinpath("language/grammar/fuzzyc.lark").read_text()
+    return text.replace("/`QUOTED_NAME`/", f"/`{FZ_QUOTED_NAME.pattern}`/")
 
 
 @functools.lru_cache(maxsize=1)
@@ -86,8 +88,10 @@ def keywords() -> frozenset[str]:
 
 
 def fz_name(name: str) -> str:
-    """`name` as .fz text: in backticks when it is a keyword."""
-    return f"`{name}`" if name in keywords() else name
+    """`name` as .fz text: in backticks when it is a keyword or no plain identifier
+    (`Food-Quality`); a name no backticks can hold (escape.FZ_QUOTED_NAME) is refused by the
+    writer first (formats.export.unsayable_names)."""
+    return f"`{name}`" if name in keywords() or not SAFE_NAME.fullmatch(name) else name
 
 
 def load(path: str | Path) -> Model:

@@ -53,7 +53,8 @@ class Clause:
 
 @dataclass
 class Condition:
-    connective: str          # "and" | "or" | "not" | "hedge" (one part)
+    connective: str          # "and" | "or" | "not" | "hedge" | "concluded" | "carried" (one
+    #                          part) | "weight"
     parts: list[Any]         # Clause | Condition
     hedge: str | None = None  # "hedge": its word (`very (a is x or b is y)`)
     weight: Any = None        # "weight": its Num (`seldom (0.5 * (a is x))`)
@@ -70,6 +71,8 @@ class TermDef:
     name: Name
     shape: str
     args: list[Num]
+    formula: str | None = None        # shape "formula": its text, found at formula_loc
+    formula_loc: SourceLoc | None = None
 
 
 @dataclass
@@ -195,6 +198,9 @@ class ToSyntax(Transformer):
     def hedge_cond(self, items):
         return Condition("hedge", [items[-1]], str(items[0]))
 
+    def concluded_cond(self, items):
+        return Condition(str(items[0]), [items[-1]], str(items[1]) if len(items) == 3 else None)
+
     def weighted_cond(self, items):
         return Condition("weight", [items[-1]], weight=items[0])
 
@@ -212,6 +218,11 @@ class ToSyntax(Transformer):
     # ---- terms
     def term_def(self, items):
         return TermDef(items[0], str(items[1]), list(items[2:]))
+
+    def formula_def(self, items):
+        text = items[1]
+        return TermDef(items[0], "formula", [], str(text)[1:-1],
+                       SourceLoc(self.file, text.line, text.column + 1))
 
     def term_list(self, items):
         return ("list", list(items))
@@ -283,8 +294,11 @@ class ToSyntax(Transformer):
 
     @v_args(meta=True)
     def var(self, meta, items):
-        data = {"name": items[0], "unit": None, "range": None, "default": None}
+        data = {"name": items[0], "unit": None, "range": None, "default": None, "hold": False}
         for item in items[1:]:
+            if isinstance(item, Token) and item.type == "HOLD":
+                data["hold"] = True
+                continue
             key = "range" if isinstance(item, tuple) else "unit" if isinstance(item, list) else "default"
             data[key] = item
         return self._stmt("var", meta, data)

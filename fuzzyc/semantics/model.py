@@ -440,7 +440,8 @@ class RuleBase:
     def describe_condition(self, r: int, clause, words=("and", "or", "not")) -> str:
         """The condition of rule r as text: clause(input, term, negated, hedge) writes one
         clause (term -1: `any`); `words` are the connectives and the prefix negation of a
-        compound condition in the target syntax."""
+        compound condition in the target syntax, and where the syntax has them (.fz) the words
+        of a hedge said on this rule's conclusion and on an earlier one (CondOp.CONCLUDED)."""
         if r not in self.conditions:
             conn = f" {words[0]} " if self.connective[r] == Connective.AND else f" {words[1]} "
             return conn.join(clause(i, int(t), bool(self.negated[r, i]),
@@ -461,6 +462,11 @@ class RuleBase:
             elif op == CondOp.WEIGHT:         # weighed before the hedges above it
                 text, top, leaf = stack.pop()
                 stack.append((f"{weight_of(t)!r} * ({text})", CondOp.CLAUSE, None))
+            elif op == CondOp.CONCLUDED and len(words) > 3:     # .fz: `concluded very (...)`
+                text, top, leaf = stack.pop()
+                said = " ".join([words[3] if t else words[4], *([Hedge(h).name.lower()] if h
+                                                                else [])])
+                stack.append((f"{said} ({text})", CondOp.CLAUSE, None))
             elif op == CondOp.CONCLUDED:      # said on a conclusion: shown, not a clause word
                 text, top, leaf = stack.pop()
                 said = f"{Hedge(h).name.lower()} on {'this' if t else 'an earlier'} conclusion"
@@ -581,6 +587,9 @@ class Model:
     source_path: str | None = None
     source_text: str | None = None
     notes: list[str] = field(default_factory=list)   # findings recorded in the file
+    # a .fz file's located warnings (errors.Diagnostic, severity "warning"): what the reader
+    # found legal but likely not meant; `fuzzyc check` prints them
+    warnings: list = field(default_factory=list)
     # a .fz file's `fuzzylite` statements: what fuzzylite's semantics read of an imported
     # file (formats.tool_semantics.FileSettings; `locked`, `resolution`, `nan_default`,
     # `known`), None where the file has none (FLL and FCL files: read off their text)

@@ -5,9 +5,12 @@ Builder walks the statements; each kind has its handler in the module of its con
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import sympy
 
 from .. import units
+from ...engine.formula import name_offset
 from ...errors import Reporter
 from ...semantics.model import Model, Output, Param, Property, Signal, SourceLoc, Step
 from ..syntax import Expr, Name, Num, Stmt
@@ -48,6 +51,7 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
             handler = getattr(self, f"_stmt_{stmt.kind}")
             handler(stmt)
         blocks = self._rulebases()
+        self._check_formula_reads(blocks)
         self.check_property_inputs(blocks)
         tunables = self._tunables(tree["statements"], blocks)
         self.rep.raise_if_any()
@@ -55,10 +59,24 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
                      period=self.period, params=self.params, signals=list(self.signals.values()),
                      steps=self.steps, outputs=self.outputs, properties=self.properties,
                      source_path=path, source_text=text, notes=self.notes,
-                     tunables=tunables, fuzzylite=self.fuzzylite)
+                     tunables=tunables, fuzzylite=self.fuzzylite,
+                     warnings=list(self.rep.warnings))
 
     def error(self, loc: SourceLoc, message: str) -> None:
         self.rep.error(loc, message)
+
+    def _check_formula_reads(self, blocks) -> None:
+        """The names the `formula(...)` terms read, as the importers check fuzzylite's."""
+        if not any(v.formulas for v in self.vars.values()):
+            return
+        from ...formats.functions import check_reads   # formats builds on the language
+
+        def where(var, t: int, name: str) -> SourceLoc:
+            formula, loc = self.vars[var.name].formulas[t]
+            return replace(loc, col=loc.col + name_offset(formula.text, name))
+        inputs = {name for name, v in self.vars.items() if v.is_input}
+        for rb in blocks:
+            check_reads(rb, where, self.rep, inputs)
 
     def _declare(self, name: Name, what: str) -> bool:
         if name.text.startswith(RESERVED_PREFIX):

@@ -4,11 +4,12 @@ stored as the model's kind and parameter arrays."""
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
 from .. import units
+from ...engine.formula import FormulaError, parse_formula
 from ...semantics.model import SourceLoc, TermKind, Variable
 from ...semantics.shapes import WORDS, plain_words, term_core
 from ..syntax import Name, Stmt, TermDef
@@ -34,6 +35,8 @@ class LinguisticVar:
     is_input: bool = False
     term_index: dict[str, int] = field(default_factory=dict)   # name -> place: linear cost
     stated: bool = False        # a `terms` statement names it (`terms x :` gives no terms)
+    hold: bool = False          # `var y ... hold_last`: Variable.lock_previous
+    formulas: dict[int, tuple] = field(default_factory=dict)   # term -> (Formula, its loc)
 
     def term_names(self) -> list[str]:
         return [t[0] for t in self.terms]
@@ -54,7 +57,8 @@ def to_variable(v: LinguisticVar) -> Variable:
         name=v.name, lo=float(v.lo), hi=float(v.hi), names=[t[0] for t in v.terms], kinds=kinds,
         params=params, unit=units.format_unit(v.unit) if v.unit else None, default=v.default,
         learnable=None if v.is_input else np.array(v.learnable, dtype=bool), loc=v.loc,
-        term_locs=[t[3] for t in v.terms])
+        term_locs=[t[3] for t in v.terms], lock_previous=v.hold,
+        formulas={t: formula for t, (formula, _) in v.formulas.items()} or None)
 
 
 class TermsBuilder:
@@ -74,6 +78,7 @@ class TermsBuilder:
             var.unit = units.make(s.data["unit"])
         if s.data["default"] is not None:
             var.default = s.data["default"].value
+        var.hold = s.data["hold"]
         self.vars[name.text] = var
 
     def _stmt_terms(self, s: Stmt) -> None:
@@ -154,6 +159,9 @@ class TermsBuilder:
         self._add_checked_term(var, term)                   # broken term say nothing more
 
     def _add_checked_term(self, var: LinguisticVar, term: TermDef) -> None:
+        if term.shape == "formula":
+            self._add_formula_term(var, term)
+            return
         shape, word = WORDS[term.shape]
         values = [n.value for n in term.args]
         arity = word.arity or len(values)
@@ -172,16 +180,38 @@ class TermsBuilder:
         self._append_term(var, term.name, shape.kind, word.params(values))
         self.broken.discard(f"{var.name}.{term.name.text}")
 
+    def _add_formula_term(self, var: LinguisticVar, term: TermDef) -> None:
+        """`f = formula("sin(x) / x")`: fuzzylite's Function term, parsed by its own grammar
+        (never evaluated as Python); the names it reads are checked with the rule blocks."""
+        if "\\" in term.formula:
+            self.error(term.formula_loc, "a formula has no backslash (a .fz string has no "
+                                         "escapes); remove it")
+            return
+        try:
+            formula = parse_formula(term.formula)
+        except FormulaError as exc:
+            self.error(replace(term.formula_loc, col=term.formula_loc.col + exc.offset),
+                       str(exc))
+            return
+        t = self._append_term(var, term.name, TermKind.FUNCTION, (0.0,) * 4)
+        var.formulas[t] = (formula, term.formula_loc)
+        self.broken.discard(f"{var.name}.{term.name.text}")
+
     def _append_term(self, var: LinguisticVar, name: Name, kind: TermKind, params,
                      learnable: bool = False) -> int:
         if name.text in var.term_index:
             self.error(name.loc, f"term `{name.text}` is already defined for `{var.name}`")
             return var.term_index[name.text]
         core = term_core(kind, params)
-        if core[1] < var.lo or core[0] > var.hi:
+        if kind != TermKind.FUNCTION and (core[1] < var.lo or core[0] > var.hi):
+            # legal (FLL, FCL and FIS files have such terms, and .fz says what they say), but
+            # likely a slip in a hand-written file: warned, where it is written
             where = f"{core[0]:g}" if core[0] == core[1] else f"[{core[0]:g}, {core[1]:g}]"
-            self.error(name.loc, f"term `{name.text}` of `{var.name}` peaks at {where}, outside "
-                                 f"the range [{var.lo:g}, {var.hi:g}]")
+            effect = ("inputs inside the range meet only its flank" if var.is_input else
+                      "the defuzzifier reads the output's range only")
+            self.rep.warn(name.loc, f"term `{name.text}` of `{var.name}` peaks at {where}, "
+                                    f"outside the range [{var.lo:g}, {var.hi:g}]: {effect}; "
+                                    "widen the range if the term is meant")
         var.term_index[name.text] = len(var.terms)
         var.terms.append((name.text, kind, tuple(float(p) for p in params), name.loc))
         var.learnable.append(learnable)
