@@ -66,8 +66,9 @@ class Trace:
     def from_csv(path: str | Path) -> "Trace":
         """Read back a batch-1 CSV written by `to_csv` (for tools and tests)."""
         with open(path, encoding="utf-8", newline="") as handle:
-            names = next(csv.reader(handle))
-        table = np.loadtxt(path, delimiter=",", skiprows=1, ndmin=2)
+            # one reader for header and rows: a name may hold a quoted line break
+            names, *rows = csv.reader(handle)
+        table = np.array(rows, dtype=float).reshape(len(rows), len(names))
         time = table[:, 0]
         period = float(time[1] - time[0]) if len(time) > 1 else 0.0
         return Trace(time, {n: table[:, i:i + 1] for i, n in enumerate(names) if i > 0}, period)

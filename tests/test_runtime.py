@@ -97,6 +97,15 @@ def test_csv_round_trip(tmp_path, first_order):
     assert not list(tmp_path.glob(".*"))     # no temporary file left behind
 
 
+def test_csv_round_trip_of_a_name_with_a_line_break(tmp_path):
+    # the header quotes "a\nb" over two lines; the rows are read after it, not from line 2
+    trace = Trace(np.array([0.0, 0.5]), {"a\nb": np.array([[1.0], [2.0]]),
+                                          "c,d": np.array([[3.0], [4.0]])}, 0.5)
+    back = Trace.from_csv(trace.to_csv(tmp_path / "t.csv"))
+    assert back.time.tolist() == [0.0, 0.5]
+    assert back["a\nb"][:, 0].tolist() == [1.0, 2.0] and back["c,d"][:, 0].tolist() == [3.0, 4.0]
+
+
 def test_metrics_on_a_hand_made_signal():
     t = np.arange(6.0)
     # two loops: one rises 0 -> 1.2 -> 1.0, one stays low

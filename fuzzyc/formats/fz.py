@@ -7,7 +7,7 @@ its bare rule base, with warnings naming what was left out.  A model of several 
 written as `block NAME { ... }`s (each with its full inference), chained blocks included: the
 file evaluates as the model.  A name spelled like a .fz keyword, or no plain identifier, is
 written in backticks (`rule`, `Food-Quality`); one with a backtick, a dot or a control
-character is refused (`unsayable_names`).
+character, or starting with __, is refused (`unsayable_names`).
 """
 from __future__ import annotations
 
