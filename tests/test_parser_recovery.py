@@ -252,7 +252,8 @@ def test_the_shape_message_lists_every_shape_the_grammar_takes():
     text = replace(VALID, "N = tri(-2, -1, 0), Z", "N = 3, Z")
     ((line, col, message),) = errors(text)
     assert (line, col) == (4, 17)
-    listed = re.fullmatch(r"unexpected `3`; expected a term shape \((.*)\)", message).group(1)
+    listed = re.fullmatch(r"unexpected `3`; expected a term shape \((.*)\) or "
+                          r"`formula\(\"\.\.\.\"\)`", message).group(1)
     shape = re.compile(_lark().get_terminal("SHAPE").pattern.to_regexp())
     assert len(shape_words()) == 22
     assert sorted(listed.split(", ")) == sorted(shape_words())

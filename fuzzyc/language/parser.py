@@ -202,7 +202,10 @@ def _hint(exc: UnexpectedToken, text: str) -> tuple[int, int, str] | None:
 
 
 def _expected_text(exc: UnexpectedToken) -> str:
-    return _one_of(sorted({_readable(t) for t in _expected(exc) if not t.startswith("__")}))
+    expected = _expected(exc)
+    if "SHAPE" in expected:     # `formula("...")` is said with the shapes
+        expected.discard("FORMULA")
+    return _one_of(sorted({_readable(t) for t in expected if not t.startswith("__")}))
 
 
 def _expected(exc: UnexpectedToken) -> set[str]:
@@ -223,7 +226,7 @@ def _readable(terminal: str) -> str:
     """How a terminal of the grammar reads in a message: its words, or the text it stands for
     (`-` for MINUS, `let` for LET)."""
     if terminal == "SHAPE":     # the registry's words (tests hold the grammar's equal to them)
-        return f"a term shape ({', '.join(sorted(registry_words()))})"
+        return f"a term shape ({', '.join(sorted(registry_words()))}) or `formula(\"...\")`"
     if terminal in READABLE:
         return READABLE[terminal]
     literal = _literals().get(terminal)
