@@ -134,11 +134,11 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
                sampling: Sampling, first_plateau: bool, octave: bool = False) -> np.ndarray:
     var, inf = rb.outputs[o], rb.inference_of(o)
     rules = np.flatnonzero(rb.consequents[:, o] >= 0)
+    if not rules.size and not octave:   # no rule concludes the output: its set is empty
+        return np.full(act.shape[0], var.default)
     u, w = _samples(var, resolution, sampling)                                       # (K,)
-    if not rules.size:      # no rule concludes the output: its set is empty
-        # the toolkit defuzzifies the empty set as it is (no default): its own numbers
-        return _octave_defuzzify(np.zeros((act.shape[0], u.size)), u, w, inf.defuzzifier) \
-            if octave else np.full(act.shape[0], var.default)
+    if not rules.size:      # the toolkit defuzzifies the empty set as it is (no default)
+        return _octave_defuzzify(np.zeros((act.shape[0], u.size)), u, w, inf.defuzzifier)
     mu = memberships(var, u)[:, rb.consequents[rules, o]].T                          # (R, K)
     a = act[:, rules, None]                                                          # (N, R, 1)
     if first_plateau and inf.implication == TNorm.DRASTIC_PRODUCT:
