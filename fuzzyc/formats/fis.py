@@ -23,8 +23,10 @@ NOT, the height 1 - strength^(1/p) (under --semantics octave only where the rule
 eval_rules_sugeno.m computes it).
 A weight on a row with a hedged or negated consequent weighs the strength before the
 consequent's steps (a CondOp.WEIGHT step), as both tools do.
-Not carried, reported: other MF types (discretemf, custom functions), type hybrid
-(fuzzylite: a defuzzifier per output); type tsukamoto (fuzzylite's: wtaver over monotonic terms) is the model's Tsukamoto defuzzifier.
+Not carried, reported: other MF types (discretemf, custom functions).  Type tsukamoto
+(fuzzylite's: wtaver over monotonic terms) is the model's Tsukamoto defuzzifier; type hybrid
+(fuzzylite's: a defuzzifier per output) gives the outputs of constant terms the weighted
+average (`_FisReader._hybrid`).
 When no rule fires, MATLAB's evalfis sets an output to the middle of its range (with a
 warning): the imported output's default is that middle, so both give the same number.
 
@@ -137,6 +139,7 @@ class _FisReader:
         self.var: VarSpec | None = None
         self.variables: list[tuple[bool, VarSpec]] = []   # in file order, for rule columns
         self.type = "mamdani"
+        self.type_loc = None
         self.pending_rules: list[tuple[int, str]] = []
         self.complements: dict[tuple[str, int, float], int] = {}   # (output, term, power)
 
@@ -159,6 +162,9 @@ class _FisReader:
     def _check_sugeno(self) -> None:
         weighted = self.got.inference.defuzzifier in (Defuzzifier.WEIGHTED_AVERAGE,
                                                       Defuzzifier.WEIGHTED_SUM)
+        if self.type == "hybrid":
+            self._hybrid(weighted)
+            return
         if self.type == "tsukamoto":      # fuzzylite's: wtaver over monotonic terms
             if self.got.inference.defuzzifier != Defuzzifier.WEIGHTED_AVERAGE or \
                     not tsukamoto_terms(self.got.outputs.values()):
@@ -177,6 +183,34 @@ class _FisReader:
                         (self.type == "sugeno"):
                     self.rep.error(term.loc, f"`{term.name}`: constant output terms belong to "
                                              "sugeno systems, and only they")
+
+    def _hybrid(self, weighted: bool) -> None:
+        """fuzzylite's `hybrid` FIS (its FisExporter, for an engine whose outputs have their
+        own defuzzifiers): DefuzzMethod for the outputs of area terms, the weighted average
+        (fuzzylite's WeightedAverage TakagiSugeno) for the outputs whose terms are all
+        `constant`, as the engine's .fll and .fcl say.  fuzzylite 6 itself reads the file
+        back with DefuzzMethod for every output, a Constant term then a membership flat over
+        the range; `fuzzylite flat` (tool_semantics.file_settings) gives that under its
+        semantics."""
+        if weighted:
+            self.rep.error(self.type_loc, "type `hybrid` needs the DefuzzMethod of its Mamdani "
+                                          "outputs (centroid, bisector, mom, som or lom); "
+                                          "write type sugeno for weighted averages")
+        for var in self.got.outputs.values():
+            kinds = {term.kind for term in var.terms}
+            if TermKind.LINEAR in kinds:
+                term = next(t for t in var.terms if t.kind == TermKind.LINEAR)
+                self.rep.error(term.loc, f"`{term.name}`: a linear term in a hybrid FIS is a "
+                                         "membership of the inputs over the whole range in "
+                                         "fuzzylite, which fuzzyc does not reproduce; use the "
+                                         "engine's .fll or .fcl")
+            elif kinds == {TermKind.SINGLETON}:
+                self.got.output_choices[var.name] = (self.got.inference.aggregation,
+                                                     Defuzzifier.WEIGHTED_AVERAGE)
+            elif TermKind.SINGLETON in kinds:
+                term = next(t for t in var.terms if t.kind == TermKind.SINGLETON)
+                self.rep.error(term.loc, f"`{term.name}`: an output of a hybrid FIS needs "
+                                         "constant terms only or none")
 
     def _line(self, number: int, body: str) -> None:
         section = SECTION.match(body)
@@ -214,15 +248,10 @@ class _FisReader:
             self.got.name = re.sub(r"\W", "_", _unquote(value))
         elif key == "Type":
             self.type = _unquote(value).lower()
-            if self.type == "hybrid":
-                # measured: the fuzzylite 6 CLI reads its own hybrid tipper.fis with the
-                # centroid for every output, its Constant terms flat (tsTip = 15 everywhere)
-                self.rep.error(loc, "type `hybrid` (fuzzylite's, a defuzzifier per output) is "
-                                    "not supported: FIS has one DefuzzMethod, which fuzzylite "
-                                    "itself reads back for every output; read the .fll or .fcl")
-            elif self.type not in ("mamdani", "sugeno", "tsukamoto"):
-                self.rep.error(loc, f"type `{self.type}` is not supported: mamdani, sugeno or "
-                                    "tsukamoto (fuzzylite's)")
+            self.type_loc = loc
+            if self.type not in ("mamdani", "sugeno", "tsukamoto", "hybrid"):
+                self.rep.error(loc, f"type `{self.type}` is not supported: mamdani, sugeno, "
+                                    "tsukamoto or hybrid (fuzzylite's)")
         elif key in SETTINGS:
             field, table = SETTINGS[key]
             table = {**table, **READ_ALSO.get(key, {})}

@@ -94,6 +94,8 @@ def _fuzzylite_lines(model: Model) -> list[str]:
     if said.nan_default:
         lines.append("  fuzzylite nan_default " + " ".join(map(fz_name,
                                                                  sorted(said.nan_default))))
+    if said.flat:
+        lines.append("  fuzzylite flat " + " ".join(map(fz_name, sorted(said.flat))))
     return lines
 
 

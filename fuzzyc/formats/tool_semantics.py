@@ -55,7 +55,7 @@ from ..semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hed
                                RuleBase, SNorm, TermKind, TNorm, Variable, aggregation_snorm,
                                weight_of)
 from ..engine.norms import S_NORMS, T_NORMS, combine, firing
-from ..engine.formula import parse_formula
+from ..engine.formula import Formula, parse_formula
 from ..engine.held_outputs import POLICIES, Held, reads_values
 from .fuzzylite_compat import FL6_S, FL6_T, FL_EPSILON, SAMPLED, Sampling, evaluate_sampled
 
@@ -122,7 +122,9 @@ def exact_equivalent(rb: RuleBase, semantics: str) -> tuple[RuleBase, str | None
 def with_tool_semantics(model: Model, semantics: str, command: str) -> Model:
     """The model whose exact numbers are the tool's, for what computes exactly (compile,
     verify, the C controller), or FuzzycError saying why the tool's numbers cannot be had so."""
-    done = [exact_equivalent(rb, semantics) for rb in model.blocks]
+    flat = file_settings(model).flat if parse_semantics(semantics)[0] in (
+        "fuzzylite", "pyfuzzylite") else set()
+    done = [exact_equivalent(fuzzylite_flat(rb, flat), semantics) for rb in model.blocks]
     for _, reason in done:
         if reason:
             raise FuzzycError([Diagnostic(None, f"{command} --semantics {semantics}: {reason}; "
@@ -143,6 +145,8 @@ class ToolEngine:
         self.name, self.resolution = parse_semantics(semantics)
         fuzzylite = self.name in ("fuzzylite", "pyfuzzylite")
         self.settings = settings if settings is not None and fuzzylite else FileSettings()
+        if fuzzylite:
+            self.rb = rb = fuzzylite_flat(rb, self.settings.flat)
         if self.resolution is None:        # each output its own (the file's, or the tool's)
             self.resolution = [self.settings.resolution.get(v.name) for v in rb.outputs]
         self.locked = np.array([v.name in self.settings.locked for v in rb.inputs], dtype=bool)
@@ -166,16 +170,20 @@ class FileSettings:
     and InputVariable, pyfuzzylite 8's variable.py): each variable's `lock-range` (inputs
     clamped to the range before the rules, outputs clipped after the default), each output's
     sampling resolution (FLL `Centroid 500`) and whether its default is `nan` (a numeric
-    default replaces a NaN output: no rule fired, or an empty fuzzy set)."""
+    default replaces a NaN output: no rule fired, or an empty fuzzy set).  `flat`: the outputs
+    of a hybrid FIS whose Constant terms fuzzylite 6 reads as memberships flat over the range
+    under the file's DefuzzMethod (`fuzzylite_flat`)."""
     locked: set[str] = field(default_factory=set)
     resolution: dict[str, int] = field(default_factory=dict)
     nan_default: set[str] = field(default_factory=set)
     known: bool = False       # read from an FLL or FCL file (other files: NaN stays NaN)
+    flat: set[str] = field(default_factory=set)
 
 
 FLL_SECTION = re.compile(r"^\s*(InputVariable|OutputVariable|RuleBlock|Engine)\s*:\s*(\S*)")
 FLL_SETTING = re.compile(r"^\s*(lock-range|defuzzifier|default)\s*:\s*(\S+)\s*(\S*)")
 FCL_OUTPUT = re.compile(r"DEFUZZIFY\s+(\w+)(.*?)END_DEFUZZIFY", re.S | re.I)
+FIS_HYBRID = re.compile(r"^\s*Type\s*=\s*'?hybrid\b", re.M | re.I)
 
 
 def file_settings(model: Model) -> FileSettings:
@@ -184,9 +192,14 @@ def file_settings(model: Model) -> FileSettings:
     if model.fuzzylite is not None:
         said = model.fuzzylite
         return FileSettings(set(said["locked"]), dict(said["resolution"]),
-                            set(said["nan_default"]), bool(said["known"]))
+                            set(said["nan_default"]), bool(said["known"]),
+                            set(said.get("flat", ())))
     text, path = model.source_text or "", (model.source_path or "").lower()
     found = FileSettings(known=path.endswith(".fll") or ".fcl" in path)
+    if path.endswith(".fis") and FIS_HYBRID.search(text):
+        # the outputs formats.fis read with the weighted average: all their terms constants
+        found.flat = {v.name for rb in model.blocks for v in rb.outputs
+                      if v.n_terms and np.all(v.kinds == TermKind.SINGLETON)}
     if path.endswith(".fll"):
         name = ""
         for line in text.splitlines():
@@ -246,7 +259,7 @@ class Chain:
         written: set[str] = set()
         for rb in self.blocks:
             if fuzzylite:
-                rb = reading_activations(rb, written)
+                rb = reading_activations(fuzzylite_flat(rb, settings.flat), written)
             xb = np.column_stack([env[v.name] for v in rb.inputs])
             # the rows are one controller's successive samples (fuzzylite's -d inputs.fld)
             y = evaluate_as(rb, xb, semantics, [resolution.get(v.name) for v in rb.outputs],
@@ -357,6 +370,28 @@ def fuzzylite_hedges(rb: RuleBase) -> RuleBase:
         programs[r] = p
     return replace(rb, hedges=np.where(rb.hedges == Hedge.EXTREMELY, Hedge.SHARPLY, rb.hedges),
                    conditions=programs)
+
+
+def fuzzylite_flat(rb: RuleBase, flat: set[str]) -> RuleBase:
+    """The rule base as fuzzylite 6 reads a hybrid FIS (its FisImporter: one DefuzzMethod):
+    each output named in `flat` follows the block's aggregation and defuzzifier, and its
+    Constant terms are memberships equal to the constant over the whole range (fuzzylite's
+    Constant::membership; measured, tipper.fis: tsTip = 15, the middle of [0, 30], wherever a
+    rule fires).  A FUNCTION term of the constant is that membership (fuzzyc.semantics.model)."""
+    names = [v.name for v in rb.outputs if v.name in flat]
+    if not names:
+        return rb
+    outputs = []
+    for var in rb.outputs:
+        if var.name in names:
+            singles = np.flatnonzero(var.kinds == TermKind.SINGLETON)
+            constants = {int(t): Formula(repr(float(var.params[t, 0])),
+                                         ("num", float(var.params[t, 0]))) for t in singles}
+            kinds = np.where(var.kinds == TermKind.SINGLETON, TermKind.FUNCTION, var.kinds)
+            var = replace(var, kinds=kinds, formulas={**(var.formulas or {}), **constants})
+        outputs.append(var)
+    choices = {k: v for k, v in rb.output_choices.items() if k not in names}
+    return replace(rb, outputs=outputs, output_choices=choices)
 
 
 def resolutions(rb: RuleBase, resolution: int | Sequence[int | None] | None,

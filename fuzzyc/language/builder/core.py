@@ -118,13 +118,14 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
         self.notes.append(s.data["text"])
 
     FUZZYLITE_KEYS = {"lock_range": "NAME...", "resolution": "OUTPUT INTEGER",
-                      "nan_default": "OUTPUT...", "replace_nan": ""}
+                      "nan_default": "OUTPUT...", "replace_nan": "", "flat": "OUTPUT..."}
 
     def _stmt_fuzzylite(self, s: Stmt) -> None:
         """`fuzzylite KEY ARGS`: a fuzzylite file's setting for its tools' semantics."""
         key, args = s.data["key"], s.data["args"]
         got = self.fuzzylite if self.fuzzylite is not None else \
-            {"locked": set(), "resolution": {}, "nan_default": set(), "known": False}
+            {"locked": set(), "resolution": {}, "nan_default": set(), "known": False,
+             "flat": set()}
         forms = ", ".join(f"`fuzzylite {k} {v}`".replace(" `", "`") for k, v in
                           self.FUZZYLITE_KEYS.items())
         names = [a for a in args if isinstance(a, Name)]
@@ -134,7 +135,7 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
             self.error(key.loc, f"unknown fuzzylite setting `{key.text}`: one of {forms}")
         elif key.text == "replace_nan" and args:
             self.error(where, "`fuzzylite replace_nan` takes nothing after it")
-        elif key.text in ("lock_range", "nan_default") and (numbers or not names):
+        elif key.text in ("lock_range", "nan_default", "flat") and (numbers or not names):
             self.error(where, f"`fuzzylite {key.text}` takes variable names")
         elif key.text == "resolution" and not (
                 len(args) == 2 and isinstance(args[0], Name) and isinstance(args[1], Num)
