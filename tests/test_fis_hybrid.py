@@ -131,3 +131,36 @@ def test_fuzzylite_cli_gives_the_flat_reading(tmp_path):
     names, got = oracles.fuzzylite_outputs(path, X)
     assert names == ["x", "m", "s"]
     np.testing.assert_allclose(got[:, 1:], _chain().evaluate(X, "fuzzylite"), atol=1e-3, rtol=0)
+
+
+FLAT_FZ = """controller c {
+  input x in [0, 1]
+  terms x : lo = tri(0, 0, 1), hi = tri(0, 1, 1)
+  var y in [0, 10]
+  terms y : a = singleton(2), b = singleton(8)
+  fuzzylite flat y
+  inference defuzzify = weighted_average
+  rule if x is lo then y is a
+  rule if x is hi then y is b
+  output u in [0, 10] = y
+}
+"""
+
+
+def test_fuzzylite_flat_in_fz_by_hand():
+    chain = Chain(parse(FLAT_FZ, "flat.fz"))
+    x = np.array([[0.25]])
+    # x = 0.25: lo 0.75, hi 0.25: (0.75*2 + 0.25*8) / 1 = 3.5.  Under a weighted-average
+    # block the flat reading changes nothing (a constant formula's value is the constant)
+    for semantics in ("exact", "fuzzylite"):
+        assert chain.evaluate(x, semantics)[0, 0] == pytest.approx(3.5, abs=1e-12)
+    centroid = Chain(parse(FLAT_FZ.replace("defuzzify = weighted_average",
+                                           "defuzzify = centroid"), "flat.fz"))
+    # under a centroid block every constant is flat over [0, 10]: the middle, 5
+    assert centroid.evaluate(x, "fuzzylite")[0, 0] == pytest.approx(5.0, abs=1e-9)
+
+
+def test_fuzzylite_flat_takes_concluded_variables():
+    with pytest.raises(FuzzycError, match=r"flat.fz:6:18: error: `fuzzylite flat` names the "
+                                          r"input `x`: it takes the variables the rules conclude"):
+        parse(FLAT_FZ.replace("fuzzylite flat y", "fuzzylite flat x"), "flat.fz")

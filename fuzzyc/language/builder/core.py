@@ -146,6 +146,11 @@ class Builder(ChainBuilder, TermsBuilder, RulesBuilder, PropertiesBuilder, Tunab
             bad = next(n for n in names if n.text not in self.vars)
             self.error(bad.loc, f"`fuzzylite {key.text}` names `{bad.text}`, which is no "
                                 "variable declared before it")
+        elif key.text in ("flat", "nan_default") and any(self.vars[n.text].is_input
+                                                         for n in names):
+            bad = next(n for n in names if self.vars[n.text].is_input)
+            self.error(bad.loc, f"`fuzzylite {key.text}` names the input `{bad.text}`: it "
+                                "takes the variables the rules conclude")
         elif key.text == "replace_nan":
             got["known"] = True
         elif key.text == "resolution":
