@@ -95,6 +95,26 @@ def shape(kind: TermKind, *params: float) -> tuple[TermKind, tuple[float, float,
 # The shapes every format writes as NAME p1 p2 ... in the model's own parameter order, with
 # the condition that keeps them well defined (the shape registry's plain words).
 PLAIN_SHAPES = {shape.kind: (word.arity, word.valid) for shape, word in plain_words().values()}
+# what each plain shape's parameters must satisfy, from its .fz usage ("pishape(a, b, c, d)
+# with a < b and c < d" -> ("a b c d", "a < b and c < d")); the importers' order is the same
+PLAIN_NEEDS = {shape.kind: (word.usage.split("(", 1)[1].split(")", 1)[0].replace(",", ""),
+                            word.usage.split(" with ", 1)[1])
+               for shape, word in plain_words().values() if " with " in word.usage}
+
+
+def degenerate(word: str, shown: str, needs: str | None) -> str:
+    """An importer's message for a shape whose numbers make no membership function, with
+    what they must satisfy in the tool's own words: `degenerate Triangle (3 2 1): Triangle
+    a b c needs a <= b <= c with a < c`."""
+    return f"degenerate {word} ({shown})" + (f": {word} {needs}" if needs else "")
+
+
+def plain_needs(kind: TermKind) -> str | None:
+    """`a b c d needs a < b and c < d` for a plain shape, None where its usage says none."""
+    if kind not in PLAIN_NEEDS:
+        return None
+    params, condition = PLAIN_NEEDS[kind]
+    return f"{params} needs {condition}"
 
 
 def plain_shape_or_none(kind: TermKind, values: list[float]):

@@ -111,6 +111,13 @@ FIS_FRACTIONS = {hedges: f"{exponent / 10:.2f}"[1:].rstrip("0") if hedges else "
                  for exponent, hedges in FIS_HEDGES.items()}     # written back: `.05`, `.2`
 HEDGE_POWER = {Hedge.SOMEWHAT: 0.5, Hedge.VERY: 2.0, Hedge.EXTREMELY: 3.0}   # FIS_HEDGES'
 FIS_HEDGE_WORDS = {hedges[0]: text for hedges, text in FIS_FRACTIONS.items() if len(hedges) == 1}
+# what each MATLAB shape's numbers must satisfy, in its own parameter order
+FIS_NEEDS = {"trimf": "[a b c] needs a <= b <= c with a < c",
+             "trapmf": "[a b c d] needs a <= b <= c <= d with a < d",
+             "gaussmf": "[sigma c] needs sigma > 0", "gbellmf": "[a b c] needs a > 0 and b > 0",
+             "sigmf": "[a c] needs a != 0", "constant": "[c] needs a finite c",
+             "smf": "[a b] needs a < b", "zmf": "[a b] needs a < b",
+             "pimf": "[a b c d] needs a < b and c < d"}
 # fuzzylite's membership functions in FIS -> (its FLL word, FIS parameters -> FLL's order)
 FUZZYLITE_MFS = {"rampmf": ("Ramp", lambda v: v), "rectmf": ("Rectangle", lambda v: v),
                  "concavemf": ("Concave", lambda v: v), "cosinemf": ("Cosine", lambda v: v),
@@ -328,7 +335,8 @@ class _FisReader:
                 "zmf": lambda: plain_shape_or_none(TermKind.ZSHAPE, v),
                 "pimf": lambda: plain_shape_or_none(TermKind.PISHAPE, v)}[kind]()
         if made is None:
-            self.rep.error(loc, f"degenerate {kind} [{' '.join(f'{p:g}' for p in v)}]")
+            self.rep.error(loc, f"degenerate {kind} [{' '.join(f'{p:g}' for p in v)}]: "
+                                f"{kind} {FIS_NEEDS[kind]}")
         else:
             self.var.add(TermSpec(name, *made, loc=loc), self.rep)
 

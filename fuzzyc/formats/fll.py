@@ -48,8 +48,9 @@ from ..engine.membership import linear_coefficients
 from ..semantics import operators as ops
 from ..semantics.shapes import SHAPES
 from ..language.numbers import not_a_number, parse_number
-from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, discrete_or_none, nan_default,
-                     plain_shape_or_none, shape, trapezoid_or_none, tsukamoto_terms)
+from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, degenerate, discrete_or_none,
+                     nan_default, plain_needs, plain_shape_or_none, shape, trapezoid_or_none,
+                     tsukamoto_terms)
 from .blocks import (block_names, block_view, chain_warning, file_variables, linear_on,
                      one_output)
 from .export import (all_singletons, compound_negations, finish, left_out, model_identifier, num,
@@ -64,6 +65,14 @@ TNORMS = ops.format_words(ops.T_NORMS, "fll")
 SNORMS = ops.format_words(ops.S_NORMS, "fll")
 # fuzzylite's names of the plain shapes (numbers in the model's order): the shape registry's
 FLL_SHAPES = {SHAPES[kind].fll: kind for kind in PLAIN_SHAPES}
+# what the other shapes' numbers must satisfy (fuzzylite's parameter names)
+FLL_NEEDS = {"Triangle": "a b c needs a <= b <= c with a < c",
+             "Trapezoid": "a b c d needs a <= b <= c <= d with a < d",
+             "Rectangle": "start end needs start < end", "Ramp": "start end needs start != end",
+             "Gaussian": "mean deviation needs deviation > 0",
+             "Bell": "center width slope needs width > 0 and slope > 0",
+             "Sigmoid": "inflection slope needs slope != 0",
+             "Constant": "value needs a finite value"}
 IMPLICATIONS = ops.format_words(ops.IMPLICATIONS, "fll")
 AGGREGATIONS = ops.format_words(ops.AGGREGATIONS, "fll")
 # WeightedAverage grouped by these is the center of area with that aggregation
@@ -478,7 +487,9 @@ def fuzzylite_shape(kind: str, v: list[float], loc: SourceLoc, rep: Reporter):
         **{name: (lambda k=k: plain_shape_or_none(k, v)) for name, k in FLL_SHAPES.items()},
     }[kind]()
     if made is None:
-        rep.error(loc, f"degenerate {kind} ({' '.join(f'{p:g}' for p in v)})")
+        needs = FLL_NEEDS.get(kind) or (plain_needs(FLL_SHAPES[kind]) if kind in FLL_SHAPES
+                                        else None)
+        rep.error(loc, degenerate(kind, " ".join(f"{p:g}" for p in v), needs))
     return made
 
 
