@@ -55,7 +55,8 @@ class VarSpec:
 
     def add(self, term: TermSpec, rep: Reporter) -> None:
         if term.name in self.term_names():
-            rep.error(term.loc, f"term `{term.name}` is already defined for `{self.name}`")
+            rep.error(term.loc, f"term `{term.name}` is already defined for `{self.name}`; "
+                                "rename one of them")
         else:
             self.terms.append(term)
 
@@ -177,7 +178,8 @@ class Collected:
 
     def declare(self, var: VarSpec, is_input: bool) -> VarSpec:
         if var.name in self.inputs or var.name in self.outputs:
-            self.rep.error(var.loc, f"variable `{var.name}` is declared twice")
+            self.rep.error(var.loc, f"variable `{var.name}` is declared twice; "
+                                    "rename one of them")
             return var
         (self.inputs if is_input else self.outputs)[var.name] = var
         return var

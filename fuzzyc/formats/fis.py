@@ -224,7 +224,9 @@ class _FisReader:
         if section:
             kind = section.group(1)
             if kind not in ("System", "Input", "Output", "Rules"):
-                self.rep.error(self.rep.loc(number, 1), f"unknown section [{kind}]")
+                self.rep.error(self.rep.loc(number, 1), f"unknown section [{kind}]; use "
+                                                           "[System], [InputN], [OutputN] or "
+                                                           "[Rules]")
                 kind = None
             self.section = kind
             if kind in ("Input", "Output"):
@@ -232,7 +234,8 @@ class _FisReader:
                 self.variables.append((kind == "Input", self.var))
             return
         if self.section is None:
-            self.rep.error(self.rep.loc(number, 1), "text before the first [Section]")
+            self.rep.error(self.rep.loc(number, 1), "text before the first [Section]; start "
+                                                       "the file with [System]")
         elif self.section == "Rules":
             self.pending_rules.append((number, body))
         else:
@@ -250,7 +253,8 @@ class _FisReader:
 
     def _system(self, key: str, value: str, loc: SourceLoc, key_loc: SourceLoc) -> None:
         if key not in SYSTEM_KEYS:
-            self.rep.error(key_loc, f"unknown key `{key}` in [System]")
+            self.rep.error(key_loc, f"unknown key `{key}` in [System]; known: "
+                                    + ", ".join(sorted(SYSTEM_KEYS)))
         elif key == "Name":
             self.got.name = re.sub(r"\W", "_", _unquote(value))
         elif key == "Type":

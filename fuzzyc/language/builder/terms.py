@@ -200,7 +200,8 @@ class TermsBuilder:
     def _append_term(self, var: LinguisticVar, name: Name, kind: TermKind, params,
                      learnable: bool = False) -> int:
         if name.text in var.term_index:
-            self.error(name.loc, f"term `{name.text}` is already defined for `{var.name}`")
+            self.error(name.loc, f"term `{name.text}` is already defined for `{var.name}`; "
+                                 "rename one of them")
             return var.term_index[name.text]
         core = term_core(kind, params)
         if kind != TermKind.FUNCTION and (core[1] < var.lo or core[0] > var.hi):
