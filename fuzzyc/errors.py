@@ -111,4 +111,4 @@ def suggest(name: str, known: list[str] | tuple[str, ...]) -> str:
         return f"did you mean `{close[0]}`?"
     if known:
         return "known: " + " ".join(known)
-    return "none are declared"
+    return "none are declared; declare it first"

@@ -521,7 +521,7 @@ class _FclReader:
             if key in settings:
                 value, loc = settings[key]
                 if value not in table:
-                    self.rep.error(loc, f"{key} {value} is not supported: the model has "
+                    self.rep.error(loc, f"{key} {value} is not supported; use one of "
                                         + ", ".join(table))
                 else:
                     setattr(inf, field, table[value])

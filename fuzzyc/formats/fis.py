@@ -268,7 +268,7 @@ class _FisReader:
             table = {**table, **READ_ALSO.get(key, {})}
             word = _unquote(value)
             if word not in table:
-                self.rep.error(loc, f"{key} `{word}` is not supported: the model has "
+                self.rep.error(loc, f"{key} `{word}` is not supported; use one of "
                                     + ", ".join(table))
             else:
                 setattr(self.got.inference, field, table[word])

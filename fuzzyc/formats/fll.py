@@ -293,8 +293,8 @@ class _FllReader:
             if kind in settings and settings[kind][0] != "none":
                 value, loc = settings[kind]
                 if value not in table:
-                    self.rep.error(loc, f"{kind} `{value}` is not supported: the model has "
-                                        + " and ".join(table))
+                    self.rep.error(loc, f"{kind} `{value}` is not supported; use one of "
+                                        + ", ".join(table))
                 else:
                     setattr(inf, field, table[value])
                     if value == "NormalizedSum":
@@ -345,8 +345,8 @@ class _FllReader:
             self.rep.error(agg_loc, f"{defuzz} with aggregation `{aggregation}` is not "
                                     "supported")
         else:
-            self.rep.error(loc, f"defuzzifier `{defuzz}` is not supported: the model has "
-                                "Centroid, Bisector, MeanOfMaximum, WeightedAverage, WeightedSum")
+            self.rep.error(loc, f"defuzzifier `{defuzz}` is not supported; use one of "
+                                + ", ".join([*INTEGRAL, "WeightedAverage", "WeightedSum"]))
         return inf.aggregation, inf.defuzzifier
 
     @staticmethod
