@@ -106,20 +106,17 @@ def test_the_exact_reading_compiles_to_c():
                                atol=1e-12, rtol=0)
 
 
-@pytest.mark.parametrize("change, where, what", [
-    ("MF2='d':'constant',[16]", "hyb.fis:32:5:",
+@pytest.mark.parametrize("written, instead, where, what", [
+    ("MF2='d':'constant',[16]", "MF2='d':'linear',[1 2]", "hyb.fis:32:5:",
      "`d`: a linear term in a hybrid FIS is a membership of the inputs"),
-    ("MF2='b':'trimf',[6 8 10]", "hyb.fis:25:5:",
+    ("MF2='b':'trimf',[6 8 10]", "MF2='b':'constant',[8]", "hyb.fis:25:5:",
      "`b`: an output of a hybrid FIS needs constant terms only or none"),
-    ("DefuzzMethod='centroid'", "hyb.fis:3:6:",
+    ("DefuzzMethod='centroid'", "DefuzzMethod='wtaver'", "hyb.fis:3:6:",
      "type `hybrid` needs the DefuzzMethod of its Mamdani outputs"),
 ])
-def test_what_a_hybrid_fis_cannot_hold_is_refused_where_it_is(change, where, what):
-    replacement = {"MF2='d':'constant',[16]": "MF2='d':'linear',[1 2]",
-                   "MF2='b':'trimf',[6 8 10]": "MF2='b':'constant',[8]",
-                   "DefuzzMethod='centroid'": "DefuzzMethod='wtaver'"}[change]
+def test_what_a_hybrid_fis_cannot_hold_is_refused_where_it_is(written, instead, where, what):
     with pytest.raises(FuzzycError) as caught:
-        read_fis(HYBRID.replace(change, replacement), "hyb.fis")
+        read_fis(HYBRID.replace(written, instead), "hyb.fis")
     assert where in str(caught.value) and what in str(caught.value)
 
 

@@ -103,11 +103,12 @@ PLAIN_NEEDS = {shape.kind: (word.usage.split("(", 1)[1].split(")", 1)[0].replace
                for shape, word in plain_words().values() if " with " in word.usage}
 
 
-def degenerate(word: str, shown: str, needs: str | None) -> str:
+def degenerate(word: str, values, needs: str | None, brackets: str = "()") -> str:
     """An importer's message for a shape whose numbers make no membership function, with
     what they must satisfy in the tool's own words: `degenerate Triangle (3 2 1): Triangle
-    a b c needs a <= b <= c with a < c`."""
-    return f"degenerate {word} ({shown})" + (f": {word} {needs}" if needs else "")
+    a b c needs a <= b <= c with a < c` (FIS writes its numbers in [])."""
+    shown = brackets[0] + " ".join(f"{p:g}" for p in values) + brackets[1]
+    return f"degenerate {word} {shown}" + (f": {word} {needs}" if needs else "")
 
 
 def plain_needs(kind: TermKind) -> str | None:

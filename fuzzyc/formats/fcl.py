@@ -47,6 +47,7 @@ from ..semantics.model import (Aggregation, Connective, Defuzzifier, Inference, 
 from .common import (Collected, TermSpec, VarSpec, degenerate, discrete_or_none, nan_default,
                      shape, trapezoid_or_none, tsukamoto_terms)
 from .blocks import block_names, block_view, chain_warning, file_variables, one_output
+from ..semantics.shapes import TRAPEZOID_NEEDS, TRIANGLE_NEEDS
 from .export import (all_singletons, finish, left_out, model_identifier, num, peaks_instead,
                      rule_sentence, unsayable_hedges, unsayable_names)
 from .fll import HEDGES, fll_term, fuzzylite_shape
@@ -68,8 +69,8 @@ ALIASES = {key: {word.upper(): rec.fcl for rec in table.values()
            for key, table in (("OR", ops.S_NORMS), ("ACCU", ops.AGGREGATIONS))}
 METHODS = ops.format_words(ops.DEFUZZIFIERS, "fcl", read=False)
 # what each jFuzzyLogic shape's numbers must satisfy, in its own parameter order
-FCL_NEEDS = {"TRIAN": "a b c needs a <= b <= c with a < c (or a = b = c: a singleton)",
-             "TRAPE": "a b c d needs a <= b <= c <= d with a < d (or all equal: a singleton)",
+FCL_NEEDS = {"TRIAN": f"a b c needs {TRIANGLE_NEEDS} (or a = b = c: a singleton)",
+             "TRAPE": f"a b c d needs {TRAPEZOID_NEEDS} (or all equal: a singleton)",
              "GAUSS": "mean deviation needs deviation > 0",
              "GBELL": "a b mean needs a > 0 and b > 0", "SIGM": "gain centre needs gain != 0",
              "COSINE": "net_max offset needs net_max > 0",
@@ -392,8 +393,7 @@ class _FclReader:
                 "DSIGM": lambda: shape(TermKind.SIGMOID_DIFFERENCE, v[1], v[0], v[2], v[3]),
                 }[word]()
         if made is None:
-            self.rep.error(loc, degenerate(word, " ".join(f"{p:g}" for p in v),
-                                           FCL_NEEDS.get(word)))
+            self.rep.error(loc, degenerate(word, v, FCL_NEEDS.get(word)))
         return made
 
     def _variable_singleton(self, var: VarSpec, is_input: bool, name: Token,

@@ -72,9 +72,9 @@ from ..semantics.model import (Aggregation, CondOp, Connective, Defuzzifier, Hed
                      SourceLoc, TermKind, Variable)
 from ..engine.membership import linear_coefficients
 from ..semantics import operators as ops
-from ..semantics.shapes import SHAPES
+from ..semantics.shapes import SHAPES, TRAPEZOID_NEEDS, TRIANGLE_NEEDS
 from ..language.numbers import parse_number
-from .common import (Collected, TermSpec, VarSpec, plain_shape_or_none, shape,
+from .common import (Collected, TermSpec, VarSpec, degenerate, plain_shape_or_none, shape,
                      trapezoid_or_none, tsukamoto_terms)
 from .blocks import one_rule_base
 from .export import (finish, left_out, num, own_output_choices, peaks_instead,
@@ -112,8 +112,8 @@ FIS_FRACTIONS = {hedges: f"{exponent / 10:.2f}"[1:].rstrip("0") if hedges else "
 HEDGE_POWER = {Hedge.SOMEWHAT: 0.5, Hedge.VERY: 2.0, Hedge.EXTREMELY: 3.0}   # FIS_HEDGES'
 FIS_HEDGE_WORDS = {hedges[0]: text for hedges, text in FIS_FRACTIONS.items() if len(hedges) == 1}
 # what each MATLAB shape's numbers must satisfy, in its own parameter order
-FIS_NEEDS = {"trimf": "[a b c] needs a <= b <= c with a < c",
-             "trapmf": "[a b c d] needs a <= b <= c <= d with a < d",
+FIS_NEEDS = {"trimf": f"[a b c] needs {TRIANGLE_NEEDS}",
+             "trapmf": f"[a b c d] needs {TRAPEZOID_NEEDS}",
              "gaussmf": "[sigma c] needs sigma > 0", "gbellmf": "[a b c] needs a > 0 and b > 0",
              "sigmf": "[a c] needs a != 0", "constant": "[c] needs a finite c",
              "smf": "[a b] needs a < b", "zmf": "[a b] needs a < b",
@@ -339,8 +339,7 @@ class _FisReader:
                 "zmf": lambda: plain_shape_or_none(TermKind.ZSHAPE, v),
                 "pimf": lambda: plain_shape_or_none(TermKind.PISHAPE, v)}[kind]()
         if made is None:
-            self.rep.error(loc, f"degenerate {kind} [{' '.join(f'{p:g}' for p in v)}]: "
-                                f"{kind} {FIS_NEEDS[kind]}")
+            self.rep.error(loc, degenerate(kind, v, FIS_NEEDS[kind], "[]"))
         else:
             self.var.add(TermSpec(name, *made, loc=loc), self.rep)
 

@@ -46,7 +46,7 @@ from ..semantics.model import (Aggregation, Connective, Defuzzifier, Inference, 
                      SourceLoc, TermKind)
 from ..engine.membership import linear_coefficients
 from ..semantics import operators as ops
-from ..semantics.shapes import SHAPES
+from ..semantics.shapes import SHAPES, TRAPEZOID_NEEDS, TRIANGLE_NEEDS
 from ..language.numbers import not_a_number, parse_number
 from .common import (PLAIN_SHAPES, Collected, TermSpec, VarSpec, degenerate, discrete_or_none,
                      nan_default, plain_needs, plain_shape_or_none, shape, trapezoid_or_none,
@@ -66,8 +66,8 @@ SNORMS = ops.format_words(ops.S_NORMS, "fll")
 # fuzzylite's names of the plain shapes (numbers in the model's order): the shape registry's
 FLL_SHAPES = {SHAPES[kind].fll: kind for kind in PLAIN_SHAPES}
 # what the other shapes' numbers must satisfy (fuzzylite's parameter names)
-FLL_NEEDS = {"Triangle": "a b c needs a <= b <= c with a < c",
-             "Trapezoid": "a b c d needs a <= b <= c <= d with a < d",
+FLL_NEEDS = {"Triangle": f"a b c needs {TRIANGLE_NEEDS}",
+             "Trapezoid": f"a b c d needs {TRAPEZOID_NEEDS}",
              "Rectangle": "start end needs start < end", "Ramp": "start end needs start != end",
              "Gaussian": "mean deviation needs deviation > 0",
              "Bell": "center width slope needs width > 0 and slope > 0",
@@ -489,7 +489,7 @@ def fuzzylite_shape(kind: str, v: list[float], loc: SourceLoc, rep: Reporter):
     if made is None:
         needs = FLL_NEEDS.get(kind) or (plain_needs(FLL_SHAPES[kind]) if kind in FLL_SHAPES
                                         else None)
-        rep.error(loc, degenerate(kind, " ".join(f"{p:g}" for p in v), needs))
+        rep.error(loc, degenerate(kind, v, needs))
     return made
 
 

@@ -95,14 +95,17 @@ def _plain(word: str, arity: int, valid: Callable[[Values], bool], usage: str) -
                 lambda v: (*v, 0.0, 0.0, 0.0)[:max(4, arity)], plain=True, usage=usage)
 
 
+# what a triangle's and a trapezoid's break points must satisfy (every format's messages)
+TRIANGLE_NEEDS = "a <= b <= c with a < c"
+TRAPEZOID_NEEDS = "a <= b <= c <= d with a < d"
 TRAPEZOID_WORDS = (
     Word("tri", 3, lambda v: _ordered([v[0], v[1], v[1], v[2]]),
          lambda v, name: f"degenerate tri `{name}`({_numbers(v)}): break points must satisfy "
-                         "a <= b <= c with a < c",
+                         + TRIANGLE_NEEDS,
          lambda v: (v[0], v[1], v[1], v[2]), names=("trimf", "Triangle", "TRIAN")),
     Word("trap", 4, lambda v: _ordered(list(v)),
          lambda v, name: f"degenerate trap `{name}`({_numbers(v)}): break points must satisfy "
-                         "a <= b <= c <= d with a < d",
+                         + TRAPEZOID_NEEDS,
          lambda v: tuple(v), names=("trapmf", "Trapezoid", "TRAPE", "Rectangle", "rectmf")),
     Word("lshoulder", 2, lambda v: v[0] < v[1],
          _said("lshoulder `{name}` needs its top end before its foot: lshoulder(c, d) with "
