@@ -11,9 +11,9 @@ from typing import TYPE_CHECKING, Any
 
 if TYPE_CHECKING:
     from .api import (Controller, Explanation, FuzzycError, Header, Learning, Model,
-                      ModelBuilder, Simulation, compile_c, compile_lut, copy_examples, evaluate,
-                      example, examples, explain, learn, load, parse, plot, save, simulate, tune,
-                      verify)
+                      ModelBuilder, Simulation, compile_c, compile_lut, compiled_evaluator,
+                      copy_examples, evaluate, example, examples, explain, learn, load, parse,
+                      plot, save, simulate, tune, verify)
     from .verifier.report import VerifyReport
     from .verifier.result import Evidence, Result, Status
 
@@ -21,8 +21,9 @@ __version__ = "0.1.0"
 
 _HOME = {**dict.fromkeys(["Controller", "Explanation", "FuzzycError", "Header", "Learning",
                           "Model", "ModelBuilder", "Simulation", "compile_c", "compile_lut",
-                          "copy_examples", "evaluate", "example", "examples", "explain", "learn",
-                          "load", "parse", "plot", "save", "simulate", "tune", "verify"],
+                          "compiled_evaluator", "copy_examples", "evaluate", "example",
+                          "examples", "explain", "learn", "load", "parse", "plot", "save",
+                          "simulate", "tune", "verify"],
                          "fuzzyc.api"),
          "VerifyReport": "fuzzyc.verifier.report",
          **dict.fromkeys(["Evidence", "Result", "Status"], "fuzzyc.verifier.result")}

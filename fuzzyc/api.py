@@ -28,12 +28,13 @@ if TYPE_CHECKING:
 
     from fuzzyc.runtime.campaign import Cluster
     from fuzzyc.runtime.trace import Trace
+    from .backends.c.load import CompiledEvaluator
     from .verifier.report import VerifyReport
 
 __all__ = ["Controller", "Explanation", "FuzzycError", "Header", "Learning", "Model",
-           "ModelBuilder", "Simulation", "compile_c", "compile_lut", "copy_examples", "evaluate",
-           "example", "examples", "explain", "learn", "load", "parse", "plot", "save", "simulate",
-           "tune", "verify"]
+           "ModelBuilder", "Simulation", "compile_c", "compile_lut", "compiled_evaluator",
+           "copy_examples", "evaluate", "example", "examples", "explain", "learn", "load",
+           "parse", "plot", "save", "simulate", "tune", "verify"]
 
 PathLike = str | os.PathLike
 
@@ -143,6 +144,15 @@ def compile_c(model: Model, numeric: str = "float") -> Header:
     if numeric not in ("float", "double"):
         raise ValueError(f"numeric is one of float, double, q15, q31, not `{numeric}`")
     return Header(f"{name}.h", generate_header(model, numeric))
+
+
+def compiled_evaluator(model: Model, numeric: str = "double") -> "CompiledEvaluator":
+    """The rule base alone at one point, as the generated C header (`numeric` float or double)
+    computes it, called through ctypes: `f(values)` takes a float per rule-base input in order
+    and returns a list of the outputs.  About a microsecond a call, where `evaluate` pays
+    numpy's fixed cost (tens of microseconds) at batch 1.  Needs gcc on the PATH."""
+    from .backends.c.load import CompiledEvaluator
+    return CompiledEvaluator(model, numeric)
 
 
 def compile_lut(model: Model, resolution: int = 33) -> Header:

@@ -33,14 +33,14 @@ def test_quick_bench_writes_every_figure(tmp_path):
     assert "FAILED" not in text
     expected = ["engine COA, WEDM, batch 20,000 (glibc's default thresholds)",
                 "engine COA, WEDM, batch 20,000 (MALLOC_TRIM_THRESHOLD_=65536)",
-                "engine exact centroid", "scalar path", "fuzzyc.evaluate(model, dict)",
+                "engine exact centroid", "compiled header", "scalar path", "fuzzyc.evaluate(model, dict)",
                 "Controller.step", "threads=2", "alternating batch 1 / batch 1000, WEDM",
                 "alternating batch 1 / batch 1000, full table of 6 inputs",
                 "generated float header", "generated q15 header", "closed loop",
                 "Dask campaign, --workers 2"]
     for piece in expected:
         assert any(piece in label for label in labels), (piece, labels)
-    assert len(rows) - 1 == 16, labels
+    assert len(rows) - 1 == 17, labels
     for r in rows[1:]:
         cells = [c.strip() for c in r.strip("|").split(" | ")]
         assert len(cells) == 9, r
