@@ -181,6 +181,11 @@ class HeaderWriter:
         self.depth = self.cells.depth if self.sparse else 0   # rules per cell
         self.area = AreaWriter(real, self.p, self.rb.inference)
         self.items = self.item_writer()
+        # One rule per cell of a direct table, read only for its consequents and weight: those
+        # are tabled per cell, which saves the load of the rule between cell and consequent
+        # on every active tuple (issue 29: the header against a hand-written version)
+        self.per_cell = self.sparse and self.cells.codes is None and self.depth == 1 \
+            and self.items is None
         self.lines: list[str] = []
 
     def item_writer(self) -> ItemWriter | None:
@@ -243,14 +248,16 @@ class HeaderWriter:
             return Aggregation.SUM
         return self.rb.inference.aggregation
 
-    def accumulate(self, act: str, rule: str, slot: str) -> list[str]:
+    def accumulate(self, act: str, rule: str, slot: str, table: str = "CONSEQUENTS"
+                   ) -> list[str]:
         """Statements adding `act` of rule index `rule` into every output's term strengths,
-        and storing it as item `slot` where outputs keep the rules on their own."""
+        and storing it as item `slot` where outputs keep the rules on their own (`table`:
+        CELL_CONSEQUENTS with `rule` a cell, see per_cell)."""
         code = [] if self.items is None else self.items.store(act, rule, slot)
         for o, var in enumerate(self.rb.outputs):
             if self.by_items(var):
                 continue
-            strength = f"alpha{o}[{self.P}CONSEQUENTS[{rule}][{o}]]"
+            strength = f"alpha{o}[{self.P}{table}[{rule}][{o}]]"
             code.append(_c_text(AGGREGATIONS[self.aggregation_of(var)])
                         .format(acc=strength, x=act, p=self.p))
         return code
@@ -262,25 +269,38 @@ class HeaderWriter:
         return _c_text(norm).format(a=a, b=b, p=self.p)
 
     def consequent_table(self, extra_row: bool) -> None:
+        """CONSEQUENTS and WEIGHTS per rule (and a last row, no rule, with extra_row); per
+        cell instead where per_cell."""
         rb = self.rb
         cons = np.array(rb.consequents, dtype=int).copy()
         for o, var in enumerate(rb.outputs):   # "no consequent" goes to a dummy slot
             cons[cons[:, o] < 0, o] = var.n_terms
         if extra_row:
             cons = np.vstack([cons, [v.n_terms for v in rb.outputs]])
-        self.out("/* Consequent term per rule and output (n_terms = the rule says nothing). */",
-                 f"static const unsigned char {self.P}CONSEQUENTS[{len(cons)}]"
-                 f"[{self.P}N_RB_OUTPUTS] = {int_table(cons)};")
+        # a rule weighted below the floor never fires (its truth is <= 1): weight 0, which
+        # float holds where 1e-100 is no float at all (a NaN still reaches lit and fails)
+        weights = np.array([0.0 if w < ACTIVATION_FLOOR else w for w in rb.weights]
+                           + ([0.0] if extra_row else []))
+        what, rows = "rule and output (n_terms = the rule says nothing)", slice(None)
+        if self.per_cell:     # an empty cell reads the extra row
+            what, rows = ("cell (tuple of term ids) and output, its rule's (n_terms = no rule "
+                          "or the rule says nothing)"), self.cells.rows[:, 0]
+        self.out(f"/* Consequent term per {what}. */",
+                 f"static const unsigned char {self.P}{self.prefix}CONSEQUENTS"
+                 f"[{len(cons[rows])}][{self.P}N_RB_OUTPUTS] = {int_table(cons[rows])};")
         if not np.all(rb.weights == 1.0):
-            # a rule weighted below the floor never fires (its truth is <= 1): weight 0, which
-            # float holds where 1e-100 is no float at all (a NaN still reaches lit and fails)
-            weights = [0.0 if w < ACTIVATION_FLOOR else w for w in rb.weights] \
-                + ([0.0] if extra_row else [])
-            self.out(f"static const {self.real.name} {self.P}WEIGHTS[{len(weights)}] = "
-                     "{" + ", ".join(self.real.lit(w) for w in weights) + "};")
+            self.out(f"static const {self.real.name} {self.P}{self.prefix}WEIGHTS"
+                     f"[{len(weights[rows])}] = "
+                     "{" + ", ".join(self.real.lit(w) for w in weights[rows]) + "};")
+
+    @property
+    def prefix(self) -> str:
+        """Of the consequent and weight tables: CELL_ where they are per cell (per_cell)."""
+        return "CELL_" if self.per_cell else ""
 
     def weighted(self, act: str, rule: str) -> str:
-        return act if np.all(self.rb.weights == 1.0) else f"{act} * {self.P}WEIGHTS[{rule}]"
+        return act if np.all(self.rb.weights == 1.0) else \
+            f"{act} * {self.P}{self.prefix}WEIGHTS[{rule}]"
 
     def dense_rules(self) -> list[str]:
         """The loop over all rules; memberships of all inputs in one array `mu`."""
@@ -382,7 +402,8 @@ class HeaderWriter:
                  f"static const {index_type(int(max(np.max(place), n_parts)))} "
                  f"{P}INPUTS[{P}N_RB_INPUTS][2] = {int_table(inputs)};")
         self.active_function(nb)
-        self.out(*cell_table_c(self.cells, P, self.p, self.rb.n_rules))
+        if not self.per_cell:
+            self.out(*cell_table_c(self.cells, P, self.p, self.rb.n_rules))
 
     def distinct_partitions(self) -> tuple[list, list[int]]:
         """(the distinct partitions of the inputs, per input the index of its own)."""
@@ -442,6 +463,11 @@ class HeaderWriter:
         act = f"m[0][{bits[0]}]"
         for i in range(1, n_in):
             act = self.combine(act, f"m[{i}][{bits[i]}]", True)
+        if self.per_cell:
+            code += [f"    int cell = {cell};", f"    {t} act = {act};",
+                     f"    {t} a = {self.p}fired({self.weighted('act', 'cell')});"]
+            code += ["    " + s for s in self.accumulate("a", "cell", "r", "CELL_CONSEQUENTS")]
+            return code + ["}"]
         code += [f"    int cell = {cell_row_c(self.cells, self.p, cell)};",
                  f"    {t} act = {act};", "    int d;",
                  f"    for (d = 0; d < {depth}; ++d) {{",

@@ -621,14 +621,32 @@ class FixedPointWriter:
         cons = np.vstack([np.where(rb.consequents >= 0, rb.consequents,
                                    [v.n_terms for v in rb.outputs]),
                           [v.n_terms for v in rb.outputs]])
-        out = [f"#define {P}N_RULES {rb.n_rules}",
-               *cell_table_c(self.tables.cells, P, self.p, rb.n_rules),
-               f"static const unsigned char {P}CONSEQUENTS[{len(cons)}][{len(rb.outputs)}] = "
-               "{" + ", ".join(_ints(r) for r in cons) + "};"]
+        weights = np.array([round(w * (1 << self.mf)) for w in rb.weights] + [0])
+        out = [f"#define {P}N_RULES {rb.n_rules}"]
+        if self.per_cell:     # indexed by the cell: an empty cell reads the last row
+            rows = self.tables.cells.rows[:, 0]
+            cons, weights = cons[rows], weights[rows]
+            out.append("/* Per cell (tuple of term ids) and output: its rule's consequent "
+                       "term (n_terms: no rule or the rule says nothing). */")
+        else:
+            out += cell_table_c(self.tables.cells, P, self.p, rb.n_rules)
+        out.append(f"static const unsigned char {P}{self.prefix}CONSEQUENTS[{len(cons)}]"
+                   f"[{len(rb.outputs)}] = " + "{" + ", ".join(_ints(r) for r in cons) + "};")
         if not self.unit:
-            out.append(f"static const int64_t {P}WEIGHTS[{rb.n_rules + 1}] = "
-                       + _ints([round(w * (1 << self.mf)) for w in rb.weights] + [0]) + ";")
+            out.append(f"static const int64_t {P}{self.prefix}WEIGHTS[{len(weights)}] = "
+                       + _ints(weights) + ";")
         return out
+
+    @property
+    def per_cell(self) -> bool:
+        """A direct cell table of one rule per cell: its consequents and weight are tabled
+        per cell, one load fewer per slot combination (as the float header's per_cell)."""
+        cells = self.tables.cells
+        return cells.codes is None and cells.depth == 1
+
+    @property
+    def prefix(self) -> str:
+        return "CELL_" if self.per_cell else ""
 
     def peak_tables(self) -> list[str]:
         """Each output's peaks at its guard bits below the LSB."""
@@ -726,7 +744,7 @@ class FixedPointWriter:
                 f"int64_t yw[{len(rb.outputs)}]) {{",
                 f"    int64_t m[{len(rb.inputs)}][{tables.slots.max()}];",
                 f"    unsigned char id[{len(rb.inputs)}][{tables.slots.max()}];",
-                "    int c, d;"]
+                "    int c;" if self.per_cell else "    int c, d;"]
         code += [f"    int64_t alpha{o}[{var.n_terms + 1}] = {{0}};"
                  for o, var in enumerate(rb.outputs)]
         code += self.memberships(which) + self.combinations()
@@ -765,9 +783,19 @@ class FixedPointWriter:
         wide = "" if cells.codes is None else f"({cells.cell_type})"
         cell = " + ".join(f"{wide}id[{i}][{digit[i]}] * {int(cells.place[i])}"
                           for i in range(n_in))
-        weighted = "act" if self.unit else f"{p}shr(act * {P}WEIGHTS[rule], {self.mf})"
         accumulate = AGGREGATIONS[Aggregation.SUM if self.summed
                                   else rb.inference.aggregation].fixed
+        if self.per_cell:
+            weighted = "act" if self.unit else f"{p}shr(act * {P}CELL_WEIGHTS[cell], {self.mf})"
+            return [f"    for (c = 0; c < {tables.combos}; ++c) {{",
+                    f"        int cell = {cell};",
+                    f"        int64_t act = {act};",
+                    f"        int64_t a = {weighted};",
+                    *("        " + accumulate.format(
+                        acc=f"alpha{o}[{P}CELL_CONSEQUENTS[cell][{o}]]", x="a")
+                      for o in range(len(rb.outputs))),
+                    "    }"]
+        weighted = "act" if self.unit else f"{p}shr(act * {P}WEIGHTS[rule], {self.mf})"
         return [f"    for (c = 0; c < {tables.combos}; ++c) {{",
                 f"        int cell = {cell_row_c(cells, p, cell)};",
                 f"        int64_t act = {act};",
