@@ -176,7 +176,9 @@ def tune(model: Model | PathLike, data: PathLike | None = None, *,
     `validate` (a CSV) or `folds` (K-fold cross-validation) measure the error elsewhere.
     Or against a closed loop: `scenario=NAME, minimize=METRIC` instead of data, with the
     options of fuzzyc.tune.tune (sets, limits, batch, randomize, method, max_evaluations,
-    max_examples, prove, prove_boxes, scenarios). Returns a fuzzyc.tune.TuneResult: `.text` is the tuned file, `.fit` the
+    max_examples, prove, prove_boxes, scenarios, and `cluster`: a
+    fuzzyc.runtime.campaign.Cluster that runs each cost's loops in chunks on Dask, with the
+    same numbers). Returns a fuzzyc.tune.TuneResult: `.text` is the tuned file, `.fit` the
     numbers, errors (or costs) and properties before and after."""
     from .tune import tune as run
     return run(model, data, validate=validate, folds=folds, seed=seed, passes=passes,

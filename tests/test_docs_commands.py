@@ -104,6 +104,10 @@ NOT_RUN = {
         "a local Dask cluster inside the suite lost its worker processes now and then (a heartbeat's "
         "CommClosedError; the session note of 2026-11-28); tests/test_campaign.py runs --workers "
         "alone in make test's second step",
+    "fuzzyc tune rulebases/fopdt_pi.fz --scenario fopdt_step --minimize 'iae(y)' --batch 2000 --randomize --workers 2 --chunk 1000 --max-evaluations 10 -o tuned.fz":
+        "a local Dask cluster inside the suite lost its worker processes now and then (a heartbeat's "
+        "CommClosedError; the session note of 2026-11-28); tests/test_tune_campaign.py runs "
+        "`fuzzyc tune ... --workers 2 --chunk 8` alone in make test's second step",
     "fuzzyc simulate --scenario wedm_finish --set duration=1 --batch 1000000 --randomize --scheduler tcp://scheduler-host:8786 -o out/campaign":
         "needs a running Dask scheduler on that host; tests/test_campaign.py runs --scheduler "
         "against a cluster it starts",

@@ -113,4 +113,4 @@ def test_prove_goes_with_a_scenario(tmp_path, capsys):
     code = main(["tune", str(tmp_path / "lag_k.fz"), "--data", str(tmp_path / "d.csv"),
                  "--prove", "-o", str(tmp_path / "out.fz")])
     assert code != 0
-    assert "--prove go with --scenario" in capsys.readouterr().err
+    assert "--prove, --workers, --scheduler and --chunk go with --scenario" in capsys.readouterr().err

@@ -6,7 +6,8 @@ numbers changed, a provenance comment block on top).
 `fuzzyc tune FILE --scenario NAME --minimize METRIC [--set K=V] [--limit 'M<=X'] -o OUT`:
 the same against a closed loop, the cost a metric of the scenario's batched loop, searched
 derivative-free; the closed-loop properties of FILE are re-verified on the result (with
---prove, by the reachable-set proof first)."""
+--prove, by the reachable-set proof first). --workers N / --scheduler ADDRESS / --chunk LOOPS
+run each cost's batch in chunks on Dask (runtime.campaign), with the same numbers."""
 from __future__ import annotations
 
 import os
@@ -14,7 +15,7 @@ import os
 from ..atomic import write_text
 from ..display import plural
 from ..errors import Diagnostic, FuzzycError
-from .common import at_least, check_output
+from .common import add_campaign_arguments, at_least, check_output, cluster_from
 
 
 def add_parser(subparsers) -> None:
@@ -52,6 +53,7 @@ def add_parser(subparsers) -> None:
                    help="with --scenario: the closed-loop properties get the reachable-set "
                         "proof first (as verify --prove); one proved before must be proved "
                         "after, or the candidate is rejected")
+    add_campaign_arguments(p)
     p.add_argument("--prove-boxes", type=at_least(1), default=64, metavar="N",
                    help="with --prove: boxes per closed loop, at most N (64)")
     group = p.add_mutually_exclusive_group()
@@ -76,9 +78,10 @@ def run(args) -> int:
     check_output(args.output)
     if args.scenario is not None:
         return _run_scenario(args)
-    if args.minimize or args.sets or args.limits or args.prove:
-        raise FuzzycError([Diagnostic(None, "--minimize, --set, --limit and --prove go with "
-                                            "--scenario (a closed-loop tune), not with --data")])
+    if args.minimize or args.sets or args.limits or args.prove or cluster_from(args):
+        raise FuzzycError([Diagnostic(None, "--minimize, --set, --limit, --prove, --workers, "
+                                            "--scheduler and --chunk go with --scenario (a "
+                                            "closed-loop tune), not with --data")])
     try:
         result = tune(args.file, args.data, validate=args.validate, folds=args.folds,
                       seed=args.seed, passes=args.passes, max_nfev=args.max_nfev,
@@ -115,7 +118,8 @@ def _run_scenario(args) -> int:
                       sets=parse_sets(args.sets), limits=tuple(args.limits), seed=args.seed,
                       batch=args.batch, randomize=args.randomize, method=args.method,
                       max_evaluations=args.max_evaluations, max_examples=args.max_examples,
-                      prove=args.prove, prove_boxes=args.prove_boxes)
+                      prove=args.prove, prove_boxes=args.prove_boxes,
+                      cluster=cluster_from(args))
     except (ValueError, KeyError, OSError) as exc:
         message = exc.args[0] if isinstance(exc, KeyError) and exc.args else str(exc)
         raise FuzzycError([Diagnostic(None, message)]) from None

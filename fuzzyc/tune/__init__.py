@@ -52,7 +52,7 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None
          minimize: str | None = None, sets: dict | None = None, limits: tuple = (),
          batch: int = 1, randomize: bool = False, method: str | None = None,
          max_evaluations: int | None = None, max_examples: int = 30, prove: bool = False,
-         prove_boxes: int = 64, scenarios: dict | None = None) -> TuneResult:
+         prove_boxes: int = 64, scenarios: dict | None = None, cluster=None) -> TuneResult:
     """Tune a .fz file (or a model parsed from .fz text) against the CSV `data`; `validate`
     (a CSV) or `folds` (K-fold cross-validation) measure the error on data it was not fitted
     to.  Or, with `scenario` instead of data, against a closed loop: minimize the metric
@@ -61,7 +61,9 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None
     default) or "anfis" (Jang's rule, `passes` epochs); with a scenario, "powell" (the
     default) or "nelder-mead"; `prove`: the closed-loop properties get the reachable-set
     proof first (`prove_boxes` boxes), and one proved before must be proved after;
-    `scenarios`: your own loops by name, as fuzzyc.verify takes them.  The result's text differs from the source only
+    `scenarios`: your own loops by name, as fuzzyc.verify takes them; `cluster` (a
+    fuzzyc.runtime.campaign.Cluster): each cost's loops run in chunks on Dask, the same
+    numbers as in this process.  The result's text differs from the source only
     in the tuned numbers and the provenance comment block on top; the same files and seed give
     the same text, byte for byte."""
     if not isinstance(model, Model):
@@ -77,6 +79,9 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None
     if method is not None and method not in allowed:
         raise ValueError(f"method {method} goes with {'data' if scenario else '--scenario'}; "
                          f"here: {' or '.join(allowed)}")
+    if cluster is not None and scenario is None:
+        raise ValueError("a cluster runs a closed loop's batch, so it goes with a scenario: "
+                         "drop it for a fit to data")
     if scenario is not None:
         if not minimize:
             raise ValueError("a closed-loop tune needs the metric to minimize (--minimize)")
@@ -84,7 +89,8 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None
         return tune_scenario(model, scenario, minimize, sets=sets, limits=limits, seed=seed,
                              batch=batch, randomize=randomize, method=method or "powell",
                              max_evaluations=max_evaluations, max_examples=max_examples,
-                             prove=prove, prove_boxes=prove_boxes, scenarios=scenarios)
+                             prove=prove, prove_boxes=prove_boxes, scenarios=scenarios,
+                             cluster=cluster)
     from .data import read_csv
     from .rewrite import rewrite
     train = read_csv(data, model)

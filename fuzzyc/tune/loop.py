@@ -111,29 +111,47 @@ def parse_limit(text: str) -> tuple[str, float]:
 
 class ClosedLoop:
     """cost(theta): the scenario's loop run with the rule base at theta, `batch` loops (plant
-    params drawn when `randomize`), each metric the mean over the batch."""
+    params drawn when `randomize`), each metric the mean over the batch.
+
+    cluster (runtime.campaign.Cluster): the batch run in chunks of loops where it says (in
+    this process or as Dask tasks), each chunk returning its loops' metric values.  A loop
+    draws its plant and noise from its own stream and keeps its place modulo 8 in any chunk
+    (runtime.campaign.chunks), so the values, their means and the tuned numbers are the same
+    bits as one batch in this process."""
 
     def __init__(self, scenario, space: Space, metric: str, *, batch: int = 1, seed: int = 0,
-                 randomize: bool = False, limits: tuple[tuple[str, float], ...] = ()):
+                 randomize: bool = False, limits: tuple[tuple[str, float], ...] = (),
+                 cluster=None):
         self.scenario, self.space = scenario, space
         self.batch, self.seed, self.randomize = batch, seed, randomize
+        self.cluster = cluster
+        self.texts = [metric, *(text for text, _ in limits)]
         self.metric = metric_function(scenario, metric)
         self.limits = [(text, value, metric_function(scenario, text)) for text, value in limits]
         _apply_scenario(scenario, space)
 
     def trace(self, theta):
-        from fuzzyc.engine.chain import Controller
-        from fuzzyc.runtime.loop import run
-        from fuzzyc.runtime.simulate import build
-        controller = Controller(self.space.apply(theta), self.batch)
-        blocks = build(self.scenario, controller, self.batch, self.seed, self.randomize)
-        return run(blocks, self.scenario.period, self.scenario.duration, self.batch,
-                   initial=self.scenario.data.get("initial"))
+        return _run_loops(self.scenario, self.space.apply(theta), range(self.batch), self.seed,
+                          self.randomize)
+
+    def values(self, theta) -> list[np.ndarray]:
+        """Per loop (batch,): the metric's values, then each limited metric's."""
+        if self.cluster is None:
+            trace = self.trace(theta)
+            return [self.metric(trace), *(f(trace) for _, _, f in self.limits)]
+        import functools
+
+        from fuzzyc.runtime.campaign import chunks, map_chunks
+        task = functools.partial(_chunk_values, self.scenario, self.space.apply(theta),
+                                 self.texts, self.seed, self.randomize)
+        parts = map_chunks(task, chunks(self.batch, self.cluster.chunk), self.cluster,
+                           label="loops")
+        return [np.concatenate([part[k] for part in parts]) for k in range(len(self.texts))]
 
     def measure(self, theta) -> tuple[float, list[float]]:
         """The metric and each limited metric, means over the batch (NaN: some loop has none)."""
-        trace = self.trace(theta)
-        return _mean(self.metric(trace)), [_mean(f(trace)) for _, _, f in self.limits]
+        values = self.values(theta)
+        return _mean(values[0]), [_mean(v) for v in values[1:]]
 
     def __call__(self, theta) -> float:
         cost, limited = self.measure(theta)
@@ -141,6 +159,25 @@ class ClosedLoop:
                    for v, (_, limit, _) in zip(limited, self.limits))
         total = cost + LIMIT_WEIGHT * over
         return float(total) if np.isfinite(total) else REJECT_COST
+
+
+def _run_loops(scenario, model: Model, loops: range, seed: int, randomize: bool):
+    """The trace of the scenario's loops `loops` (their campaign numbers) as one batch."""
+    from fuzzyc.engine.chain import Controller
+    from fuzzyc.runtime.loop import run
+    from fuzzyc.runtime.simulate import build
+    controller = Controller(model, len(loops))
+    blocks = build(scenario, controller, len(loops), seed, randomize, first=loops.start)
+    return run(blocks, scenario.period, scenario.duration, len(loops),
+               initial=scenario.data.get("initial"))
+
+
+def _chunk_values(scenario, model: Model, texts: list[str], seed: int, randomize: bool,
+                  loops: range) -> list[np.ndarray]:
+    """One chunk's task (module level: it travels to Dask workers by pickle): the values of
+    each metric text on the loops `loops`."""
+    trace = _run_loops(scenario, model, loops, seed, randomize)
+    return [np.asarray(metric_function(scenario, text)(trace), dtype=float) for text in texts]
 
 
 def _mean(values) -> float:
@@ -259,15 +296,17 @@ def tune_loop(model: Model, scenario, metric: str, *, seed: int = 0, batch: int 
               randomize: bool = False, method: str = "powell",
               max_evaluations: int | None = None, limits: tuple[tuple[str, float], ...] = (),
               max_examples: int = 30, cost: Callable | None = None, prove: bool = False,
-              prove_boxes: int = 64, scenarios: dict | None = None) -> LoopFit:
+              prove_boxes: int = 64, scenarios: dict | None = None,
+              cluster=None) -> LoopFit:
     """Tune `model`'s tuned numbers (its `tune` section) to minimize `metric` of `scenario`'s
     loop (a scenario object, plants.scenario.load), keeping its properties (module docstring).
     cost: another cost of theta instead of the metric (then `metric` only names it).
-    prove, prove_boxes, scenarios: how its closed-loop properties are checked (LoopChecks)."""
+    prove, prove_boxes, scenarios: how its closed-loop properties are checked (LoopChecks).
+    cluster: where the cost's loops run (ClosedLoop); the property checks run here."""
     how = LoopChecks(seed, max_examples, prove, prove_boxes, scenarios)
     space = Space(model)
     loop = ClosedLoop(scenario, space, metric, batch=batch, seed=seed, randomize=randomize,
-                      limits=limits)
+                      limits=limits, cluster=cluster)
     given = cost
     calls = [0]
     costs: dict[bytes, float] = {}

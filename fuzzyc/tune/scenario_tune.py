@@ -14,13 +14,16 @@ def tune_scenario(model: Model, scenario: str, minimize: str, *, sets: dict | No
                   limits=(), seed: int = 0, batch: int = 1, randomize: bool = False,
                   method: str = "powell", max_evaluations: int | None = None,
                   max_examples: int = 30, prove: bool = False, prove_boxes: int = 64,
-                  scenarios: dict | None = None):
+                  scenarios: dict | None = None, cluster=None):
     """The TuneResult of tuning `model` (read from .fz) to minimize the metric `minimize` of
     scenario `scenario` (a name or a YAML path) with the overrides `sets` (KEY -> value, as
     `simulate --set`). limits: 'METRIC<=VALUE' texts kept as constraints. prove: the
     closed-loop properties proved first (one proved before must be proved after).
     scenarios: the user's own loops by name, as fuzzyc.verify takes them (`scenario` may name
-    one)."""
+    one). cluster (runtime.campaign.Cluster): where each cost's loops run, held open for the
+    whole search (one Dask client and its workers serve every evaluation); the numbers are
+    the same as in this process."""
+    import contextlib
     from ..verifier.closed_loop import load_scenario
     from . import TuneResult, _check_reads_back
     from .loop import LoopChecks
@@ -28,10 +31,11 @@ def tune_scenario(model: Model, scenario: str, minimize: str, *, sets: dict | No
     loaded = load_scenario(scenario, {k: str(v) for k, v in (sets or {}).items()},
                            LoopChecks(scenarios=scenarios))
     parsed = tuple(parse_limit(text) for text in limits)
-    fit = tune_loop(model, loaded, minimize, seed=seed, batch=batch, randomize=randomize,
-                    method=method, max_evaluations=max_evaluations, limits=parsed,
-                    max_examples=max_examples, prove=prove, prove_boxes=prove_boxes,
-                    scenarios=scenarios)
+    with cluster if cluster is not None else contextlib.nullcontext():
+        fit = tune_loop(model, loaded, minimize, seed=seed, batch=batch, randomize=randomize,
+                        method=method, max_evaluations=max_evaluations, limits=parsed,
+                        max_examples=max_examples, prove=prove, prove_boxes=prove_boxes,
+                        scenarios=scenarios, cluster=cluster)
     lines = provenance(model, loaded, minimize, sets or {}, fit, batch, randomize,
                        max_evaluations, max_examples, prove_boxes if prove else None)
     text = rewrite(model.source_text or "", fit.numbers, fit.values, lines)
