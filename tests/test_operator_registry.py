@@ -359,7 +359,8 @@ def test_fixed_point_refuses_by_name(numeric):
                 generate_fixed_header(tiny(d=rec.word, neg=""), numeric)
     text = generate_fixed_header(tiny(and_="product", d="center_of_area", neg=""), numeric)
     assert f"int64_t act = ops_{numeric}_product(" in text      # the record's helper
-    assert f"alpha0[OPS_{numeric.upper()}_CONSEQUENTS[rule][0]] = " in text   # max: the record's
+    # max: the record's (one rule per cell: the consequents tabled per cell)
+    assert f"alpha0[OPS_{numeric.upper()}_CELL_CONSEQUENTS[cell][0]] = " in text
 
 
 def test_monotone_claims_cover_what_reach_relies_on():
@@ -375,3 +376,17 @@ def test_crisp_functions_are_the_engines():
     model = tiny(d="centroid")
     x = np.array([[0.0, 1.0]])     # rule 1 alone: a = L at 1, b = H at 1 -> y is L (symmetric)
     assert evaluate(model.rulebase, x)[0, 0] == pytest.approx(-0.5)
+
+
+def test_hamacher_sum_is_exactly_1_where_an_argument_is_1():
+    """(a + 1 - 2a) / (1 - a) = 1 for every a.  Computed, (0.3 + 1 - 0.6) / 0.7 is
+    1.0000000000000002, and a fold of three clauses read 1 + 2^-52 as its first argument:
+    (1 + 2^-52 + 1 - 2 (1 + 2^-52)) / (1 - (1 + 2^-52)) = 2 (the differential fuzzer's
+    pyfuzzylite case tests/differential/cases/pyfuzzylite-fll/hamacher-sum-folded-at-1.fll gave
+    twice the tool's weighted sum)."""
+    h = ops.S_NORMS[SNorm.HAMACHER_SUM].numpy
+    a = np.array([0.3, 0.0, 1.0, 0.5, 0.00046, 1.0 + 2.0 ** -52])
+    b = np.array([1.0, 1.0, 1.0, 0.5, 1.0, 1.0])
+    # 0.5, 0.5: (1 - 0.5) / 0.75 = 2/3
+    assert h(a, b).tolist() == [1.0, 1.0, 1.0, (1.0 - 0.5) / 0.75, 1.0, 1.0]
+    assert h(h(np.float64(0.00046), 1.0), 1.0) == 1.0
