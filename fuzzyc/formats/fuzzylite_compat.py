@@ -171,10 +171,7 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
     if octave:
         return _octave_defuzzify(m, u, w, inf.defuzzifier)
     total = m.sum(axis=1)
-    # pyfuzzylite 8's centroid and bisector divide by the sampled area whatever its sign (an
-    # activation above 1 through a norm with a pole can make parts of the set negative): NaN
-    # only where it is 0
-    fired = total != 0 if sampling == Sampling.MIDPOINT and not first_plateau else total > 0
+    fired = total > 0
     safe_total = np.where(fired, total, 1.0)
     if inf.defuzzifier == Defuzzifier.CENTROID and w is not None:
         value = (m @ (w * u)) / np.where(fired, m @ w, 1.0)
