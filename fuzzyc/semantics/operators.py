@@ -93,12 +93,8 @@ def _hamacher_product(a, b):
 
 
 def _hamacher_sum(a, b):
-    # 1 wherever an argument is 1: (a + 1 - 2a) / (1 - a) = 1.  Computed, it is rounding noise
-    # there, and a fold can make it 2 (H(b, 1) = 1 + 2^-52, then H(1 + 2^-52, 1) = -2^-51 /
-    # -2^-52), so the exact value is written out, as the tools' guard at a b = 1 does
     den = 1.0 - a * b
-    one = (den == 0.0) | (a == 1.0) | (b == 1.0)
-    return np.where(one, 1.0, (a + b - 2.0 * a * b) / np.where(one, 1.0, den))
+    return np.where(den != 0.0, (a + b - 2.0 * a * b) / np.where(den != 0.0, den, 1.0), 1.0)
 
 
 def _seldom(mu):
