@@ -376,17 +376,3 @@ def test_crisp_functions_are_the_engines():
     model = tiny(d="centroid")
     x = np.array([[0.0, 1.0]])     # rule 1 alone: a = L at 1, b = H at 1 -> y is L (symmetric)
     assert evaluate(model.rulebase, x)[0, 0] == pytest.approx(-0.5)
-
-
-def test_hamacher_sum_is_exactly_1_where_an_argument_is_1():
-    """(a + 1 - 2a) / (1 - a) = 1 for every a.  Computed, (0.3 + 1 - 0.6) / 0.7 is
-    1.0000000000000002, and a fold of three clauses read 1 + 2^-52 as its first argument:
-    (1 + 2^-52 + 1 - 2 (1 + 2^-52)) / (1 - (1 + 2^-52)) = 2 (the differential fuzzer's
-    pyfuzzylite case tests/differential/cases/pyfuzzylite-fll/hamacher-sum-folded-at-1.fll gave
-    twice the tool's weighted sum)."""
-    h = ops.S_NORMS[SNorm.HAMACHER_SUM].numpy
-    a = np.array([0.3, 0.0, 1.0, 0.5, 0.00046, 1.0 + 2.0 ** -52])
-    b = np.array([1.0, 1.0, 1.0, 0.5, 1.0, 1.0])
-    # 0.5, 0.5: (1 - 0.5) / 0.75 = 2/3
-    assert h(a, b).tolist() == [1.0, 1.0, 1.0, (1.0 - 0.5) / 0.75, 1.0, 1.0]
-    assert h(h(np.float64(0.00046), 1.0), 1.0) == 1.0
