@@ -48,6 +48,12 @@ class CellTable(NamedTuple):
         """Rules per cell (the most in one cell)."""
         return self.rows.shape[1]
 
+    @property
+    def one_rule_per_cell(self) -> bool:
+        """A direct table whose cells hold at most one rule: the headers can table that rule's
+        consequents and weight per cell (CELL_CONSEQUENTS), one load fewer per tuple."""
+        return self.codes is None and self.depth == 1
+
 
 def active_codes(part) -> np.ndarray:
     """Per segment of a LocalPartition, the codes of its two slots' terms (B + 1, 2): a slot

@@ -184,8 +184,7 @@ class HeaderWriter:
         # One rule per cell of a direct table, read only for its consequents and weight: those
         # are tabled per cell, which saves the load of the rule between cell and consequent
         # on every active tuple (issue 29: the header against a hand-written version)
-        self.per_cell = self.sparse and self.cells.codes is None and self.depth == 1 \
-            and self.items is None
+        self.per_cell = self.sparse and self.cells.one_rule_per_cell and self.items is None
         self.lines: list[str] = []
 
     def item_writer(self) -> ItemWriter | None:

@@ -205,16 +205,22 @@ class CController:
     def evaluate(self, x: np.ndarray) -> np.ndarray:
         """The bare rule base: x (N, I) -> y (N, O), like `fuzzyc.engine.inference.evaluate`."""
         rb = self.model.rulebase
-        if self._rulebase is None:
-            raise FuzzycError([Diagnostic(None, f"the header of `{self.model.name}` splits its "
-                                                "rule base by its outputs' own defuzzifiers "
-                                                "and has no one NAME_rulebase; step the chain")])
+        run = self.rulebase_entry()
         x = np.ascontiguousarray(np.atleast_2d(np.asarray(x, dtype=float)))
         if x.shape[1] != len(rb.inputs):
             raise ValueError(f"expected {len(rb.inputs)} input columns, got {x.shape[1]}")
         y = np.empty((x.shape[0], len(rb.outputs)))
-        self._rulebase(x.shape[0], self._ptr(x), self._ptr(y))
+        run(x.shape[0], self._ptr(x), self._ptr(y))
         return y
+
+    def rulebase_entry(self):
+        """The library's bare-rule-base entry (ctypes function), or a FuzzycError where the
+        header has none."""
+        if self._rulebase is None:
+            raise FuzzycError([Diagnostic(None, f"the header of `{self.model.name}` splits its "
+                                                "rule base by its outputs' own defuzzifiers "
+                                                "and has no one NAME_rulebase; step the chain")])
+        return self._rulebase
 
 
 class CompiledEvaluator:
@@ -230,9 +236,7 @@ class CompiledEvaluator:
             raise ValueError(f"numeric is one of float, double, not `{numeric}` (the fixed-point"
                              " headers have no ctypes entry)")
         self._controller = CController(model, 1, numeric)   # owns the loaded library
-        self._run = self._controller._rulebase
-        if self._run is None:
-            self._controller.evaluate([[]])   # raises: the header has no one NAME_rulebase
+        self._run = self._controller.rulebase_entry()
         rb = model.rulebase
         self.input_names = [v.name for v in rb.inputs]
         self.output_names = [v.name for v in rb.outputs]

@@ -641,8 +641,7 @@ class FixedPointWriter:
     def per_cell(self) -> bool:
         """A direct cell table of one rule per cell: its consequents and weight are tabled
         per cell, one load fewer per slot combination (as the float header's per_cell)."""
-        cells = self.tables.cells
-        return cells.codes is None and cells.depth == 1
+        return self.tables.cells.one_rule_per_cell
 
     @property
     def prefix(self) -> str:
