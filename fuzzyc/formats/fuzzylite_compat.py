@@ -147,6 +147,13 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
         clipped = FL6_T[inf.implication](a, mu)
     else:
         clipped = implied(a, mu, inf.implication)
+    if first_plateau or sampling == Sampling.MIDPOINT:
+        # fuzzylite 6 and pyfuzzylite 8 fold Aggregated::membership from 0 (mu = 0, then mu =
+        # S(mu, term) per term): a zero rule in front gives the same bits where the implied
+        # sets lie in [0, 1], and their numbers where an activation above 1 (an unbounded sum
+        # of clauses) makes an implication leave [0, 1] (Einstein's product with a pole: the
+        # maximum drops its negative side)
+        clipped = np.concatenate([np.zeros_like(clipped[:, :1]), clipped], axis=1)
     if first_plateau and inf.aggregation == Aggregation.DRASTIC_SUM:
         m = np.zeros((clipped.shape[0], clipped.shape[2]))
         for r in range(clipped.shape[1]):       # Aggregated::membership: from 0, in order
@@ -164,7 +171,10 @@ def _defuzzify(rb: RuleBase, o: int, act: np.ndarray, resolution: int,
     if octave:
         return _octave_defuzzify(m, u, w, inf.defuzzifier)
     total = m.sum(axis=1)
-    fired = total > 0
+    # pyfuzzylite 8's centroid and bisector divide by the sampled area whatever its sign (an
+    # activation above 1 through a norm with a pole can make parts of the set negative): NaN
+    # only where it is 0
+    fired = total != 0 if sampling == Sampling.MIDPOINT and not first_plateau else total > 0
     safe_total = np.where(fired, total, 1.0)
     if inf.defuzzifier == Defuzzifier.CENTROID and w is not None:
         value = (m @ (w * u)) / np.where(fired, m @ w, 1.0)
