@@ -99,6 +99,20 @@ CASES = {
                           [[2.0, 6.0], [5.0, 5.0], [6.0, 2.0]],
                           {"fuzzylite": [[NAN, 18.2, 13.0], [5.0, 23.0, 23 / 1.5],
                                          [5.0, 12.2, 15.25]]}),
+    # Shapes with equal break points (refused before: the differential fuzzer's most common
+    # refusal): a step, 0 up to the point and 1 above it for S, 1 up to it and 0 above for Z,
+    # as both tools' branches compute (and the exact semantics: fuzzyc's own formula).
+    # pi = PiShape 2 2 5 7 = S(2, 2) Z(5, 7), step = SShape 6 6, drop = ZShape 3 3; y the
+    # weighted average of a = 1, b = 5, c = 9.
+    # x=2: pi 0 (S(2, 2) is 0 at 2), step 0, drop 1: y = 9.
+    # x=3: pi 1 (S 1 above 2, Z(5, 7) 1 up to 5), drop 1 (at its point): (1 + 9) / 2 = 5.
+    # x=6: pi = Z(5, 7) at its middle 6: 2 ((6 - 7) / 2)^2 = 0.5; step 0 at 6, drop 0: y = 1.
+    # x=6.5: pi 2 ((6.5 - 7) / 2)^2 = 0.125, step 1: (0.125 + 5) / 1.125 = 4.5555...
+    # x=8: pi 0, step 1: y = 5.
+    "degenerate_steps": ("degenerate_steps.fll", ["x"], ["y"],
+                         [[2.0], [3.0], [6.0], [6.5], [8.0]],
+                         {tool: [[9.0], [5.0], [1.0], [5.125 / 1.125], [5.0]]
+                          for tool in ("exact", "pyfuzzylite", "fuzzylite")}),
 }
 
 PARAMS = [pytest.param(name, tool, id=f"{name}-{tool}")
@@ -193,3 +207,45 @@ def test_a_resolution_in_the_semantics_overrides_the_file():
     got = ours(FILES / "extremes.fll", np.array([[2.0]]), "pyfuzzylite:1000")
     assert got.status == "imported", got.message
     np.testing.assert_allclose(got.y, [[0.805, 3.195]], rtol=0, atol=1e-9)
+
+
+def test_degenerate_shapes_read_back_from_fz_and_stay_out_of_fis(tmp_path, capsys):
+    """The steps above convert to .fz (`pishape(2, 2, 5, 7)`, read back with the same numbers);
+    FIS cannot say them (the Octave toolkit's are_mf_params refuses smf/zmf/pimf with equal
+    break points, MATLAB puts the step at the mean, inclusive): the export and the import
+    refuse them with the term's name and place."""
+    fz = tmp_path / "steps.fz"
+    assert main(["convert", str(FILES / "degenerate_steps.fll"), str(fz)]) == 0
+    assert "pishape(2, 2, 5, 7)" in fz.read_text()
+    got = ours(fz, np.array(CASES["degenerate_steps"][3]), "exact")
+    np.testing.assert_allclose(got.y, CASES["degenerate_steps"][4]["exact"], rtol=0, atol=1e-12)
+    capsys.readouterr()
+    assert main(["convert", str(fz), str(tmp_path / "steps.fis")]) != 0
+    assert "term `pi` of `x` (`pishape` with equal break points) is a step that FIS cannot " \
+        "say" in capsys.readouterr().err
+    fis = tmp_path / "bad.fis"
+    fis.write_text(FIS_WITH_A_STEP)
+    assert main(["check", str(fis)]) != 0
+    assert "bad.fis:11:5: error: degenerate smf [6 6]: smf [a b] needs a < b" \
+        in capsys.readouterr().err
+
+
+FIS_WITH_A_STEP = """[System]
+Name='steps'
+Type='sugeno'
+NumInputs=1
+NumOutputs=1
+NumRules=1
+[Input1]
+Name='x'
+Range=[0 10]
+NumMFs=1
+MF1='step':'smf',[6 6]
+[Output1]
+Name='y'
+Range=[0 10]
+NumMFs=1
+MF1='b':'constant',[5]
+[Rules]
+1, 1 (1) : 1
+"""

@@ -25,6 +25,8 @@ def _gauss(mean: float, sigma: float) -> str:
 
 
 def _s(s: float, e: float) -> str:
+    if s == e:                  # a step: its branches below would divide 0 by 0 at x = s
+        return f"gt(x, {_n(s)})"
     mid, w = 0.5 * (s + e), e - s
     return (f"(gt(x, {_n(s)}) * le(x, {_n(mid)}) * 2 * ((x - {_n(s)}) / {_n(w)}) ^ 2"
             f" + gt(x, {_n(mid)}) * lt(x, {_n(e)}) * (1 - 2 * ((x - {_n(e)}) / {_n(w)}) ^ 2)"
@@ -32,6 +34,8 @@ def _s(s: float, e: float) -> str:
 
 
 def _z(s: float, e: float) -> str:
+    if s == e:
+        return f"le(x, {_n(s)})"
     mid, w = 0.5 * (s + e), e - s
     return (f"(le(x, {_n(s)})"
             f" + gt(x, {_n(s)}) * lt(x, {_n(mid)}) * (1 - 2 * ((x - {_n(s)}) / {_n(w)}) ^ 2)"
@@ -57,11 +61,11 @@ def membership_formula(kind: TermKind, params) -> str | None:
         return f"1 / (1 + abs((x - {_n(a)}) / {_n(b)}) ^ (2 * {_n(c)}))"
     if kind == TermKind.SIGMOID:
         return _sig(a, b)
-    if kind == TermKind.SSHAPE and a < b:
+    if kind == TermKind.SSHAPE and a <= b:
         return _s(a, b)
-    if kind == TermKind.ZSHAPE and a < b:
+    if kind == TermKind.ZSHAPE and a <= b:
         return _z(a, b)
-    if kind == TermKind.PISHAPE and a < b and c < d:
+    if kind == TermKind.PISHAPE and a <= b and c <= d:
         return f"{_s(a, b)} * {_z(c, d)}"
     if kind == TermKind.SIGMOID_DIFFERENCE:       # (c1, a1, a2, c2), fuzzylite's |difference|
         return f"abs({_sig(a, b)} - {_sig(d, c)})"

@@ -335,9 +335,12 @@ class _FisReader:
                 else None,
                 "sigmf": lambda: shape(TermKind.SIGMOID, v[1], v[0]) if v[0] != 0 else None,
                 "constant": lambda: shape(TermKind.SINGLETON, v[0]),
-                "smf": lambda: plain_shape_or_none(TermKind.SSHAPE, v),
-                "zmf": lambda: plain_shape_or_none(TermKind.ZSHAPE, v),
-                "pimf": lambda: plain_shape_or_none(TermKind.PISHAPE, v)}[kind]()
+                # strict, as the Octave toolkit's are_mf_params (MATLAB puts a degenerate
+                # smf's step at the mean, inclusive: not the model's step, so refused)
+                "smf": lambda: plain_shape_or_none(TermKind.SSHAPE, v) if v[0] < v[1] else None,
+                "zmf": lambda: plain_shape_or_none(TermKind.ZSHAPE, v) if v[0] < v[1] else None,
+                "pimf": lambda: plain_shape_or_none(TermKind.PISHAPE, v)
+                if v[0] < v[1] and v[2] < v[3] else None}[kind]()
         if made is None:
             self.rep.error(loc, degenerate(kind, v, FIS_NEEDS[kind], "[]"))
         else:
@@ -701,6 +704,14 @@ def _fis_terms(var: Variable, is_input: bool, n_inputs: int, problems: list[str]
             word, values = "discretemf", var.term_numbers(t)
             notes.append(f"term `{name}` of `{var.name}` is written `discretemf`, fuzzylite's "
                          "word: MATLAB and the Octave toolkit have no such function")
+        elif kind in (TermKind.SSHAPE, TermKind.ZSHAPE, TermKind.PISHAPE) and (
+                a == b or (kind == TermKind.PISHAPE and c == d)):
+            # a step: the Octave toolkit refuses smf/zmf/pimf with equal break points, MATLAB
+            # puts a degenerate smf's step at the mean, inclusive (the model's is exclusive)
+            problems.append(f"term `{name}` of `{var.name}` (`{kind.name.lower()}` with equal "
+                            "break points) is a step that FIS cannot say: the Octave toolkit "
+                            "refuses it; write it with distinct break points")
+            continue
         elif kind in FIS_SHAPES:
             word, order = FIS_SHAPES[kind]
             values = order(a, b, c, d)

@@ -76,14 +76,16 @@ def d_sigmoid(x, p) -> np.ndarray:
 def _s_pieces(x, s, e):
     """SSHAPE(s, e) at x and its derivatives by s and e."""
     w = e - s
-    t, u = (x - s) / w, (x - e) / w
-    first, second = (x > s) & (x <= 0.5 * (s + e)), (x > 0.5 * (s + e)) & (x < e)
-    value = np.where(x <= s, 0.0, np.where(first, 2.0 * t * t, np.where(second, 1.0 - 2.0 * u * u,
-                                                                        1.0)))
-    ds = np.where(first, 4.0 * t * (x - e) / w ** 2,
-                  np.where(second, -4.0 * u * (x - e) / w ** 2, 0.0))
-    de = np.where(first, -4.0 * t * (x - s) / w ** 2,
-                  np.where(second, 4.0 * u * (x - s) / w ** 2, 0.0))
+    # s = e: a step, both pieces empty (their 0/0 and x/0 are never picked)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        t, u = (x - s) / w, (x - e) / w
+        first, second = (x > s) & (x <= 0.5 * (s + e)), (x > 0.5 * (s + e)) & (x < e)
+        value = np.where(x <= s, 0.0, np.where(first, 2.0 * t * t,
+                                               np.where(second, 1.0 - 2.0 * u * u, 1.0)))
+        ds = np.where(first, 4.0 * t * (x - e) / w ** 2,
+                      np.where(second, -4.0 * u * (x - e) / w ** 2, 0.0))
+        de = np.where(first, -4.0 * t * (x - s) / w ** 2,
+                      np.where(second, 4.0 * u * (x - s) / w ** 2, 0.0))
     return value, ds, de
 
 
