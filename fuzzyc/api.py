@@ -276,7 +276,7 @@ def simulate(scenario: PathLike, rulebase: PathLike | None = None, *, batch: int
     # before the scenario allocates anything (--batch 3e7 took 2 GB before failing)
     if isinstance(batch, bool) or not isinstance(batch, (int, np.integer)) \
             or not 1 <= batch <= MAX_BATCH:
-        raise ValueError(f"batch is a whole number of loops from 1 to {MAX_BATCH:,} "
+        raise ValueError(f"batch must be a whole number of loops from 1 to {MAX_BATCH:,} "
                          f"(fuzzyc.language.limits.MAX_BATCH), not {batch!r}")
     overrides = dict(settings or {})
     if rulebase is not None:

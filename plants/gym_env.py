@@ -153,8 +153,8 @@ class GymPlant:
         except (ImportError, ValueError):
             found = None
         if found is None:
-            raise self.error("plant.env", f"no module `{module_name}` can be imported "
-                                          f"(install it, or put its folder on PYTHONPATH)")
+            raise self.error("plant.env", f"no module `{module_name}` can be imported; "
+                                          f"install it, or put its folder on PYTHONPATH")
         cls = getattr(importlib.import_module(module_name), class_name, None)
         if not (isinstance(cls, type) and issubclass(cls, gym.Env)):
             raise self.error("plant.env", f"`{class_name}` of {module_name} is not a "

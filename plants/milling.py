@@ -97,7 +97,7 @@ def workpiece_from_spec(spec: dict) -> Workpiece:
         raise ValueError("workpiece needs `pieces: [[length, axial depth, radial depth], ...]`")
     pieces = np.asarray(spec["pieces"], float)
     if pieces.ndim != 2 or pieces.shape[1] != 3:
-        raise ValueError("workpiece pieces are [length, axial depth, radial depth] triples")
+        raise ValueError("workpiece pieces must be [length, axial depth, radial depth] triples")
     return Workpiece(pieces[:, 0], pieces[:, 1], pieces[:, 2], start=float(spec.get("start", 0.0)))
 
 
@@ -121,8 +121,8 @@ class MillingParams:
         if isinstance(self.workpiece, dict):   # from a scenario file
             self.workpiece = workpiece_from_spec(self.workpiece)
         elif not isinstance(self.workpiece, Workpiece):
-            raise ValueError("workpiece is a mapping {start: mm, pieces: [[length, axial depth, "
-                             f"radial depth], ...]}}, got {type(self.workpiece).__name__}")
+            raise ValueError("workpiece must be a mapping {start: mm, pieces: [[length, axial "
+                             f"depth, radial depth], ...]}}, got {type(self.workpiece).__name__}")
 
     @property
     def radius(self) -> float:

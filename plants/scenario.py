@@ -501,8 +501,8 @@ def _read(path: Path) -> str:
         line = before.count(b"\n") + 1
         col = len(before) - (before.rfind(b"\n") + 1) + 1
         raise FuzzycError([Diagnostic(SourceLoc(str(path), line, col),
-                                      f"byte 0x{raw[exc.start]:02x} is not UTF-8 text "
-                                      "(save the file as UTF-8)")]) from None
+                                      f"byte 0x{raw[exc.start]:02x} is not UTF-8 text; "
+                                      "save the file as UTF-8")]) from None
 
 
 def _yaml_error(path: Path, text: str, exc: yaml.YAMLError) -> FuzzycError:

@@ -57,7 +57,7 @@ class Cluster:
         scheme = self.scheduler.partition("://")[0] if "://" in (self.scheduler or "") else "tcp"
         if scheme not in SCHEDULER_SCHEMES:     # Dask's others fail inside it (ucx: TypeError)
             forms = " or ".join(f"{s}://HOST:PORT" for s in SCHEDULER_SCHEMES)
-            raise ValueError(f"a scheduler address is {forms}, not {self.scheduler}")
+            raise ValueError(f"a scheduler address must be {forms}, not {self.scheduler}")
         self._open: contextlib.ExitStack | None = None
         self._client: Any = None
         self._held = False
@@ -100,7 +100,7 @@ def chunks(total: int, size: int) -> list[range]:
     8 keep every loop's place. For the same reason a last range of one loop joins the one
     before: numpy sums a (T, 1) column pairwise but the columns of a (T, N) batch row by row."""
     if size < BLOCK or size % BLOCK:
-        raise ValueError(f"a chunk is a multiple of {BLOCK} loops (the place of a loop in its "
+        raise ValueError(f"a chunk must be a multiple of {BLOCK} loops (the place of a loop in its "
                          f"batch modulo {BLOCK} changes its last bits), not {size}")
     starts = list(range(0, total, size))
     if len(starts) > 1 and total - starts[-1] == 1:

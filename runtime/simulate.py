@@ -57,7 +57,8 @@ def load_controller(scenario, batch: int, backend: str = "numpy", semantics: str
     for name, value in (spec.get("params") or {}).items():
         if name not in model.params:
             raise scenario.error(f"controller.params.{name}",
-                                 f"the rule base has no param `{name}`")
+                                 f"the rule base has no param `{name}`; known: "
+                                 + (", ".join(model.params) or "none"))
         model.params[name].value = float(value)
     outputs = {rename.get(o.name, o.name): o for o in model.outputs}
     for name, value in (spec.get("initial") or {}).items():

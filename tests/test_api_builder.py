@@ -149,7 +149,7 @@ def test_a_name_spelled_like_a_keyword_round_trips_as_data():
 @pytest.mark.parametrize("name", ['a"b', "a\nb", "a*/b", "a b", "1a", "", "x;", "`x`", "é"])
 def test_a_name_that_is_no_identifier_is_refused_at_the_call(name):
     b = fuzzyc.ModelBuilder("m")
-    with pytest.raises(ValueError, match="is not a .fz name: letters, digits and _"):
+    with pytest.raises(ValueError, match="is not a .fz name: use letters, digits and _"):
         b.input(name, 0, 1)
     x = b.input("x", 0, 1)
     with pytest.raises(ValueError, match="is not a .fz name"):
@@ -172,7 +172,7 @@ def test_a_title_or_note_that_would_not_read_back_is_refused(text):
 def test_text_that_would_be_more_than_its_own_declaration_is_refused():
     b = fuzzyc.ModelBuilder("m")
     x = b.input("x", 0, 1)
-    with pytest.raises(ValueError, match="unit of `y` is named atoms"):
+    with pytest.raises(ValueError, match="unit of `y` must be named atoms"):
         b.output("y", 0, 1, unit="% in [0, 1] default 1")
     with pytest.raises(ValueError, match="starts a comment"):
         b.rule("if x is lo then y is lo # the rest")
@@ -182,7 +182,7 @@ def test_text_that_would_be_more_than_its_own_declaration_is_refused():
         x.terms(lo=("tri(0, 0, 1), hi = tri", 0, 1, 1))
     with pytest.raises(ValueError, match="finite number"):
         x.terms(lo=("tri", 0, float("nan"), 1))
-    with pytest.raises(TypeError, match="is a number, not bool"):
+    with pytest.raises(TypeError, match="must be a number, not bool"):
         b.input("w", False, 1)
     with pytest.raises(TypeError, match=r"\(shape, number, ...\)"):
         x.terms(lo="tri(0, 0, 1)")

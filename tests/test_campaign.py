@@ -35,7 +35,7 @@ def test_chunks_cover_the_loops_in_order():
     assert chunks(1, 8) == [range(0, 1)]
     # BLAS takes 8 rows at a time: a chunk of 6 would move loops 6, 7, ... to other places
     for size in (1, 6, 12, 10_001):
-        with pytest.raises(ValueError, match="a chunk is a multiple of 8 loops"):
+        with pytest.raises(ValueError, match="a chunk must be a multiple of 8 loops"):
             Cluster(chunk=size)
     with pytest.raises(ValueError, match="not both"):
         Cluster(workers=2, scheduler="tcp://localhost:8786")

@@ -96,7 +96,8 @@ def test_counts_and_seeds_out_of_bounds_are_usage_errors(argv, words, capsys):
     ("#", "cannot reach the Dask scheduler at #: missing port number"),
     ("tcp://a:x", "cannot reach the Dask scheduler at tcp://a:x"),
     # Dask's ucx connector raises a TypeError when its package is missing: refused before
-    ("ucx://a:1", "a scheduler address is tcp://HOST:PORT or tls://HOST:PORT, not ucx://a:1"),
+    ("ucx://a:1",
+     "a scheduler address must be tcp://HOST:PORT or tls://HOST:PORT, not ucx://a:1"),
 ])
 def test_a_scheduler_address_dask_cannot_use_is_a_clean_error(address, words, tmp_path, capsys):
     pytest.importorskip("distributed", reason="Dask is the optional extra fuzzyc[dask]")

@@ -96,9 +96,9 @@ def test_convert_reports_every_problem_with_its_place(name, tmp_path, capsys):
      "expected"),
     (read_fcl, "FUNCTION_BLOCK f\nVAR_INPUT x : INT; END_VAR\nFUZZIFY x\n"
                "TERM a := (0,0) (1,1);\nEND_FUZZIFY\nEND_FUNCTION_BLOCK\n",
-     "`x` is INT: fuzzy variables are REAL"),
+     "`x` is INT: fuzzy variables are REAL; declare it REAL"),
     (read_fcl, "FUNCTION_BLOCK f\nVAR_INPUT x : REAL; END_VAR\nFUZZIFY z\nEND_FUZZIFY\n"
-               "END_FUNCTION_BLOCK\n", "`z` is not declared in VAR_INPUT"),
+               "END_FUNCTION_BLOCK\n", "`z` is not declared in VAR_INPUT; declare it there"),
     (read_fis, "[System]\nType='mamdani'\nDefuzzMethod='wtaver'\n", "cannot use weighted_average"),
     (read_fis, "[System]\nType='sugeno'\n[Input1]\nName='x'\nRange=[0 1]\n"
                "MF1='a':'linear',[1 0]\n", "cannot have one"),

@@ -124,7 +124,8 @@ def test_semantic_problem_in_a_block_not_chosen_is_not_reported():
         read_fcl(BAD_A + GOOD_B, "sem.fcl", "a")
     assert messages(exc) == ["sem.fcl:2:11: error: `x` has no range and its terms do not give "
                              "one: declare a range",
-                             "sem.fcl:2:15: error: `x` is INT: fuzzy variables are REAL"]
+                             "sem.fcl:2:15: error: `x` is INT: fuzzy variables are REAL; "
+                             "declare it REAL"]
 
 
 @pytest.mark.parametrize("ref, words", [

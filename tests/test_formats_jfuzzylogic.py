@@ -496,7 +496,7 @@ def test_rule_names_and_not_without_parentheses():
 @pytest.mark.parametrize("term, message", [
     ("FUNCTION " + "(" * 200 + "x" + ")" * 200, "brackets nested deeper than 64"),
     ("FUNCTION " + "x + " * 600 + "x", "longer than 2000 characters"),
-    ("FUNCTION ", "an expression is needed"),
+    ("FUNCTION ", "it needs an expression"),
     ("FUNCTION (x + 1", "`)` expected"),
 ])
 def test_hostile_functions_are_refused_not_crashed(term, message):

@@ -124,7 +124,7 @@ def test_batch_is_a_plain_whole_number(tmp_path, capsys, batch):
 
 
 def test_the_api_bounds_batch_too():
-    with pytest.raises(ValueError, match="batch is a whole number of loops from 1 to"):
+    with pytest.raises(ValueError, match="batch must be a whole number of loops from 1 to"):
         fuzzyc.simulate("fopdt_step", batch=30_000_000)
 
 

@@ -100,7 +100,8 @@ def errors_of(text: str) -> str:
 @pytest.mark.parametrize("old, new, words", [
     # the second block before the first: m is read before it is computed
     ("  block first {", "  block zeroth {\n    rule if m is H then y is hi\n  }\n  block first {",
-     "block `zeroth` reads `m` before any block computes it (a later block computes it"),
+     "block `zeroth` reads `m` before any block computes it; move block `first`, which "
+     "computes it, before it"),
     ("    rule if m is L then y is lo, z is lo\n",
      "    rule if m is L then y is lo, z is lo, m is L\n",
      "block `second` concludes on `m`, which an earlier block computes"),

@@ -207,7 +207,7 @@ def test_a_section_left_empty_that_file_sets_a_key_in_is_located(tmp_path):
     # (AttributeError), a mapping without pieces a KeyError: reported at `params` (line 3,
     # column 3); a number as a param name made the suggestion of a close name raise
     # TypeError: reported at the key (line 4, column 5).
-    ("    workpiece: [[20, 6, 6]]\n", 3, 3, "workpiece is a mapping {start: mm, pieces: "),
+    ("    workpiece: [[20, 6, 6]]\n", 3, 3, "workpiece must be a mapping {start: mm, pieces: "),
     ("    workpiece: {start: 1.0}\n", 3, 3, "workpiece needs `pieces: "),
     ("    0.3: feed\n", 4, 5, "`plant.params.0.3`: MillingParams has no field `0.3`"),
 ])

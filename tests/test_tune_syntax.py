@@ -60,15 +60,15 @@ def test_no_tune_section_frees_nothing():
 
 @pytest.mark.parametrize("body, message", [
     ("x.A in [0, 1]", "t.fz:12:5: error: `x` is no variable, param or named rule"),
-    ("e.QQ in [0, 1]", "t.fz:12:7: error: `e` has no term `QQ` (its terms: NB Z PB)"),
+    ("e.QQ in [0, 1]", "t.fz:12:7: error: `e` has no term `QQ`: known: NB Z PB"),
     ("e.NB.width in [0, 1]", "t.fz:12:10: error: tri `NB` has no parameter `width`"),
     ("e.NB.b in [1, 0]", "t.fz:12:16: error: the bounds [1, 0] are empty"),
     ("e.NB.b in +/- 0", "t.fz:12:19: error: the spread +/- 0 is empty"),
     ("e.NB.b in [0, 1]", "t.fz:12:16: error: `e.NB.b` is -1 as written, outside its bounds"),
     # b may reach 0.5, past c = 0: the break points would leave their order
     ("e.NB.b in +/- 1.5", "t.fz:12:5: error: the bounds of `e.NB` let b (up to 0.5) pass c"),
-    ("r1.weight in [0.5, 1.5]", "t.fz:12:5: error: a rule weight lies in [0, 1]"),
-    ("GE.x in [0, 1]", "t.fz:12:8: error: `GE` is a param: tune it as `GE`"),
+    ("r1.weight in [0.5, 1.5]", "t.fz:12:5: error: a rule weight must lie in [0, 1]"),
+    ("GE.x in [0, 1]", "t.fz:12:8: error: `GE` is a param, one number: write `GE`"),
     ("e.NB.b in [-1.1, -0.9]\n e.NB in +/- 0.1", "t.fz:13:2: error: `e.NB.b` is already tuned"),
     # lo may reach 3, past mid = 0: the singletons of y would leave their order
     ("y.lo.value in [-5, 3]", "t.fz:12:5: error: the bounds let `y.lo` peak at 3, at or past"),

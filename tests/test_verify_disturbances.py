@@ -164,10 +164,10 @@ def _with_loop(items: str) -> str:
 
 @pytest.mark.parametrize("item, column, message", [
     ("      vary controller.Vref in [40, 60]\n", 12,
-     "`controller.Vref`: this file has no param `Vref`; params: Vset, Vmax"),
+     "`controller.Vref`: this file has no param `Vref`; known: Vset, Vmax"),
     ("      vary gap0 in [1, 2]\n", 12,
      "`vary gap0`: vary a plant parameter (plant.NAME) or a param of this file"),
-    ("      fault gap_voltage nan for 0 s\n", 33, "a fault lasts a positive time"),
+    ("      fault gap_voltage nan for 0 s\n", 33, "a fault must last a positive time"),
     ("      fault gap_voltage nan for 2 V\n", 33, "a fault needs a time unit"),
     ("      vary plant.gap0 in [1, 2] steps before 3 V\n", 46,
      "`steps before` needs a time unit"),

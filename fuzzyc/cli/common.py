@@ -32,7 +32,8 @@ def at_least(low: int | None, high: int | None = None):
     def integer(text: str) -> int:
         value = parse_integer(text)
         if value is None:
-            raise argparse.ArgumentTypeError(f"`{text}` is not a whole number")
+            raise argparse.ArgumentTypeError(f"`{text}` is not a whole number: write "
+                                             "digits, with an optional sign")
         if low is not None and value < low:
             raise argparse.ArgumentTypeError(f"must be at least {low}, got {value}")
         if high is not None and value > high:

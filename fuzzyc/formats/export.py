@@ -213,7 +213,7 @@ def unsayable_functions(model: Model, fmt: str, formulas: bool, lock: bool) -> l
         for v in rb.inputs + rb.outputs:
             for t in (v.formulas or {}) if not formulas else ():
                 problems.append(f"{fmt} has no formula terms: `{v.names[t]}` of `{v.name}` is "
-                                f"Function {v.formulas[t].infix()} (write FLL)")
+                                f"Function {v.formulas[t].infix()}; write FLL instead")
             if v.lock_previous and not lock:
                 problems.append(f"{fmt} cannot say that `{v.name}` holds its last value where "
                                 "no rule fires (lock-previous: write FLL or FCL)")

@@ -196,7 +196,8 @@ class _FclReader:
         for decl in tree.children:
             name, type_, *rng = decl.children
             if type_.value.upper() != "REAL":
-                self.rep.error(self.loc(type_), f"`{name}` is {type_}: fuzzy variables are REAL")
+                self.rep.error(self.loc(type_), f"`{name}` is {type_}: fuzzy variables are "
+                                                  "REAL; declare it REAL")
             var = self.got.declare(VarSpec(name.value, self.loc(name)), is_input)
             self.declared[name.value] = is_input
             for item in rng:
@@ -209,7 +210,8 @@ class _FclReader:
         table = self.got.inputs if is_input else self.got.outputs
         if name.value not in table:
             section = "VAR_INPUT" if is_input else "VAR_OUTPUT"
-            self.rep.error(self.loc(name), f"`{name}` is not declared in {section}")
+            self.rep.error(self.loc(name), f"`{name}` is not declared in {section}; declare it "
+                                           "there")
             return None
         return table[name.value]
 
@@ -676,7 +678,7 @@ class _JflExpression:
     def parse(self) -> str:
         from ..engine.formula import MAX_DEPTH, MAX_TEXT
         if not self.tokens:
-            raise _JflError("an expression is needed", 0)
+            raise _JflError("it needs an expression", 0)
         if len(self.text) > MAX_TEXT:
             raise _JflError(f"longer than {MAX_TEXT} characters", 0)
         depth = 0
@@ -902,7 +904,7 @@ def _fcl_method(model: Model, problems: list[str], notes: list[str]):
     method = rb.inference.defuzzifier
     singletons = all(all_singletons(v) for v in rb.outputs)
     if method == Defuzzifier.WEIGHTED_SUM:
-        problems.append("FCL has no weighted-sum defuzzifier")
+        problems.append("FCL has no weighted-sum defuzzifier: write FLL")
     if method == Defuzzifier.GROUPED_SUM:
         problems.append("FCL has no weighted sum grouped per term (fuzzylite 6 reads COGSS "
                         "with ACCU as the sum over the rules): write FLL")

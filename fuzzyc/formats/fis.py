@@ -180,8 +180,11 @@ class _FisReader:
             self.got.inference.defuzzifier = Defuzzifier.TSUKAMOTO
             return
         if weighted != (self.type == "sugeno"):
+            methods = "wtaver or wtsum" if self.type == "sugeno" else \
+                "centroid, bisector, mom, som or lom"
             self.rep.error(self.rep.loc(1, 1), f"a {self.type} system cannot use "
-                                               f"{self.got.inference.defuzzifier.name.lower()}")
+                                               f"{self.got.inference.defuzzifier.name.lower()}; "
+                                               f"use DefuzzMethod {methods}")
         for var in self.got.outputs.values():
             for term in var.terms:
                 # a Function term is a value (sugeno) or a membership of x (mamdani)

@@ -149,7 +149,8 @@ class _FllReader:
             return
         if self.section is None:
             self.rep.error(self.loc(line, line.key_col),
-                           f"`{line.key}` before any section: an FLL file starts with `Engine:`")
+                           f"`{line.key}` before any section: an FLL file must start "
+                           "with `Engine:`")
             return
         if line.key not in KEYS[self.section]:
             self.rep.error(self.loc(line, line.key_col),

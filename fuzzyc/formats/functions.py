@@ -63,7 +63,7 @@ def check_reads(rb: RuleBase, specs: dict, rep: Reporter, inputs) -> None:
                        f"`{name}` is defuzzified after `{var.name}` (or is it): fuzzylite reads "
                        "its previous value, state fuzzyc does not carry; declare it before"
                        if name in later else
-                       f"unknown name `{name}`: the term reads " + ", ".join(known))
+                       f"unknown name `{name}`: known: " + ", ".join(known))
                 rep.error(_name_loc(specs, var, t, name), why)
 
 

@@ -87,7 +87,8 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
         if term is None or said is None:
             ok = False
         elif name.value in conclusions:
-            rep.error(loc_of(name), f"`{name}` is concluded twice in one rule")
+            rep.error(loc_of(name), f"`{name}` is concluded twice in one rule; write one "
+                                    "conclusion on it")
             ok = False
         elif len(carried) + len(said) > MAX_HEDGES:     # each carried hedge nests the condition
             rep.error(loc_of(words[0]), f"the conclusions of a rule carry more than {MAX_HEDGES} "
@@ -102,7 +103,7 @@ def rule_from_tree(tree: Tree, got: Collected, loc_of: LocOf, hedges: dict[str, 
         token = weight_tree.children[0].children[0]
         weight = float(token)
         if not 0.0 <= weight <= 1.0:
-            rep.error(loc_of(token), f"a rule weight lies in [0, 1], got {weight:g}")
+            rep.error(loc_of(token), f"a rule weight must lie in [0, 1], got {weight:g}")
             ok = False
     if not ok:
         return []
@@ -204,8 +205,10 @@ def _clause(name: Token, term: Token, said: list[Hedge] | None, got: Collected,
 
 
 def hedge_message(word: str, hedges: dict[str, Hedge]) -> str:
-    known = ", ".join(hedges) if hedges else "none in this format"
-    return f"the model carries {known} (one hedge per clause, applied before `not`)"
+    if not hedges:
+        return "this format carries no hedge"
+    return (f"the model carries one of {', '.join(hedges)} (one hedge per clause, applied "
+            "before `not`)")
 
 
 def _conclusion(name: Token, words: list[Token], got: Collected, loc_of: LocOf) -> int | None:

@@ -77,11 +77,11 @@ def number_problem(value: float) -> str | None:
                 f"{MAX_MAGNITUDE:g} in magnitude)")
     if abs(value) > MAX_MAGNITUDE:
         return (f"the number {value:g} is larger than {MAX_MAGNITUDE:g} in magnitude, the "
-                f"largest fuzzyc accepts (fuzzyc.language.limits.MAX_MAGNITUDE); change the unit")
+                f"largest fuzzyc accepts (fuzzyc.language.limits.MAX_MAGNITUDE); use a larger unit")
     if value != 0 and abs(value) < MIN_MAGNITUDE:
         return (f"the number {value:g} is smaller than {MIN_MAGNITUDE:g} in magnitude, the "
                 f"smallest non-zero number fuzzyc accepts (fuzzyc.language.limits.MIN_MAGNITUDE); "
-                f"change the unit")
+                f"use a smaller unit")
     return None
 
 
@@ -91,7 +91,7 @@ def range_problem(lo: float, hi: float) -> str | None:
     if hi - lo < MIN_RELATIVE_WIDTH * scale:
         return (f"the range [{lo:g}, {hi:g}] is narrower than {MIN_RELATIVE_WIDTH:g} of its "
                 f"magnitude (fuzzyc.language.limits.MIN_RELATIVE_WIDTH): float arithmetic cannot tell "
-                f"its points apart; shift it (e.g. subtract an offset in a `let`)")
+                f"its points apart; shift it: use a `let` that subtracts an offset")
     return None
 
 

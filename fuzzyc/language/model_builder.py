@@ -93,7 +93,7 @@ def _name(value: Any, what: str) -> str:
     if not isinstance(value, str):
         raise TypeError(f"{what} is a name (a str), not {type(value).__name__} {value!r}")
     if not _NAME.match(value):
-        raise ValueError(f"{what} {value!r} is not a .fz name: letters, digits and _, not "
+        raise ValueError(f"{what} {value!r} is not a .fz name: use letters, digits and _, not "
                          "starting with a digit")
     return fz_name(value)
 
@@ -102,9 +102,9 @@ def _number(value: Any, what: str) -> str:
     """A finite real as the .fz writer writes it (the shortest text that reads back the same)."""
     from ..formats.export import num
     if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise TypeError(f"{what} is a number, not {type(value).__name__} {value!r}")
+        raise TypeError(f"{what} must be a number, not {type(value).__name__} {value!r}")
     if not math.isfinite(float(value)):
-        raise ValueError(f"{what} is a finite number, not {value!r}")
+        raise ValueError(f"{what} must be a finite number, not {value!r}")
     return num(float(value))
 
 
@@ -115,7 +115,7 @@ def _string(value: Any, what: str) -> str:
         raise TypeError(f"{what} is a str, not {type(value).__name__}")
     bad = [c for c in value if c in '"\\' or not c.isprintable()]
     if bad:
-        raise ValueError(f"{what} {value!r} cannot be written as .fz text: it is one line "
+        raise ValueError(f"{what} {value!r} cannot be written as .fz text: it must be one line "
                          f"without `\"` or `\\` (found {bad[0]!r})")
     return f'"{value}"'
 
@@ -125,7 +125,7 @@ def _unit(value: Any, what: str) -> str:
     if value is None:
         return ""
     if not isinstance(value, str) or not _UNIT.match(value.replace(" ", "")):
-        raise ValueError(f"the unit of {what} is named atoms (or %) with integer powers, "
+        raise ValueError(f"the unit of {what} must be named atoms (or %) with integer powers, "
                          f"joined by / and *, e.g. \"mm/min\" or \"m/s^2\"; not {value!r}")
     spelled = re.sub(r"[A-Za-z_][A-Za-z0-9_]*", lambda m: fz_name(m.group()),
                      value.replace(" ", ""))
@@ -137,7 +137,8 @@ def _one_line(text: Any, what: str) -> str:
     if not isinstance(text, str):
         raise TypeError(f"{what} is a str, not {type(text).__name__}")
     if "#" in text:
-        raise ValueError(f"{what} {text!r} holds `#`, which starts a comment in .fz")
+        raise ValueError(f"{what} {text!r} holds `#`, which starts a comment in .fz; "
+                         "remove it")
     return " ".join(text.split())
 
 
@@ -159,7 +160,7 @@ def _clause(var: str, value: Any, what: str) -> str:
     else:
         head = []
     if len(mods) > 1 or (mods and mods[0] not in hedges):
-        raise ValueError(f"{what}: the condition on `{var}` is `[not] [hedge] term` (hedges: "
+        raise ValueError(f"{what}: the condition on `{var}` must be `[not] [hedge] term` (hedges: "
                          f"{', '.join(hedges)}), not {value!r}")
     return " ".join([_name(var, f"{what}: the variable"), "is", *head, *mods,
                      _name(term, f"{what}: the term of `{var}`")])
@@ -169,7 +170,7 @@ def _term(name: str, spec: Any, var: str) -> str:
     what = f"term `{name}` of `{var}`"
     if isinstance(spec, str) or not isinstance(spec, Sequence) or not spec \
             or not isinstance(spec[0], str):
-        raise TypeError(f"{what} is (shape, number, ...), e.g. (\"tri\", 0, 5, 10); "
+        raise TypeError(f"{what} must be (shape, number, ...), e.g. (\"tri\", 0, 5, 10); "
                         f"not {spec!r}")
     shape, *args = spec
     if not _NAME.match(shape):
@@ -245,7 +246,7 @@ def _settings(settings: Mapping[str, Any]) -> str:
     out = []
     for key, value in settings.items():
         if key not in _INFERENCE_KEYS:
-            raise ValueError(f"unknown inference setting `{key}`: the settings are and_, "
+            raise ValueError(f"unknown inference setting `{key}`: known: and_, "
                              "or_, implication, aggregation, defuzzify")
         out.append(f"{_INFERENCE_KEYS[key]} = {_name(value, f'the {key} setting')}")
     return ", ".join(out)

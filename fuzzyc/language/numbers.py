@@ -44,7 +44,7 @@ def parse_integer(text: str) -> int | None:
 def not_a_number(text: str) -> str:
     """Why `text` is refused, shortened to a readable length."""
     shown = text if len(text) <= 40 else text[:40] + "..."
-    return f"`{shown}` is not a number ({SYNTAX})"
+    return f"`{shown}` is not a number: write {SYNTAX}"
 
 
 def real_array(name: str, value) -> np.ndarray:

@@ -160,7 +160,7 @@ def mu_function(x: np.ndarray, formula) -> np.ndarray:
 def discrete_problem(values) -> str:
     """'' when x1 y1 x2 y2 ... make a DISCRETE term, else what is wrong."""
     if len(values) < 2 or len(values) % 2 or not all(map(np.isfinite, values)):
-        return "a discrete term is pairs of finite numbers x y (at least one)"
+        return "a discrete term needs pairs of finite numbers x y (at least one)"
     xs, ys = values[0::2], values[1::2]
     if any(p >= q for p, q in zip(xs, xs[1:])) or any(not 0 <= y <= 1 for y in ys):
         return "a discrete term's x values must ascend and its y values lie in [0, 1]"

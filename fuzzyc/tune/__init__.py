@@ -78,7 +78,7 @@ def tune(model: Model | str | os.PathLike, data: str | os.PathLike | None = None
     allowed = loop_methods if scenario is not None else data_methods
     if method is not None and method not in allowed:
         raise ValueError(f"method {method} goes with {'data' if scenario else '--scenario'}; "
-                         f"here: {' or '.join(allowed)}")
+                         f"use {' or '.join(allowed)} here")
     if cluster is not None and scenario is None:
         raise ValueError("a cluster runs a closed loop's batch, so it goes with a scenario: "
                          "drop it for a fit to data")

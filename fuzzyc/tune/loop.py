@@ -194,7 +194,8 @@ def _apply_scenario(scenario, space: Space) -> None:
     for name, value in (spec.get("params") or {}).items():
         if name not in model.params:
             raise scenario.error(f"controller.params.{name}",
-                                 f"the rule base has no param `{name}`")
+                                 f"the rule base has no param `{name}`; known: "
+                                 + (", ".join(model.params) or "none"))
         if name not in tuned:
             model.params[name] = replace(model.params[name], value=float(value))
     outputs = {o.name: o for o in model.outputs}

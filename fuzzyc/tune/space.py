@@ -20,7 +20,8 @@ class Space:
     def __init__(self, model: Model, numbers: list[TunedNumber] | None = None):
         self.numbers = list(model.tunables if numbers is None else numbers)
         if not self.numbers:
-            raise ValueError(f"`{model.name}` has no `tune` section: nothing may move")
+            raise ValueError(f"`{model.name}` has no `tune` section: nothing may move; "
+                             "add one naming what may")
         self.x0 = np.array([n.value for n in self.numbers], dtype=float)
         self.lo = np.array([n.lo for n in self.numbers], dtype=float)
         self.hi = np.array([n.hi for n in self.numbers], dtype=float)

@@ -91,8 +91,11 @@ C_DEFUZZIFIERS = emitted_in_c(DEFUZZIFIERS)
 SUMMED_PER_RULE = (Defuzzifier.WEIGHTED_AVERAGE, Defuzzifier.WEIGHTED_SUM)  # no aggregation
 
 
-def _words(table: dict, allowed) -> str:
-    return " | ".join(table[k].word for k in allowed)
+def _words(table: dict, allowed, sep: str = " | ") -> str:
+    return sep.join(table[k].word for k in allowed)
+
+
+LUT_HINT = "use the lookup-table back end (`--target lut`)"  # takes any rule base without state
 
 
 def _check_constructs(rb: RuleBase) -> None:
@@ -106,7 +109,8 @@ def _check_constructs(rb: RuleBase) -> None:
             raise _fail(f"the C back end needs a term on every output; `{var.name}` has none")
     if inf.defuzzifier not in C_DEFUZZIFIERS:
         raise _fail(f"the C back end does not emit the {DEFUZZIFIERS[inf.defuzzifier].word} "
-                    "defuzzifier")
+                    f"defuzzifier (it emits {_words(DEFUZZIFIERS, C_DEFUZZIFIERS, ', ')}); "
+                    f"{LUT_HINT}")
     held = [v.name for v in rb.outputs if v.lock_previous]
     if held:
         raise _fail(f"the C back end does not emit lock-previous (`{held[0]}` holds its last "
@@ -120,23 +124,22 @@ def _check_constructs(rb: RuleBase) -> None:
                     f"{defuzz.name.lower()})")
     if rb.conditions:
         raise _fail(f"the C back end emits rules that are one and/or over one clause per input; "
-                    f"{rb.nested_rules()} has a nested condition (use the lookup-table back "
-                    "end, or split the rule)")
+                    f"{rb.nested_rules()} has a nested condition; {LUT_HINT}, or split the "
+                    "rule")
     if inf.and_ not in C_TNORMS or inf.or_ not in C_SNORMS:
         raise _fail(f"the C back end emits and = {_words(T_NORMS, C_TNORMS)} and "
                     f"or = {_words(S_NORMS, C_SNORMS)}; "
                     f"this rule base has and = {T_NORMS[inf.and_].word}, "
-                    f"or = {S_NORMS[inf.or_].word}")
+                    f"or = {S_NORMS[inf.or_].word}; {LUT_HINT}")
     if inf.aggregation not in C_AGGREGATIONS and inf.defuzzifier not in SUMMED_PER_RULE:
         raise _fail(f"the C back end emits aggregation = {_words(AGGREGATIONS, C_AGGREGATIONS)}; "
-                    f"this rule base has aggregation = {AGGREGATIONS[inf.aggregation].word} "
-                    "(use the lookup-table back end, or weighted_average / weighted_sum, which "
-                    "sum over rules)")
+                    f"this rule base has aggregation = {AGGREGATIONS[inf.aggregation].word}"
+                    f"; {LUT_HINT}, or weighted_average / weighted_sum, which sum over rules")
     hedges = sorted({Hedge(int(h)) for h in np.unique(rb.hedges)} - set(C_HEDGES))
     if hedges:
         raise _fail("the C back end emits the hedges "
                     + ", ".join(HEDGES[h].word for h in C_HEDGES if h != Hedge.NONE)
-                    + "; not " + ", ".join(HEDGES[h].word for h in hedges))
+                    + "; not " + ", ".join(HEDGES[h].word for h in hedges) + f"; {LUT_HINT}")
     for var in rb.inputs + rb.outputs:
         for name, kind in zip(var.names, var.kinds):
             if kind not in C_TERM_KINDS:

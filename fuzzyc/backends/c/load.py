@@ -80,8 +80,8 @@ def cache_dir() -> Path:
         problem = f"cannot be made ({exc.strerror})"
     if problem:
         raise FuzzycError([Diagnostic(None, f"the C library cache {path} {problem}: fuzzyc "
-                                            "loads the code it finds there; point "
-                                            "FUZZYC_CACHE at a folder of your own (mode 0700)")])
+                                            "loads the code it finds there; set "
+                                            "FUZZYC_CACHE to a folder of your own (mode 0700)")])
     return path
 
 

@@ -227,7 +227,7 @@ class FixedChain:
         if isinstance(e, sympy.Pow) and all(isinstance(a, float) for a in args):
             return self.constant_power(e, *args)
         raise _fail(f"the fixed-point chain does not emit `{e}` ({type(e).__name__}) in "
-                    f"{self.where}; supported: + - * by constants and signals, powers of "
+                    f"{self.where}; write it with + - * by constants and signals, powers of "
                     f"parameters, min, max, clamp, delta, prev, lowpass")
 
     # -- the chain ----------------------------------------------------------------------------

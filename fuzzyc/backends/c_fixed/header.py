@@ -106,8 +106,8 @@ FIXED_DEFUZZIFIERS = emitted_in_fixed(DEFUZZIFIERS)
 assert all(defines(T_NORMS[t].fixed) for t in FIXED_TNORMS)
 
 
-FLOAT_HINT = ("; the float and double headers (`--numeric float`, the default, or `double`) "
-              "and the lookup table (`--target lut`) take what fixed point does not")
+FLOAT_HINT = ("; use the float or double header (`--numeric float`, the default, or `double`) "
+              "or the lookup table (`--target lut`), which take what fixed point does not")
 
 
 def _fail(message: str) -> FuzzycError:

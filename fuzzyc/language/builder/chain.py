@@ -138,7 +138,8 @@ class ChainBuilder:
             return
         init = d["init"].value if d["init"] is not None else rng[0]
         if not rng[0] <= init <= rng[1]:
-            self.error(d["init"].loc, f"start value {init:g} is outside [{rng[0]:g}, {rng[1]:g}]")
+            self.error(d["init"].loc, f"start value {init:g} is outside [{rng[0]:g}, {rng[1]:g}]; "
+                                      "write one within the range")
             return
         unit = units.make(d["unit"]) if d["unit"] else None
         self.units[name.text] = unit

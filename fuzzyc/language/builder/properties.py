@@ -119,7 +119,7 @@ class PropertiesBuilder:
             elif item.kind == "fault":
                 seconds = self._seconds(item.data["seconds"], item.data["unit"], "a fault")
                 if seconds is not None and seconds <= 0:
-                    self.error(item.data["seconds"].loc, "a fault lasts a positive time")
+                    self.error(item.data["seconds"].loc, "a fault must last a positive time")
                 elif seconds is not None:
                     faults.append((item.data["signal"].text, item.data["kind"], seconds))
             else:
@@ -139,7 +139,7 @@ class PropertiesBuilder:
             return True
         if kind == "controller":
             self.error(key.loc, f"`{key.text}`: this file has no param `{name}`"
-                       + (f"; params: {', '.join(self.params)}" if self.params else ""))
+                       + (f"; known: {', '.join(self.params)}" if self.params else ""))
         elif kind != "plant" or not name:
             self.error(key.loc, f"`vary {key.text}`: vary a plant parameter (plant.NAME) or a "
                        f"param of this file (controller.NAME)")

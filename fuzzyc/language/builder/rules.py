@@ -217,7 +217,7 @@ class RulesBuilder:
             return False
         name, value = leaf.leaf
         if name in rule_clauses:
-            self.error(clause.var.loc, f"`{name}` appears twice in one guard")
+            self.error(clause.var.loc, f"`{name}` appears twice in one guard; write it once")
             return False
         rule_clauses[name] = value
         return True
@@ -265,7 +265,8 @@ class RulesBuilder:
             if term is None:
                 ok = False
             elif var.name in conclusions:
-                self.error(concl.var.loc, f"`{var.name}` is concluded twice in one rule")
+                self.error(concl.var.loc, f"`{var.name}` is concluded twice in one rule; "
+                                            "write one conclusion on it")
                 ok = False
             else:
                 conclusions[var.name] = term
@@ -281,7 +282,7 @@ class RulesBuilder:
         if num is None:
             return 1.0
         if not 0.0 <= num.value <= 1.0:
-            self.error(num.loc, f"a rule weight lies in [0, 1], got {num.value:g}")
+            self.error(num.loc, f"a rule weight must lie in [0, 1], got {num.value:g}")
             return None
         return num.value
 
@@ -342,7 +343,8 @@ class RulesBuilder:
         for row in rows:
             if len(row) != n_cols:
                 self.error(row[0].loc, f"this table row has {plural(len(row), 'cell')}; the "
-                                       f"table declares {plural(n_cols, 'column')}")
+                                       f"table declares {plural(n_cols, 'column')}; give it "
+                                       "one cell per column")
                 return False
         if len(rows) != n_rows:
             self.error(s.loc, f"table `{s.data['output'].text}` has {plural(len(rows), 'row')}; "
@@ -391,7 +393,8 @@ class RulesBuilder:
         blocks = self.blocks or [self.top]
         if self.blocks and self.top.rules:
             self.error(self.top.rules[0].loc, "a rule outside the blocks: when a file has "
-                                              "`block`s, every rule belongs to one")
+                                              "`block`s, every rule belongs to one; move it "
+                                              "into a block")
         written = {name for b in blocks for name in b.writes()}
         for v in self.vars.values():
             concluded = not v.is_input and v.name in written
@@ -429,8 +432,9 @@ class RulesBuilder:
         block writes."""
         for v in inputs:
             if not v.is_input and v.name not in done:
-                later = " (a later block computes it: order the blocks)" \
-                    if any(v.name in o.writes() for o in self.blocks) else ""
+                maker = next((o for o in self.blocks if v.name in o.writes()), None)
+                later = "" if maker is None else \
+                    f"; move block `{maker.name}`, which computes it, before it"
                 self.error(b.loc, f"block `{b.name}` reads `{v.name}` before any block "
                                   f"computes it{later}")
         for v in outputs:

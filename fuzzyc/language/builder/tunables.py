@@ -81,7 +81,8 @@ class TunablesBuilder:
             return self._tuned_term_numbers(path, bound, written)
         if head.text in self.params:
             if len(path) > 1:
-                self.error(path[1].loc, f"`{head.text}` is a param: tune it as `{head.text}`")
+                self.error(path[1].loc, f"`{head.text}` is a param, one number: "
+                                        f"write `{head.text}`")
                 return []
             num = written.params.get(head.text)
             return self._tuned_numbers(bound, [TunedNumber(
@@ -105,8 +106,8 @@ class TunablesBuilder:
         elif path[1].text in names:
             terms = [path[1].text]
         else:
-            self.error(path[1].loc, f"`{var.name}` has no term `{path[1].text}` (its terms: "
-                                    f"{' '.join(names) or 'none'})")
+            self.error(path[1].loc, f"`{var.name}` has no term `{path[1].text}`: known: "
+                                    f"{' '.join(names) or 'none'}")
             return []
         where = path[0].loc
         out = []
@@ -131,7 +132,7 @@ class TunablesBuilder:
                 if not picked:
                     said = " ".join(s[0] for s in spellings)
                     self.error(path[2].loc, f"{term_def.shape} `{term}` has no parameter "
-                                            f"`{wanted}` (its parameters: {said})")
+                                            f"`{wanted}`: known: {said}")
                     return []
             else:
                 picked = list(range(len(term_def.args)))
@@ -165,8 +166,8 @@ class TunablesBuilder:
             block=b, rule_index=r)])
         for n in numbers:
             if not (0 <= n.lo and n.hi <= 1):
-                self.error(n.loc, f"a rule weight lies in [0, 1]: the bounds of `{n.target}` "
-                                  f"[{n.lo:g}, {n.hi:g}] leave it")
+                self.error(n.loc, f"a rule weight must lie in [0, 1]: the bounds of "
+                                  f"`{n.target}` [{n.lo:g}, {n.hi:g}] leave it")
                 return []
         return numbers
 
