@@ -91,9 +91,9 @@ def read_measured(path: str | Path) -> Measured:
     index: dict[str, int] = {}
     for at, (col, name) in enumerate(_fields(head)):
         if name not in COLUMNS:
-            fail(head_no, col, f"unknown column {name!r}: the columns are " + ", ".join(COLUMNS))
+            fail(head_no, col, f"unknown column {name!r}: known: " + ", ".join(COLUMNS))
         elif name in index:
-            fail(head_no, col, f"column {name!r} named twice")
+            fail(head_no, col, f"column {name!r} named twice; name each column once")
         else:
             index[name] = at
     missing = [name for name in COLUMNS if name not in index]

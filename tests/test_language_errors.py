@@ -67,10 +67,10 @@ CASES = [
     (replace("input f : kHz", "input f : Hz"), 5, 34, ["unit mismatch", "kHz", "Hz"]),
     # 10 a conclusion that names an input
     (replace("  output u", "  rule if e is P then ce is PB\n  output u"), 18, 23,
-     ["`ce` is an input", "conclusion names an output"]),
+     ["`ce` is an input", "conclusion must name an output"]),
     # 11 a condition that names an output
     (replace("  output u", "  rule if du is PB then du is NB\n  output u"), 18, 11,
-     ["`du` is a rule-base output", "conditions name inputs"]),
+     ["`du` is a rule-base output", "conditions must name inputs"]),
     # 12 syntax error: missing `=` in a let
     (replace("let e in [-1, 1] =", "let e in [-1, 1]"), 5, 20, ["unexpected", "`=`"]),
     # 13 unknown inference option with a suggestion

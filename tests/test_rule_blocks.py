@@ -116,7 +116,7 @@ def test_block_mistakes_are_reported(old, new, words):
 
 def test_outside_blocks_an_output_is_not_a_condition():
     text = CHAIN.replace("  block first {", "  rule if m is H then y is hi\n  block first {")
-    assert "`m` is a rule-base output; conditions name inputs" in errors_of(text)
+    assert "`m` is a rule-base output; conditions must name inputs" in errors_of(text)
 
 
 def test_one_block_readers_refuse_by_name():

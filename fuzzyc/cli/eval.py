@@ -67,7 +67,7 @@ def parse_assignments(model: Model, pairs: list[str], core: bool,
         if not sep:
             raise _fail(f"`{pair}` is not NAME=VALUE")
         if name not in names:
-            raise _fail(f"`{name}` is not an input of {model.name}; its inputs are "
+            raise _fail(f"`{name}` is not an input of {model.name}: known: "
                         f"{', '.join(names)}" + ("" if core else " (use --core for the rule "
                                                                "base's scaled inputs)"))
         value = parse_number(text)
@@ -76,7 +76,8 @@ def parse_assignments(model: Model, pairs: list[str], core: bool,
         values[name] = value
     missing = [n for n in names if n not in values]
     if missing and complete:
-        raise _fail(f"missing input{'s' if len(missing) > 1 else ''}: {', '.join(missing)}")
+        raise _fail(f"missing input{'s' if len(missing) > 1 else ''}: {', '.join(missing)}; "
+                    "give each as NAME=VALUE")
     return values
 
 

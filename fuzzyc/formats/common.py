@@ -217,7 +217,8 @@ class Collected:
         missing = [kind for kind, declared in (("input", self.inputs), ("output", self.outputs))
                    if not declared]
         for kind in missing if not self.rep.diagnostics else []:
-            self.rep.error(self.rep.loc(1, 1), f"the file declares no {kind} variable")
+            self.rep.error(self.rep.loc(1, 1), f"the file declares no {kind} variable; "
+                                                  "declare one")
         self.rep.raise_if_any()
         n_inputs = len(self.inputs)
         inputs = [_variable(v, True, n_inputs) for v in self.inputs.values()]

@@ -812,7 +812,8 @@ def check_fcl(text: str, path: str = "<string>") -> list[tuple[str, object]]:
             check_model(model)
             out.append((label, model))
         except FuzzycError as exc:
-            if [d.message for d in exc.diagnostics] == ["the file declares no output variable"]:
+            if [d.message.startswith("the file declares no output variable")
+                    for d in exc.diagnostics] == [True]:
                 out.append((label, _FclReader(text, path).memberships(
                     text.lstrip("\ufeff"), name)))
             else:

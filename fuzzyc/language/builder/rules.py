@@ -170,8 +170,8 @@ class RulesBuilder:
                                  f"{suggest(name.text, known)}")
             return None
         if not var.is_input and self.block is self.top:
-            self.error(name.loc, f"`{name.text}` is a rule-base output; conditions name inputs "
-                                 "(or, inside a `block`, outputs of earlier blocks) "
+            self.error(name.loc, f"`{name.text}` is a rule-base output; conditions must name "
+                                 "inputs (or, inside a `block`, outputs of earlier blocks) "
                                  f"({', '.join(v for v, lv in self.vars.items() if lv.is_input)})")
             return None
         return var
@@ -186,8 +186,8 @@ class RulesBuilder:
             return None
         if var.is_input:
             outs = [v for v, lv in self.vars.items() if not lv.is_input]
-            self.error(name.loc, f"`{name.text}` is an input of the rule base; a conclusion names "
-                                 f"an output ({', '.join(outs) or 'declare one with `var`'})")
+            self.error(name.loc, f"`{name.text}` is an input of the rule base; a conclusion must "
+                                 f"name an output ({', '.join(outs) or 'declare one with `var`'})")
             return None
         return var
 
