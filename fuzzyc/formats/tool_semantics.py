@@ -448,7 +448,7 @@ def evaluate_as(rb: RuleBase, x: np.ndarray, semantics: str = "exact",
                              activations=acts)
         if semantics == "pyfuzzylite":
             y = _vanishing(rb, np.atleast_2d(np.asarray(x, dtype=float)), y)
-        elif FL6_T.keys() & {rb.inference.and_} or FL6_S.keys() & {rb.inference.or_}:
+        else:   # its norms, and its 1e-6 firing test, which the engine's floor is not
             y = _peaks_from(rb, np.atleast_2d(np.asarray(x, dtype=float)), y, acts)
         return np.where(fired(rb, x, acts), y, np.nan)
     if semantics == "octave":
