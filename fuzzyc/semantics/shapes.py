@@ -350,8 +350,8 @@ _RECORDS = (
             monotone=_always, inverse=lambda a, b, c, dd, y: a, fll="Constant", fis="constant",
             c_float=_c_singleton,
             notes="a step: no derivative; FCL writes it as a bare number"),
-    # start = end is a step (0 up to start, 1 above it), as fuzzylite's and the Octave
-    # toolkit's formulas compute it: their branches never divide by end - start then
+    # start = end is a step (0 up to start, 1 above it), as fuzzylite 6 and pyfuzzylite 8
+    # compute it: their branches never divide by end - start then (FIS refuses it: fis.py)
     _record(TermKind.SSHAPE, (_plain("sshape", 2, lambda v: v[0] <= v[1],
                                      "sshape(start, end) with start <= end"),),
             f.mu_sshape, _edge(1, _always), _from(0, lambda p: True), _peak_param(1),
